@@ -1,0 +1,91 @@
+"""Convex hulls of point sets, with the vertex adjacency the landscape kernels walk on."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial import ConvexHull, QhullError
+
+from .errors import GeometryError
+
+
+@dataclass(frozen=True)
+class Hull:
+    """Convex hull of a point set.
+
+    Attributes
+    ----------
+    vertices_m : ndarray of shape (K, 3)
+        Hull vertices, m.
+    neighbor_ptr, neighbor_idx : ndarray of int64
+        Vertex adjacency in CSR form: the neighbours of vertex ``k`` are
+        ``neighbor_idx[neighbor_ptr[k]:neighbor_ptr[k + 1]]``. For a degenerate (flat or collinear) point
+        set every vertex is joined to every other, which keeps hill climbing exact.
+    simplices : ndarray of shape (F, 3) of int64
+        Triangles of the hull surface (indices into ``vertices_m``); empty for a degenerate set.
+    """
+
+    vertices_m: NDArray[np.float64]
+    neighbor_ptr: NDArray[np.int64]
+    neighbor_idx: NDArray[np.int64]
+    simplices: NDArray[np.int64]
+
+
+def _csr(n: int, edges: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    both = np.concatenate([edges, edges[:, ::-1]])
+    both = np.unique(both, axis=0)
+    counts = np.bincount(both[:, 0], minlength=n)
+    ptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(counts, out=ptr[1:])
+    return ptr, both[:, 1].astype(np.int64)
+
+
+def convex_hull(points_m: ArrayLike) -> Hull:
+    """Convex hull of points, robust to duplicates and flat sets.
+
+    Parameters
+    ----------
+    points_m : array_like of shape (N, 3)
+        Points, m. Must be finite.
+
+    Returns
+    -------
+    Hull
+
+    Raises
+    ------
+    GeometryError
+        If a point is not finite or there are no points.
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> h = convex_hull(trimesh.creation.box(extents=(1, 1, 1)).vertices)
+    >>> len(h.vertices_m), int(np.diff(h.neighbor_ptr).min())
+    (8, 3)
+    """
+    pts = np.asarray(points_m, dtype=np.float64).reshape(-1, 3)
+    if len(pts) == 0:
+        raise GeometryError("cannot take the convex hull of no points; the robot has no geometry")
+    bad = ~np.isfinite(pts).all(axis=1)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise GeometryError(f"geometry has a non-finite vertex {pts[i].tolist()} at index {i}; fix the mesh")
+    pts = np.unique(pts, axis=0)
+    try:
+        qh = ConvexHull(pts)
+    except (QhullError, ValueError):
+        # flat, collinear or too few points: keep them all and join every pair
+        n = len(pts)
+        ii, jj = np.triu_indices(n, 1)
+        ptr, idx = _csr(n, np.stack([ii, jj], axis=1).astype(np.int64))
+        return Hull(pts, ptr, idx, np.zeros((0, 3), dtype=np.int64))
+    keep = np.asarray(qh.vertices, dtype=np.int64)
+    remap = np.full(len(pts), -1, dtype=np.int64)
+    remap[keep] = np.arange(len(keep))
+    simp = remap[np.asarray(qh.simplices, dtype=np.int64)]
+    edges = np.concatenate([simp[:, [0, 1]], simp[:, [1, 2]], simp[:, [2, 0]]])
+    ptr, idx = _csr(len(keep), edges)
+    return Hull(pts[keep], ptr, idx, simp)
