@@ -92,8 +92,8 @@ class Pose:
         Total mass, kg.
     com_m : ndarray of shape (3,)
         Mass-weighted CoM, m.
-    hull : Hull
-        Convex hull of every part's geometry, m.
+    hull_points_m : ndarray of shape (M, 3)
+        Every part's own hull vertices in the body frame, m; ``hull`` is their convex hull.
     link_transforms : dict[str, ndarray of shape (4, 4)]
         Link-to-body transforms.
     """
@@ -102,9 +102,14 @@ class Pose:
     theta_l_deg: float | None
     mass_kg: float
     com_m: NDArray[np.float64]
-    hull: Hull
+    hull_points_m: NDArray[np.float64] = field(repr=False)
     link_transforms: dict[str, NDArray[np.float64]] = field(repr=False)
     parts: tuple[Part, ...] = field(repr=False)
+
+    @cached_property
+    def hull(self) -> Hull:
+        """Convex hull of every part's geometry, m (computed on first use)."""
+        return convex_hull(self.hull_points_m)
 
     def all_points_m(self) -> NDArray[np.float64]:
         """Every mesh vertex of every part in the body frame, m (the lab's brute-force input)."""
@@ -344,7 +349,7 @@ class Robot:
                   for p in self.parts if p.mass.mass_kg > 0]
         total = combine(masses)
         hull_pts = np.concatenate([_apply(T[p.link], p.hull_link_m) for p in self.parts if len(p.hull_link_m)])
-        return Pose(theta_w_deg, theta_l_deg, total.mass_kg, total.com_m, convex_hull(hull_pts), T, self.parts)
+        return Pose(theta_w_deg, theta_l_deg, total.mass_kg, total.com_m, hull_pts, T, self.parts)
 
     @cached_property
     def total_mass_kg(self) -> float:

@@ -1,0 +1,204 @@
+"""Compiled kernels. Private: inputs are trusted (C-contiguous float64, radians), nothing is validated here.
+
+The public wrappers in ``energy.py``, ``minima.py`` and ``barrier.py`` convert and check their input.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+
+@numba.njit(cache=True)
+def _climb(d, ptr, idx, ux, uy, uz, v):
+    """Steepest ascent of u.d over the hull's vertex graph from vertex v; the max of a linear function."""
+    best = d[v, 0] * ux + d[v, 1] * uy + d[v, 2] * uz
+    while True:
+        nxt = -1
+        for k in range(ptr[v], ptr[v + 1]):
+            w = idx[k]
+            val = d[w, 0] * ux + d[w, 1] * uy + d[w, 2] * uz
+            if val > best:
+                best = val
+                nxt = w
+        if nxt < 0:
+            return best, v
+        v = nxt
+
+
+@numba.njit(cache=True)
+def support_grid(d, ptr, idx, cos_p, sin_p, cos_r, sin_r):
+    """h[i, j] = max_k d_k . u(p_i, r_j) by warm-started hill climbing on the hull graph.
+
+    d : (K, 3) vectors c - v_k from each hull vertex to the CoM. Returns (P, R) float64.
+    """
+    n_p = cos_p.shape[0]
+    n_r = cos_r.shape[0]
+    out = np.zeros((n_p, n_r))
+    row_start = 0
+    for i in range(n_p):
+        ux = -sin_p[i]
+        v = row_start
+        for j in range(n_r):
+            val, v = _climb(d, ptr, idx, ux, cos_p[i] * sin_r[j], cos_p[i] * cos_r[j], v)
+            out[i, j] = val
+            if j == 0:
+                row_start = v
+    return out
+
+
+@numba.njit(cache=True)
+def support_points(d, ptr, idx, u):
+    """h_k = max over hull vertices of d . u_k for arbitrary unit vectors u (M, 3), warm-started in order."""
+    m = u.shape[0]
+    out = np.zeros(m)
+    v = 0
+    for k in range(m):
+        val, v = _climb(d, ptr, idx, u[k, 0], u[k, 1], u[k, 2], v)
+        out[k] = val
+    return out
+
+
+# ---------------------------------------------------------------------------- binary heap on (energy, cell)
+@numba.njit(cache=True)
+def _less(e1, i1, e2, i2):
+    return e1 < e2 or (e1 == e2 and i1 < i2)
+
+
+@numba.njit(cache=True)
+def _push(he, hi, size, e, i):
+    k = size
+    he[k] = e
+    hi[k] = i
+    while k > 0:
+        parent = (k - 1) >> 1
+        if _less(he[k], hi[k], he[parent], hi[parent]):
+            he[k], he[parent] = he[parent], he[k]
+            hi[k], hi[parent] = hi[parent], hi[k]
+            k = parent
+        else:
+            break
+    return size + 1
+
+
+@numba.njit(cache=True)
+def _pop(he, hi, size):
+    e0 = he[0]
+    i0 = hi[0]
+    size -= 1
+    he[0] = he[size]
+    hi[0] = hi[size]
+    k = 0
+    while True:
+        left = 2 * k + 1
+        if left >= size:
+            break
+        c = left
+        if left + 1 < size and _less(he[left + 1], hi[left + 1], he[left], hi[left]):
+            c = left + 1
+        if _less(he[c], hi[c], he[k], hi[k]):
+            he[k], he[c] = he[c], he[k]
+            hi[k], hi[c] = hi[c], hi[k]
+            k = c
+        else:
+            break
+    return e0, i0, size
+
+
+@numba.njit(cache=True)
+def flood(energy, start, target, blocked, is_min, same_as_start, tol, connectivity, stop_at_escape):
+    """Priority flood (minimax / bottleneck search) over the pitch-roll torus from cell ``start``.
+
+    energy : (N, N) energies on the torus (both axes wrap); cells are numbered i * N + j.
+    target : (N * N) int8; 1 or 2 = absorbing target of that kind (reached, never expanded), 0 = plain.
+    blocked : (N * N) bool, cells the flood never enters.
+    is_min : (N * N) bool, grid local minima; same_as_start : (N * N) bool, cells that are the start's own
+        orientation (itself, its twin and its plateau), never counted as another basin.
+    Returns (levels, cells, parent): levels[k] and cells[k] give, for k = 0 (target 1), 1 (target 2),
+    2 (another basin), the flood level at the first pop of such a cell and that cell (-1 if never reached);
+    parent is the search tree (-1 at the start and in unvisited cells).
+    """
+    n = energy.shape[0]
+    total = n * n
+    flat = energy.ravel()
+    parent = np.full(total, -1, dtype=np.int64)
+    seen = np.zeros(total, dtype=np.bool_)
+    he = np.zeros(total)
+    hi = np.zeros(total, dtype=np.int64)
+    levels = np.full(3, np.inf)
+    cells = np.full(3, -1, dtype=np.int64)
+    e_start = flat[start]
+    size = _push(he, hi, 0, flat[start], start)
+    seen[start] = True
+    level = e_start
+    found = 0
+    while size > 0:
+        e, c, size = _pop(he, hi, size)
+        if e > level:
+            level = e
+        t = target[c]
+        if t > 0:
+            if cells[t - 1] < 0:
+                cells[t - 1] = c
+                levels[t - 1] = level
+                found += 1
+            continue
+        if found > 0 and not stop_at_escape:
+            break
+        if cells[2] < 0 and is_min[c] and level > e_start + tol and not same_as_start[c]:
+            cells[2] = c
+            levels[2] = level
+            if stop_at_escape:
+                break
+        ci = c // n
+        cj = c - ci * n
+        for di in range(-1, 2):
+            for dj in range(-1, 2):
+                if di == 0 and dj == 0:
+                    continue
+                if connectivity == 4 and di != 0 and dj != 0:
+                    continue
+                ni = (ci + di) % n
+                nj = (cj + dj) % n
+                nc = ni * n + nj
+                if not seen[nc] and not blocked[nc]:
+                    seen[nc] = True
+                    parent[nc] = c
+                    size = _push(he, hi, size, flat[nc], nc)
+    return levels, cells, parent
+
+
+@numba.njit(cache=True)
+def local_minima(energy, tol):
+    """(N * N) bool: cells no 8-neighbour of which is lower by more than tol (torus)."""
+    n = energy.shape[0]
+    out = np.zeros(n * n, dtype=np.bool_)
+    for i in range(n):
+        for j in range(n):
+            e = energy[i, j]
+            ok = True
+            for di in range(-1, 2):
+                for dj in range(-1, 2):
+                    if energy[(i + di) % n, (j + dj) % n] < e - tol:
+                        ok = False
+            out[i * n + j] = ok
+    return out
+
+
+@numba.njit(cache=True)
+def descend(energy, i, j):
+    """Steepest descent over the 8-neighbours of the torus grid until no neighbour is lower."""
+    n = energy.shape[0]
+    while True:
+        bi, bj = i, j
+        best = energy[i, j]
+        for di in range(-1, 2):
+            for dj in range(-1, 2):
+                ni = (i + di) % n
+                nj = (j + dj) % n
+                if energy[ni, nj] < best:
+                    best = energy[ni, nj]
+                    bi, bj = ni, nj
+        if bi == i and bj == j:
+            return i, j
+        i, j = bi, bj

@@ -1,0 +1,169 @@
+"""Minimal barriers by graph search on the pitch-roll grid (the bottleneck-path problem, by priority flood).
+
+From the start cell the flood always expands the lowest cell on its frontier; the flood level when it first
+reaches a set of cells is the lowest possible maximum energy along any grid path to that set.
+
+- *righting*: reach the upright set u_z < 0 by any path. Its direction is "pitch" (a somersault over head or
+  tail) when the saddle lies further from the start in pitch than in roll, else "roll" (to one side).
+- *pitch-wise* and *roll-wise*: the same, with the path kept in the sector |d roll| <= |d pitch| (resp.
+  |d pitch| <= |d roll|) around the start, as the lab's rays in the pitch-roll plane are. Without the sector a
+  "pitch-wise" path could roll over the side saddle first and walk to the head along the side.
+- *escape*: reach any other grid local minimum (another basin), the start's own orientation excepted (its twin
+  on the double cover and its plateau).
+
+The grid is a torus: both axes wrap and the duplicate +180 row and column are not stored, so they cannot create
+false paths. The rows p = +-90 deg are one orientation each; their energies are equal to the last bit (exact
+cosines), so moving along them is free. 8-connectivity by default (4 on request); ties pop in cell order, so
+results do not depend on heap order.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from geometry.frames import canonical_pitch_roll_deg, up_vector
+
+from . import _kernels
+from .energy import Landscape
+from .grid import wrap_deg
+
+
+@dataclass(frozen=True)
+class Exit:
+    """The lowest way out to one kind of target.
+
+    Attributes
+    ----------
+    barrier_j : float
+        Bottleneck level minus the start energy, J (inf if unreachable).
+    saddle_pitch_deg, saddle_roll_deg : float
+        Highest point of the path, degrees (canonical branch).
+    direction : str
+        "pitch" (somersault) or "roll" (to one side), from where the path leaves.
+    path_deg : ndarray of shape (L, 2)
+        Grid path (pitch, roll) from the start, degrees, on the torus (not canonicalised, so it is continuous).
+    """
+
+    barrier_j: float
+    saddle_pitch_deg: float
+    saddle_roll_deg: float
+    direction: str
+    path_deg: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class GridBarrier:
+    """Barriers out of a start cell.
+
+    Attributes
+    ----------
+    righting, pitch_wise, roll_wise, escape : Exit or None
+        Lowest exit to upright (either way), pitch-wise upright, roll-wise upright, and to another basin
+        (None where no such path exists, e.g. escape on a flat landscape).
+    """
+
+    righting: Exit | None
+    pitch_wise: Exit | None
+    roll_wise: Exit | None
+    escape: Exit | None
+
+
+def _path(parent: NDArray[np.int64], cell: int, n: int, angles: NDArray[np.float64]) -> NDArray[np.float64]:
+    cells = [cell]
+    while parent[cells[-1]] >= 0:
+        cells.append(int(parent[cells[-1]]))
+    cells = np.array(cells[::-1])
+    ij = np.stack([cells // n, cells % n], axis=1)
+    # unwrap so the path is continuous in degrees
+    step = angles[1] - angles[0]
+    deg = angles[ij].astype(np.float64)
+    jumps = np.diff(ij, axis=0)
+    jumps = np.where(jumps > 1, jumps - n, np.where(jumps < -1, jumps + n, jumps))
+    deg[1:] = deg[0] + np.cumsum(jumps * step, axis=0)
+    return deg
+
+
+def _direction(start_deg: NDArray[np.float64], saddle_deg: NDArray[np.float64]) -> str:
+    dp, dr = np.abs(wrap_deg(saddle_deg - start_deg))
+    return "pitch" if dp >= dr else "roll"
+
+
+def _exit(landscape: Landscape, level: float, cell: int, parent, e_start: float, kind: str | None) -> Exit | None:
+    if cell < 0:
+        return None
+    n = len(landscape.angles_deg)
+    path = _path(parent, cell, n, landscape.angles_deg)
+    e_path = np.array([landscape.energy_j[int(round((p + 180) / landscape.step_deg)) % n,
+                                          int(round((r + 180) / landscape.step_deg)) % n] for p, r in path])
+    k = int(np.argmax(e_path))
+    sp, sr = canonical_pitch_roll_deg(*path[k])
+    direction = kind or _direction(path[0], path[k])
+    return Exit(float(level - e_start), sp, sr, direction, path)
+
+
+def grid_barrier(landscape: Landscape, start: tuple[int, int], *, connectivity: int = 8) -> GridBarrier:
+    """Righting, pitch-wise, roll-wise and escape barriers from a start cell.
+
+    Parameters
+    ----------
+    landscape : Landscape
+        Energy on the torus.
+    start : (int, int)
+        Start cell (i, j), usually a grid minimum.
+    connectivity : {8, 4}
+        Grid neighbours.
+
+    Returns
+    -------
+    GridBarrier
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> from geometry import Robot
+    >>> from landscape.energy import energy_landscape
+    >>> cube = Robot.from_trimesh(trimesh.creation.box(extents=(2.0, 2.0, 2.0)), mass_kg=1.0)
+    >>> ls = energy_landscape(cube.pose(), step_deg=1.0, g_m_s2=1.0)
+    >>> b = grid_barrier(ls, (180, 180))
+    >>> round(b.righting.barrier_j, 6), round(np.sqrt(2) - 1, 6)
+    (0.414214, 0.414214)
+    """
+    if connectivity not in (4, 8):
+        raise ValueError(f"connectivity must be 4 or 8; got {connectivity!r}")
+    n = len(landscape.angles_deg)
+    e = np.ascontiguousarray(landscape.energy_j)
+    i0, j0 = start[0] % n, start[1] % n
+    s = i0 * n + j0
+    e_start = float(e[i0, j0])
+    span = float(e.max() - e.min())
+    tol = 1e-9 * span + 1e-15
+    u = up_vector(np.deg2rad(landscape.angles_deg)[:, None], np.deg2rad(landscape.angles_deg)[None, :])
+    upright = u[..., 2] < 0
+    target = np.ascontiguousarray(upright.ravel().astype(np.int8))
+    u0 = u[i0, j0]
+    same = (u @ u0 > np.cos(np.deg2rad(2.5 * landscape.step_deg))).ravel()
+    is_min = _kernels.local_minima(e, tol)
+    none = np.zeros(n * n, dtype=np.bool_)
+    if upright[i0, j0]:
+        a0 = landscape.angles_deg
+        zero = Exit(0.0, *canonical_pitch_roll_deg(a0[i0], a0[j0]), "roll", np.array([[a0[i0], a0[j0]]]))
+        righting = pitch = roll = zero
+    else:
+        levels, cells, parent = _kernels.flood(e, s, target, none, is_min, same, tol, connectivity, False)
+        righting = _exit(landscape, levels[0], int(cells[0]), parent, e_start, None)
+        d = np.abs(wrap_deg(landscape.angles_deg - landscape.angles_deg[i0]))[:, None]
+        dr = np.abs(wrap_deg(landscape.angles_deg - landscape.angles_deg[j0]))[None, :]
+        out = []
+        for kind, outside in (("pitch", dr > d), ("roll", d > dr)):
+            outside = np.ascontiguousarray(outside.ravel())
+            outside[s] = False
+            levels, cells, parent = _kernels.flood(e, s, target, outside, is_min, same, tol, connectivity, False)
+            out.append(_exit(landscape, levels[0], int(cells[0]), parent, e_start, kind))
+        pitch, roll = out
+    levels, cells, parent = _kernels.flood(e, s, np.zeros(n * n, dtype=np.int8), none, is_min, same, tol,
+                                           connectivity, True)
+    escape = _exit(landscape, levels[2], int(cells[2]), parent, e_start, None)
+    return GridBarrier(righting, pitch, roll, escape)

@@ -1,0 +1,160 @@
+"""One call from a robot and its joint angles to landscape, start minimum and barriers."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from geometry import Pose, Robot
+from geometry.frames import canonical_pitch_roll_deg
+
+from .barrier import GridBarrier, grid_barrier
+from .energy import G_M_S2, Landscape, energy_landscape
+from .grid import cells_per_turn
+from .minima import Minimum, as_minimum, follow_minimum, grid_minimum, local_descent, metastable_orientation
+
+METHODS = ("grid",)
+
+
+@dataclass(frozen=True)
+class Computation:
+    """Everything ``landscape compute`` reports for one robot pose.
+
+    Attributes
+    ----------
+    theta_w_deg, theta_l_deg : float or None
+        Joint angles, degrees (None for a single rigid mesh).
+    step_deg : float
+        Grid step, degrees.
+    method : str
+        Barrier method.
+    mass_kg : float
+        Total mass, kg.
+    com_m : ndarray of shape (3,)
+        CoM in the body frame, m.
+    start_deg : (float, float)
+        Orientation the start was sought from (the metastable continuation or the user's start), degrees.
+    minimum : Minimum
+        The start minimum on the grid.
+    barrier : GridBarrier
+        Righting, pitch-wise, roll-wise and escape exits.
+    landscape : Landscape
+    timing_s : dict
+        Wall time of each stage, s.
+    """
+
+    theta_w_deg: float | None
+    theta_l_deg: float | None
+    step_deg: float
+    method: str
+    mass_kg: float
+    com_m: NDArray[np.float64]
+    start_deg: tuple[float, float]
+    minimum: Minimum
+    barrier: GridBarrier
+    landscape: Landscape = field(repr=False)
+    pose: Pose = field(repr=False)
+    timing_s: dict = field(default_factory=dict)
+
+
+def start_orientation(robot: Robot, pose: Pose, theta_w_deg: float | None, theta_l_deg: float | None, *,
+                      start_pitch_deg: float | None = None, start_roll_deg: float | None = None
+                      ) -> tuple[float, float]:
+    """The orientation barrier searches start from, degrees.
+
+    With ``start_pitch_deg``/``start_roll_deg``: the minimum reached by descent from there. Otherwise the
+    metastable state of a slow opening from rest (a robot with joints), or descent from pitch = roll = 0.
+    """
+    if start_pitch_deg is not None or start_roll_deg is not None:
+        p = 0.0 if start_pitch_deg is None else float(start_pitch_deg)
+        r = 0.0 if start_roll_deg is None else float(start_roll_deg)
+        if not (np.isfinite(p) and np.isfinite(r)) or abs(p) > 180 or abs(r) > 180:
+            raise ValueError(f"start pitch and roll must be finite degrees in [-180, 180]; got ({p!r}, {r!r})")
+        return local_descent(pose, p, r)
+    if robot.has_joints:
+        return metastable_orientation(robot, theta_w_deg, theta_l_deg)
+    return local_descent(pose, 0.0, 0.0)
+
+
+def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float | None = 0.0,
+            step_deg: float = 1.0, start_pitch_deg: float | None = None, start_roll_deg: float | None = None,
+            connectivity: int = 8, method: str = "grid", g_m_s2: float = G_M_S2,
+            start_deg: tuple[float, float] | None = None) -> Computation:
+    """Landscape, start minimum and barriers of a robot at (theta_w, theta_l).
+
+    Parameters
+    ----------
+    robot : Robot
+    theta_w_deg, theta_l_deg : float
+        Wing and leg angle, degrees (ignored for a robot without joints).
+    step_deg : float
+        Grid step, degrees (divides 360).
+    start_pitch_deg, start_roll_deg : float, optional
+        Seek the start minimum by descent from here instead of the metastable continuation.
+    connectivity : {8, 4}
+    method : {"grid"}
+    start_deg : (float, float), optional
+        A start orientation already found (used by sweeps that continue along theta); skips the search.
+
+    Raises
+    ------
+    JointLimitError, GridError, ValueError
+        For angles outside the joint limits, a step not dividing 360, or a non-finite start.
+    """
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(METHODS)}; got {method!r}")
+    cells_per_turn(step_deg)
+    timing = {}
+    t0 = time.perf_counter()
+    pose = robot.pose(theta_w_deg, theta_l_deg)
+    _ = pose.hull
+    timing["pose"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    if start_deg is None:
+        start_deg = start_orientation(robot, pose, theta_w_deg, theta_l_deg,
+                                      start_pitch_deg=start_pitch_deg, start_roll_deg=start_roll_deg)
+    timing["start"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    ls = energy_landscape(pose, step_deg=step_deg, g_m_s2=g_m_s2)
+    timing["landscape"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    cell = grid_minimum(ls, *start_deg)
+    barrier = grid_barrier(ls, cell, connectivity=connectivity)
+    timing["barrier"] = time.perf_counter() - t0
+    return Computation(pose.theta_w_deg, pose.theta_l_deg, float(step_deg), method, pose.mass_kg, pose.com_m,
+                       canonical_pitch_roll_deg(*start_deg), as_minimum(ls, *cell), barrier, ls, pose, timing)
+
+
+def sweep_starts(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float]
+                 ) -> dict[tuple[float, float], tuple[float, float]]:
+    """Metastable orientations over a theta_w x theta_l grid by one shared continuation.
+
+    theta_w rises from 0 through every requested value (1 deg steps or finer), and at each requested theta_w a
+    branch raises theta_l from 0. Equivalent to :func:`metastable_orientation` per pair, far cheaper.
+    """
+    out: dict[tuple[float, float], tuple[float, float]] = {}
+    ws = sorted(set(float(w) for w in theta_w_deg))
+    ls = sorted(set(float(x) for x in theta_l_deg))
+    for sign_ws in ([w for w in ws if w >= 0], sorted([w for w in ws if w < 0], reverse=True)):
+        at = 0.0
+        p, r = follow_minimum(robot, [(0.0, 0.0)])[-1]
+        for w in sign_ws:
+            path = [(x, 0.0) for x in _between(at, w)]
+            if path:
+                p, r = follow_minimum(robot, path, pitch_deg=p, roll_deg=r)[-1]
+            at = w
+            for tl in ls:
+                if tl == 0.0:
+                    out[(w, tl)] = (p, r)
+                    continue
+                lpath = [(w, x) for x in _between(0.0, tl)]
+                out[(w, tl)] = follow_minimum(robot, lpath, pitch_deg=p, roll_deg=r)[-1]
+    return out
+
+
+def _between(a: float, b: float) -> list[float]:
+    n = int(np.ceil(abs(b - a) / 1.0))
+    return list(np.linspace(a, b, n + 1)[1:]) if n else []
