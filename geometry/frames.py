@@ -55,7 +55,7 @@ def up_vector(pitch_rad: ArrayLike, roll_rad: ArrayLike) -> NDArray[np.float64]:
 
     Examples
     --------
-    >>> up_vector(0.0, 0.0).tolist()
+    >>> (up_vector(0.0, 0.0) + 0.0).tolist()
     [0.0, 0.0, 1.0]
     >>> up_vector(np.pi / 2, 0.3).round(12).tolist()
     [-1.0, 0.0, 0.0]

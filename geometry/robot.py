@@ -17,7 +17,13 @@ import trimesh
 import yourdfpy
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import JOINT_OUT_OF_RANGE, GeometryError, JointLimitError, RobotDescriptionError, UnknownJointError
+from .errors import (
+    JOINT_OUT_OF_RANGE,
+    GeometryError,
+    JointLimitError,
+    RobotDescriptionError,
+    UnknownJointError,
+)
 from .hull import Hull, convex_hull
 from .mass import MassProperties, combine, mesh_mass_properties
 
@@ -171,7 +177,8 @@ class Robot:
         RobotDescriptionError
             If the file is missing or unreadable, a mesh is missing, or the robot has no mass.
         UnknownJointError
-            If the joint map names a joint the robot lacks.
+            If an explicit joint map names a joint the robot lacks. Without a map, the lab robot's joint names
+            are used when all are present; otherwise the robot is rigid at its zero configuration.
         """
         path = Path(path)
         if not path.is_file():
@@ -181,14 +188,18 @@ class Robot:
                                       build_collision_scene_graph=False)
         except Exception as exc:
             raise RobotDescriptionError(f"cannot parse '{path}' as URDF: {str(exc).splitlines()[0]}") from None
+        explicit = joint_map is not None
         joint_map = joint_map or JointMap()
-        for name in (*joint_map.wing, *joint_map.leg):
-            if name not in urdf.joint_map:
-                movable = ", ".join(urdf.actuated_joint_names) or "none"
-                raise UnknownJointError(
-                    f"joint '{name}' is not in '{path.name}' (movable joints: {movable}); "
-                    "declare the mapping with --joints 'wing=NAME,...;leg=NAME'"
-                )
+        missing = [n for n in (*joint_map.wing, *joint_map.leg) if n not in urdf.joint_map]
+        if missing and explicit:
+            movable = ", ".join(urdf.actuated_joint_names) or "none"
+            raise UnknownJointError(
+                f"joint '{missing[0]}' is not in '{path.name}' (movable joints: {movable}); "
+                "declare the mapping with --joints 'wing=NAME,...;leg=NAME'"
+            )
+        if missing:  # no theta joints under the default names: a rigid robot at its zero configuration
+            log.info("%s: default joints %s absent; treating the robot as rigid", path.name, missing)
+            joint_map = None
         parts = []
         for link in urdf.robot.links:
             geoms = link.collisions or link.visuals

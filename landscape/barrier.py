@@ -128,7 +128,7 @@ def grid_barrier(landscape: Landscape, start: tuple[int, int], *, connectivity: 
     >>> cube = Robot.from_trimesh(trimesh.creation.box(extents=(2.0, 2.0, 2.0)), mass_kg=1.0)
     >>> ls = energy_landscape(cube.pose(), step_deg=1.0, g_m_s2=1.0)
     >>> b = grid_barrier(ls, (180, 180))
-    >>> round(b.righting.barrier_j, 6), round(np.sqrt(2) - 1, 6)
+    >>> round(b.righting.barrier_j, 6), round(float(np.sqrt(2)) - 1, 6)
     (0.414214, 0.414214)
     """
     if connectivity not in (4, 8):

@@ -1,0 +1,85 @@
+"""Writing results to files people can open: JSON, NPZ, CSV. (Edge layer: the only landscape code touching disk.)"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+
+from .barrier import Exit
+from .compute import Computation
+
+MJ = 1e3
+
+
+def _exit_dict(x: Exit | None) -> dict | None:
+    if x is None:
+        return None
+    return {"barrier_j": x.barrier_j, "saddle_pitch_deg": x.saddle_pitch_deg, "saddle_roll_deg": x.saddle_roll_deg,
+            "direction": x.direction, "path_deg": np.round(x.path_deg, 6).tolist()}
+
+
+def summary(c: Computation, *, robot_name: str, robot_source: str | None, robot_hash: str) -> dict:
+    """The JSON summary of one computation (energies in J, angles in degrees, lengths in m)."""
+    b = c.barrier
+    r = b.righting
+    return {
+        "robot": {"name": robot_name, "source": robot_source, "description_hash": robot_hash},
+        "theta_w_deg": c.theta_w_deg,
+        "theta_l_deg": c.theta_l_deg,
+        "step_deg": c.step_deg,
+        "method": c.method,
+        "mass_kg": c.mass_kg,
+        "com_m": [float(x) for x in c.com_m],
+        "start_deg": {"pitch_deg": c.start_deg[0], "roll_deg": c.start_deg[1]},
+        "minimum": {"pitch_deg": c.minimum.pitch_deg, "roll_deg": c.minimum.roll_deg,
+                    "energy_j": c.minimum.energy_j, "height_m": c.minimum.height_m},
+        "barrier": {
+            "righting_j": None if r is None else r.barrier_j,
+            "escape_j": None if b.escape is None else b.escape.barrier_j,
+            "saddle_pitch_deg": None if r is None else r.saddle_pitch_deg,
+            "saddle_roll_deg": None if r is None else r.saddle_roll_deg,
+            "direction": None if r is None else r.direction,
+            "pitch_wise_j": None if b.pitch_wise is None else b.pitch_wise.barrier_j,
+            "roll_wise_j": None if b.roll_wise is None else b.roll_wise.barrier_j,
+            "escape_saddle_pitch_deg": None if b.escape is None else b.escape.saddle_pitch_deg,
+            "escape_saddle_roll_deg": None if b.escape is None else b.escape.saddle_roll_deg,
+            "escape_direction": None if b.escape is None else b.escape.direction,
+        },
+        "paths": {k: _exit_dict(getattr(b, k)) for k in ("righting", "pitch_wise", "roll_wise", "escape")},
+        "timing_s": {k: round(v, 6) for k, v in c.timing_s.items()},
+    }
+
+
+def write_computation(c: Computation, summary_dict: dict, out_dir: Path) -> list[Path]:
+    """Write landscape.npz, landscape.csv and summary.json into ``out_dir``; return the paths."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    angles, energy = c.landscape.inclusive()
+    npz = out_dir / "landscape.npz"
+    np.savez_compressed(
+        npz, pitch_deg=angles, roll_deg=angles, energy_j=energy, mass_kg=c.mass_kg, com_m=c.com_m,
+        step_deg=c.step_deg, theta_w_deg=np.nan if c.theta_w_deg is None else c.theta_w_deg,
+        theta_l_deg=np.nan if c.theta_l_deg is None else c.theta_l_deg,
+        minimum_deg=np.array([c.minimum.pitch_deg, c.minimum.roll_deg]),
+        righting_path_deg=np.zeros((0, 2)) if c.barrier.righting is None else c.barrier.righting.path_deg,
+    )
+    csv_path = out_dir / "landscape.csv"
+    pp, rr = np.meshgrid(angles, angles, indexing="ij")
+    table = np.column_stack([pp.ravel(), rr.ravel(), energy.ravel()])
+    np.savetxt(csv_path, table, delimiter=",", header="pitch_deg,roll_deg,energy_j", comments="",
+               fmt=["%.6g", "%.6g", "%.12g"])
+    js = out_dir / "summary.json"
+    js.write_text(json.dumps(summary_dict, indent=2) + "\n")
+    return [npz, csv_path, js]
+
+
+def write_rows_csv(rows: list[dict], path: Path) -> Path:
+    """Write a list of flat dicts as CSV with a header."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    return path
