@@ -1,0 +1,816 @@
+"""Exact barriers of a convex body on flat ground: critical points in closed form, bottleneck paths on faces.
+
+The CoM height over the up-direction ``u`` (world-up in the body frame, geometry/frames.py) is the support
+function ``h(u) = max_k (c - v_k).u`` over hull vertices ``v_k`` seen from the CoM ``c``. It is smooth inside
+the *cell* of each vertex (the up-directions for which that vertex is lowest) and its structure is closed-form:
+
+- a *minimum* at ``u_F = -n_F`` for each (merged, coplanar) face ``F`` whose plane the CoM projects strictly
+  inside: the body rests on ``F``; ``h`` = distance from the CoM to the face plane;
+- a *saddle* on the arc of each hull edge ``ab`` (the great-circle arc from ``u_F`` to ``u_G`` between its two
+  faces, where ``a`` and ``b`` are both lowest) when the foot of the perpendicular from the CoM onto the edge
+  line lies inside the edge and its direction lies on the arc: the body rocks on the edge; ``h`` = distance
+  from the CoM to the edge line;
+- a *maximum* at ``u = (c - v_k) / |c - v_k|`` when that direction lies in vertex ``k``'s cell.
+
+Inside a cell ``h = (c - v_k).u`` and the region above any level is a spherical cap, which is convex. Any path
+crossing a cell can therefore be pushed onto the cell's boundary without raising its maximum, so the lowest
+possible maximum along *continuous* paths (the barrier) is a bottleneck path on the face-edge graph: nodes are
+the face directions ``u_F``, links the edge arcs, each weighted by the highest ``h`` along the arc, which on an
+arc is ``w.u`` with ``w`` the perpendicular from the edge line to the CoM. For righting, arcs are cut where they
+cross ``u_z = 0`` and the crossing is the target (the upright set is ``u_z < 0``; its closure is reached at the
+same level, so the infimum over paths is taken). No grid, so no discretisation error, in milliseconds.
+
+Definitions shared with the grid method (landscape/barrier.py):
+
+- *escape*: reach another minimum (the lowest maximum along any path to any other face minimum).
+- *righting*: reach ``u_z <= 0``.
+- *pitch-wise* and *roll-wise*: the grid keeps the whole path inside the sector ``|d roll| <= |d pitch|``
+  (resp. the reverse) around the start in torus coordinates. A sector is not a union of cells, so the graph
+  reduction is not exact inside it; here the search keeps to the arcs (cut at the upright boundary) that lie
+  wholly inside the sector, sampled every ``PATH_STEP_DEG`` (a point is inside when either of its two torus
+  representatives is). This is an upper bound on the continuous sector-restricted barrier and the grid's
+  sector barrier may lie below it by more than grid error (a continuous path may cut through a cell along the
+  sector boundary, and a long arc that pokes out of the sector is dropped whole). (Classifying routes by the
+  sector of their highest point instead is not useful: a detour through a slightly higher pitch-sector point
+  then counts as "pitch-wise" though the body goes over the side.)
+- *direction*: "pitch" when the saddle lies at least as far from the start in pitch as in roll, else "roll",
+  using the saddle's torus representative nearest the start ((p, r) or (180 - p, r + 180); at the poles the roll
+  is that of the start).
+
+Tolerance (documented and deterministic): lengths within ``LENGTH_RTOL`` times the hull diameter are equal.
+Faces closer than that to coplanar are merged; a CoM that projects within that distance of a face's boundary
+is *above the edge or vertex*: the face is not a minimum (the body tips over, as a marginal equilibrium would
+under any disturbance); a start exactly on a saddle rolls to the lower of the two faces (ties: the lower face
+index) and a start exactly on a vertex maximum to the lowest face at that vertex.
+"""
+
+from __future__ import annotations
+
+import heapq
+import logging
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import ConvexHull, QhullError
+
+from geometry import Pose
+from geometry.frames import canonical_pitch_roll_deg, pitch_roll_from_up, up_vector
+
+from .barrier import Exit, GridBarrier
+from .energy import G_M_S2
+from .grid import wrap_deg
+from .minima import Minimum
+
+log = logging.getLogger(__name__)
+
+LENGTH_RTOL = 1e-9      # lengths below LENGTH_RTOL * hull diameter count as zero
+ANGLE_TOL_RAD = 1e-9    # face normals closer than this (and within the length tolerance) are one face
+UPRIGHT_Z_TOL = 1e-12   # u_z <= this counts as reached the upright set
+PATH_STEP_DEG = 1.0     # sampling of reported paths along arcs, degrees
+
+NOT_A_SOLID = ("the exact method needs a solid body: the hull of {n} points is flat or degenerate "
+               "(all points within {tol:.3g} m of a plane or line); use method='grid'")
+COM_OUTSIDE = ("the CoM {com} m lies {dist:.3g} m outside the convex hull; the exact method needs it inside "
+               "(check the masses and <inertial> origins)")
+
+
+class ExactMethodError(ValueError):
+    """A body the exact method cannot treat (flat hull, CoM outside the hull)."""
+
+
+@dataclass(frozen=True)
+class CriticalPoints:
+    """Minima, saddles and maxima of the energy on the sphere of up-directions.
+
+    Attributes
+    ----------
+    minima_face : ndarray of shape (M,) of int64
+        Face resting on the ground (index into ``ExactLandscape.face_up``).
+    minima_deg, saddles_deg, maxima_deg : ndarray of shape (M, 2), (S, 2), (X, 2)
+        Canonical (pitch, roll), degrees.
+    minima_energy_j, saddles_energy_j, maxima_energy_j : ndarray
+        m g h, J.
+    saddles_arc : ndarray of shape (S,) of int64
+        Edge arc the saddle lies on (index into ``ExactLandscape.arc_faces``).
+    saddles_joins : ndarray of shape (S, 2) of int64
+        The minima (rows of ``minima_*``) reached by rolling down from either side of each saddle.
+    maxima_vertex : ndarray of shape (X,) of int64
+        Hull vertex the body balances on.
+    """
+
+    minima_face: NDArray[np.int64]
+    minima_deg: NDArray[np.float64]
+    minima_energy_j: NDArray[np.float64]
+    saddles_arc: NDArray[np.int64]
+    saddles_deg: NDArray[np.float64]
+    saddles_energy_j: NDArray[np.float64]
+    saddles_joins: NDArray[np.int64]
+    maxima_vertex: NDArray[np.int64]
+    maxima_deg: NDArray[np.float64]
+    maxima_energy_j: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class ExactLandscape:
+    """The face-edge graph of a convex hull seen from the CoM, with everything the exact barriers need.
+
+    Attributes
+    ----------
+    mass_kg, g_m_s2 : float
+        Mass, kg, and gravity, m/s^2.
+    com_m : ndarray of shape (3,)
+        CoM, body frame, m.
+    vertices_m : ndarray of shape (K, 3)
+        Hull vertices, m.
+    tol_m : float
+        Length tolerance, m (``LENGTH_RTOL`` times the hull diameter).
+    face_up : ndarray of shape (F, 3)
+        Up-direction at which each merged face rests on the ground (minus its outward normal).
+    face_height_m : ndarray of shape (F,)
+        CoM height when resting on the face (distance from the CoM to its plane), m.
+    face_margin_m : ndarray of shape (F,)
+        Distance of the CoM's projection inside the face's boundary, m (negative: outside).
+    arc_faces, arc_vertices : ndarray of shape (A, 2) of int64
+        The two faces and the two end vertices of each edge (collinear sub-edges joined).
+    arc_max_m : ndarray of shape (A,)
+        Highest CoM height along each edge arc, m.
+    arc_peak_up : ndarray of shape (A, 3)
+        Where on the arc that height is reached.
+    critical : CriticalPoints
+    """
+
+    mass_kg: float
+    g_m_s2: float
+    com_m: NDArray[np.float64]
+    vertices_m: NDArray[np.float64] = field(repr=False)
+    tol_m: float
+    face_up: NDArray[np.float64] = field(repr=False)
+    face_height_m: NDArray[np.float64] = field(repr=False)
+    face_margin_m: NDArray[np.float64] = field(repr=False)
+    arc_faces: NDArray[np.int64] = field(repr=False)
+    arc_vertices: NDArray[np.int64] = field(repr=False)
+    arc_max_m: NDArray[np.float64] = field(repr=False)
+    arc_peak_up: NDArray[np.float64] = field(repr=False)
+    critical: CriticalPoints = field(repr=False)
+    _g: _Graph = field(repr=False, compare=False)
+
+    @property
+    def energy_scale_j(self) -> float:
+        """m g, J/m."""
+        return self.mass_kg * self.g_m_s2
+
+
+@dataclass(frozen=True)
+class ExactBarrier:
+    """Exact barriers out of the basin that contains a start orientation.
+
+    Attributes
+    ----------
+    start : landscape.minima.Minimum
+        The exact start minimum (canonical pitch, roll in degrees; energy, J; CoM height, m).
+    start_face : int
+        The face the body rests on there (index into ``landscape.face_up``).
+    barrier : landscape.barrier.GridBarrier
+        Righting, pitch-wise, roll-wise and escape exits, as the grid method reports them.
+    landscape : ExactLandscape
+    """
+
+    start: Minimum
+    start_face: int
+    barrier: GridBarrier
+    landscape: ExactLandscape = field(repr=False)
+
+
+@dataclass(frozen=True)
+class _Graph:
+    """Private per-arc geometry: arc ``i`` runs ``cos(s) u0 + sin(s) t`` for s in [0, theta], from face 0 to 1."""
+
+    d: NDArray[np.float64]            # (K, 3) c - v_k
+    nbr_ptr: NDArray[np.int64]
+    nbr_idx: NDArray[np.int64]
+    face_ptr: NDArray[np.int64]       # faces' vertices, CSR
+    face_idx: NDArray[np.int64]
+    vface_ptr: NDArray[np.int64]      # faces at each vertex, CSR
+    vface_idx: NDArray[np.int64]
+    face_proj: NDArray[np.float64]    # (F, 3) CoM projected onto each face plane
+    half_ptr: NDArray[np.int64]       # face boundary half-edges by face (CSR): arc, vertices a b (segment ends)
+    half_arc: NDArray[np.int64]
+    half_a: NDArray[np.int64]
+    half_b: NDArray[np.int64]
+    arc_t: NDArray[np.float64]        # (A, 3)
+    arc_theta: NDArray[np.float64]    # (A,)
+    arc_w: NDArray[np.float64]        # (A, 3) perpendicular from the edge line to the CoM
+    arc_peak_s: NDArray[np.float64]   # (A,) where w.u peaks along the arc (may lie outside [0, theta])
+    arc_foot: NDArray[np.float64]     # (A,) foot of the perpendicular along the edge, m from vertex 0
+    arc_len: NDArray[np.float64]      # (A,) edge length, m
+    pair_arc: dict
+
+
+# --------------------------------------------------------------------------------------------- construction
+def _faces(pts: NDArray[np.float64], tol_m: float):
+    """Merged faces of the hull: (outward normals, triangle -> face, triangles, triangle neighbours)."""
+    try:
+        qh = ConvexHull(pts)
+    except (QhullError, ValueError):
+        raise ExactMethodError(NOT_A_SOLID.format(n=len(pts), tol=tol_m)) from None
+    tri = np.asarray(qh.simplices, dtype=np.int64)
+    eq = np.asarray(qh.equations, dtype=np.float64)
+    nb = np.asarray(qh.neighbors, dtype=np.int64)
+    n_t = len(tri)
+    # a triangle joins its neighbour's face when the normals agree and its far vertex lies on that plane
+    i = np.repeat(np.arange(n_t), 3)
+    j = nb.ravel()
+    far = tri[j, :]  # vertices of the neighbour; the one not shared is the far vertex
+    shared = (far[:, :, None] == tri[i][:, None, :]).any(axis=2)
+    far_v = far[np.arange(len(j)), np.argmin(shared, axis=1)]
+    dist = np.abs(np.einsum("ij,ij->i", eq[i, :3], pts[far_v]) + eq[i, 3])
+    close = (dist <= tol_m) & (np.linalg.norm(eq[i, :3] - eq[j, :3], axis=1) <= ANGLE_TOL_RAD)
+    adj = coo_matrix((np.ones(int(close.sum())), (i[close], j[close])), shape=(n_t, n_t))
+    _, tri_face = connected_components(adj, directed=False)
+    return eq, tri, nb, tri_face.astype(np.int64)
+
+
+def _csr(n: int, rows: NDArray[np.int64], cols: NDArray[np.int64]):
+    order = np.lexsort((cols, rows))
+    rows, cols = rows[order], cols[order]
+    keep = np.ones(len(rows), dtype=bool)
+    keep[1:] = (rows[1:] != rows[:-1]) | (cols[1:] != cols[:-1])
+    rows, cols = rows[keep], cols[keep]
+    ptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(rows, minlength=n), out=ptr[1:])
+    return ptr, cols.astype(np.int64)
+
+
+def exact_landscape(pose: Pose, *, g_m_s2: float = G_M_S2) -> ExactLandscape:
+    """The face-edge graph and critical points of a posed body's energy.
+
+    Parameters
+    ----------
+    pose : geometry.Pose
+        The rigid body: hull vertices and CoM in the body frame, m; mass, kg.
+    g_m_s2 : float
+        Gravitational acceleration, m/s^2.
+
+    Returns
+    -------
+    ExactLandscape
+
+    Raises
+    ------
+    ExactMethodError
+        If the hull is flat or degenerate, or the CoM lies outside it.
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> from geometry import Robot
+    >>> box = Robot.from_trimesh(trimesh.creation.box(extents=(4.0, 2.0, 1.0)), mass_kg=1.0)
+    >>> ex = exact_landscape(box.pose(), g_m_s2=1.0)
+    >>> len(ex.critical.minima_face), len(ex.critical.saddles_arc), len(ex.critical.maxima_vertex)
+    (6, 12, 8)
+    >>> float(ex.critical.minima_energy_j.min()), round(float(ex.critical.saddles_energy_j.min()), 6)
+    (0.5, 1.118034)
+    """
+    return _build(np.asarray(pose.hull.vertices_m, dtype=np.float64), np.asarray(pose.com_m, dtype=np.float64),
+                  float(pose.mass_kg), float(g_m_s2))
+
+
+def _build(pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g_m_s2: float) -> ExactLandscape:
+    diam = float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0)))
+    tol_m = LENGTH_RTOL * max(diam, np.finfo(float).tiny)
+    eq, tri, nb, tri_face = _faces(pts, tol_m)
+    n_f = int(tri_face.max()) + 1
+    k_v = len(pts)
+    # outward normal of each merged face: area-weighted mean of its triangles' normals
+    cross = np.cross(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
+    area = 0.5 * np.linalg.norm(cross, axis=1)
+    normal = np.zeros((n_f, 3))
+    np.add.at(normal, tri_face, eq[:, :3] * (area[:, None] + 1e-300))
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    d = com[None, :] - pts
+    face_up = -normal
+    heights = face_up @ d.T                                  # (F, K)
+    face_h = heights.max(axis=1)
+    inside = -(eq[:, :3] @ com + eq[:, 3])                   # distance of the CoM inside each triangle plane
+    if inside.min() < -tol_m:
+        k = int(np.argmin(inside))
+        raise ExactMethodError(COM_OUTSIDE.format(com=np.round(com, 6).tolist(), dist=-float(inside[k])))
+    # faces' vertices and the faces at each vertex
+    fr = np.repeat(tri_face, 3)
+    face_ptr, face_idx = _csr(n_f, fr, tri.ravel())
+    vface_ptr, vface_idx = _csr(k_v, tri.ravel(), fr)
+    # boundary edges between different faces (each once), grouped by face pair
+    t_i = np.repeat(np.arange(len(tri)), 3)
+    t_j = nb.ravel()
+    opp = np.tile(np.arange(3), len(tri))
+    e_v = np.stack([tri[t_i, (opp + 1) % 3], tri[t_i, (opp + 2) % 3]], axis=1)
+    fa, fb = tri_face[t_i], tri_face[t_j]
+    keep = fa < fb
+    e_v, fa, fb = e_v[keep], fa[keep], fb[keep]
+    pair = fa * n_f + fb
+    uniq, inv = np.unique(pair, return_inverse=True)
+    n_a = len(uniq)
+    arc_faces = np.stack([uniq // n_f, uniq % n_f], axis=1).astype(np.int64)
+    # the full segment of collinear sub-edges: the extreme vertices along the first sub-edge's direction
+    first = np.zeros(n_a, dtype=np.int64)
+    first[inv[::-1]] = np.arange(len(inv))[::-1]
+    dirs = pts[e_v[first, 1]] - pts[e_v[first, 0]]
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    proj = np.einsum("ik,ijk->ij", dirs[inv], pts[e_v])   # (E, 2) positions along the edge line, m
+    lo_val = np.full(n_a, np.inf)
+    hi_val = np.full(n_a, -np.inf)
+    np.minimum.at(lo_val, inv, proj.min(axis=1))
+    np.maximum.at(hi_val, inv, proj.max(axis=1))
+    arc_a = np.zeros(n_a, dtype=np.int64)
+    arc_b = np.zeros(n_a, dtype=np.int64)
+    flat_v = e_v.ravel()
+    flat_p = proj.ravel()
+    flat_i = np.repeat(inv, 2)
+    is_lo = flat_p == lo_val[flat_i]
+    is_hi = flat_p == hi_val[flat_i]
+    arc_a[flat_i[is_lo]] = flat_v[is_lo]
+    arc_b[flat_i[is_hi]] = flat_v[is_hi]
+    pair_arc = {}
+    for (a, b), k in zip(e_v.tolist(), inv.tolist(), strict=True):
+        pair_arc[(min(a, b), max(a, b))] = k
+    for a, b, k in zip(arc_a.tolist(), arc_b.tolist(), range(n_a), strict=True):
+        pair_arc[(min(a, b), max(a, b))] = k
+    # arc geometry
+    u0 = face_up[arc_faces[:, 0]]
+    u1 = face_up[arc_faces[:, 1]]
+    cos_t = np.clip(np.einsum("ij,ij->i", u0, u1), -1.0, 1.0)
+    theta = np.arccos(cos_t)
+    t = u1 - cos_t[:, None] * u0
+    tn = np.linalg.norm(t, axis=1)
+    t = np.where(tn[:, None] > 0, t / np.where(tn > 0, tn, 1.0)[:, None], 0.0)
+    seg = pts[arc_b] - pts[arc_a]
+    seg_len = np.linalg.norm(seg, axis=1)
+    e = seg / seg_len[:, None]
+    da = com[None, :] - pts[arc_a]
+    foot = np.einsum("ij,ij->i", da, e)
+    w = da - foot[:, None] * e
+    amp_a = np.einsum("ij,ij->i", w, u0)
+    amp_b = np.einsum("ij,ij->i", w, t)
+    peak_s = np.arctan2(amp_b, amp_a)
+    on_arc = (peak_s > 0) & (peak_s < theta)
+    h_ends = np.maximum(face_h[arc_faces[:, 0]], face_h[arc_faces[:, 1]])
+    arc_max = np.where(on_arc, np.maximum(np.hypot(amp_a, amp_b), h_ends), h_ends)
+    end_up = np.where((face_h[arc_faces[:, 0]] >= face_h[arc_faces[:, 1]])[:, None], u0, u1)
+    peak_up = np.where(on_arc[:, None], np.cos(peak_s)[:, None] * u0 + np.sin(peak_s)[:, None] * t, end_up)
+    # faces' boundaries as half-edges, the CoM's projection and its margin inside
+    half_face = np.concatenate([arc_faces[:, 0], arc_faces[:, 1]])
+    half_arc = np.concatenate([np.arange(n_a), np.arange(n_a)])
+    half_a = np.concatenate([arc_a, arc_a])
+    half_b = np.concatenate([arc_b, arc_b])
+    order = np.argsort(half_face, kind="stable")
+    half_face, half_arc, half_a, half_b = half_face[order], half_arc[order], half_a[order], half_b[order]
+    half_ptr = np.zeros(n_f + 1, dtype=np.int64)
+    np.cumsum(np.bincount(half_face, minlength=n_f), out=half_ptr[1:])
+    face_proj = com[None, :] - face_h[:, None] * face_up  # c + h n: the foot on the face plane
+    margin = _face_margins(pts, normal, face_proj, face_ptr, face_idx, half_face, half_a, half_b, n_f)
+    nbr_ptr, nbr_idx = _csr(k_v, np.concatenate([tri[:, [0, 1, 2]].ravel(), tri[:, [1, 2, 0]].ravel()]),
+                            np.concatenate([tri[:, [1, 2, 0]].ravel(), tri[:, [0, 1, 2]].ravel()]))
+    g = _Graph(d, nbr_ptr, nbr_idx, face_ptr, face_idx, vface_ptr, vface_idx, face_proj, half_ptr, half_arc,
+               half_a, half_b, t, theta, w, peak_s, foot, seg_len, pair_arc)
+    ang_tol = tol_m / max(float(np.linalg.norm(d, axis=1).max()), tol_m)
+    scale = mass_kg * g_m_s2
+    # critical points
+    is_min = margin > tol_m
+    minima_face = np.flatnonzero(is_min).astype(np.int64)
+    saddle = (peak_s > ang_tol) & (peak_s < theta - ang_tol) & (foot > tol_m) & (foot < seg_len - tol_m)
+    saddles_arc = np.flatnonzero(saddle).astype(np.int64)
+    dn = d / np.linalg.norm(d, axis=1, keepdims=True)
+    src = np.repeat(np.arange(k_v), np.diff(nbr_ptr))
+    gap = np.einsum("ij,ij->i", d[src] - d[nbr_idx], dn[src])  # vertex k vs its neighbour at u = d_k/|d_k|
+    worst = np.full(k_v, np.inf)
+    np.minimum.at(worst, src, gap)
+    maxima_vertex = np.flatnonzero(worst > tol_m).astype(np.int64)
+    partial = ExactLandscape(mass_kg, g_m_s2, com, pts, tol_m, face_up, face_h, margin, arc_faces,
+                             np.stack([arc_a, arc_b], axis=1), arc_max, peak_up, None, g)
+    row = np.full(n_f, -1, dtype=np.int64)
+    row[minima_face] = np.arange(len(minima_face))
+    joins = np.array([[row[_descend_face(partial, int(f))] for f in arc_faces[s]] for s in saddles_arc],
+                     dtype=np.int64).reshape(-1, 2)
+    crit = CriticalPoints(
+        minima_face, _deg(face_up[minima_face]), scale * face_h[minima_face],
+        saddles_arc, _deg(peak_up[saddles_arc]), scale * arc_max[saddles_arc], joins,
+        maxima_vertex, _deg(dn[maxima_vertex]), scale * np.linalg.norm(d[maxima_vertex], axis=1))
+    return ExactLandscape(mass_kg, g_m_s2, com, pts, tol_m, face_up, face_h, margin, arc_faces,
+                          np.stack([arc_a, arc_b], axis=1), arc_max, peak_up, crit, g)
+
+
+def _face_margins(pts, normal, proj, face_ptr, face_idx, half_face, half_a, half_b, n_f):
+    """Signed distance of each face's CoM projection inside its boundary, m (min over boundary edges)."""
+    centroid = np.zeros((n_f, 3))
+    np.add.at(centroid, np.repeat(np.arange(n_f), np.diff(face_ptr)), pts[face_idx])
+    centroid /= np.diff(face_ptr)[:, None]
+    a, b = pts[half_a], pts[half_b]
+    e = (b - a) / np.linalg.norm(b - a, axis=1, keepdims=True)
+    m = np.cross(normal[half_face], e)
+    m /= np.linalg.norm(m, axis=1, keepdims=True)
+    m *= np.sign(np.einsum("ij,ij->i", centroid[half_face] - a, m))[:, None]
+    dist = np.einsum("ij,ij->i", proj[half_face] - a, m)
+    out = np.full(n_f, np.inf)
+    np.minimum.at(out, half_face, dist)
+    return out
+
+
+def _deg(u: NDArray[np.float64]) -> NDArray[np.float64]:
+    p, r = pitch_roll_from_up(u.reshape(-1, 3))
+    return np.stack([np.rad2deg(p), np.rad2deg(r)], axis=-1).reshape(-1, 2)
+
+
+# --------------------------------------------------------------------------------------------- rolling down
+def _cell_step(ex: ExactLandscape, k: int, u: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Steepest descent inside vertex k's cell: along the great circle away from d_k to the cell's boundary."""
+    g = ex._g
+    dk = g.d[k]
+    grad = dk - (dk @ u) * u
+    n = np.linalg.norm(grad)
+    if n < 1e-15 * np.linalg.norm(dk):  # balanced on the vertex: fall onto its lowest face
+        faces = g.vface_idx[g.vface_ptr[k]:g.vface_ptr[k + 1]]
+        f = int(faces[np.argmin(ex.face_height_m[faces])])
+        return ex.face_up[f].copy()
+    t = -grad / n
+    diff = g.d - dk
+    a = diff @ u
+    b = diff @ t
+    s = np.mod(np.arctan2(b, a) - np.pi / 2, 2 * np.pi)
+    s[k] = np.inf
+    s[s < 1e-12] = np.inf
+    s_end = np.pi - np.arccos(np.clip(dk @ u / np.linalg.norm(dk), -1.0, 1.0))
+    step = min(float(s.min()), s_end)
+    out = np.cos(step) * u + np.sin(step) * t
+    return out / np.linalg.norm(out)
+
+
+def _node_face(ex: ExactLandscape, top: int, u: NDArray[np.float64]) -> int:
+    g = ex._g
+    faces = g.vface_idx[g.vface_ptr[top]:g.vface_ptr[top + 1]]
+    return int(faces[np.argmax(ex.face_up[faces] @ u)])
+
+
+def _face_exit(ex: ExactLandscape, f: int):
+    """Where a face that is not a minimum tips over: ('arc', arc, next face) or ('vertex', k)."""
+    g = ex._g
+    sel = np.arange(g.half_ptr[f], g.half_ptr[f + 1])
+    p = g.face_proj[f]
+    a, b = ex.vertices_m[g.half_a[sel]], ex.vertices_m[g.half_b[sel]]
+    seg = b - a
+    L = np.linalg.norm(seg, axis=1)
+    s = np.clip(np.einsum("ij,ij->i", p - a, seg) / L**2, 0.0, 1.0)
+    dist = np.linalg.norm(a + s[:, None] * seg - p, axis=1)
+    i = int(np.argmin(dist))
+    along = s[i] * L[i]
+    arc = int(g.half_arc[sel[i]])
+    if along <= ex.tol_m:
+        return "vertex", int(g.half_a[sel[i]])
+    if along >= L[i] - ex.tol_m:
+        return "vertex", int(g.half_b[sel[i]])
+    other = ex.arc_faces[arc]
+    return "arc", arc, int(other[1] if other[0] == f else other[0])
+
+
+def _descend_face(ex: ExactLandscape, f: int) -> int:
+    """The minimum face reached by quasi-static rolling from resting on face f."""
+    for _ in range(4 * len(ex.face_up) + 8):
+        if ex.face_margin_m[f] > ex.tol_m:
+            return f
+        step = _face_exit(ex, f)
+        if step[0] == "arc":
+            f = step[2]
+        else:
+            return _descend_from(ex, _cell_step(ex, step[1], ex.face_up[f]), depth=1)
+    raise RuntimeError(f"rolling down from face {f} did not settle; please report this body")
+
+
+def _descend_from(ex: ExactLandscape, u: NDArray[np.float64], depth: int = 0) -> int:
+    """The minimum face reached by quasi-static rolling (steepest descent of h) from up-direction u."""
+    g = ex._g
+    u = np.asarray(u, dtype=np.float64)
+    u = u / np.linalg.norm(u)
+    for _ in range(4 * (len(ex.face_up) + len(ex.vertices_m)) + 8):
+        hv = g.d @ u
+        top = int(np.argmax(hv))
+        act = np.flatnonzero(hv >= hv[top] - ex.tol_m)
+        if len(act) == 1:
+            u = _cell_step(ex, top, u)
+            continue
+        if len(act) == 2:
+            arc = g.pair_arc.get((int(act.min()), int(act.max())))
+            if arc is not None:
+                f0, f1 = (int(x) for x in ex.arc_faces[arc])
+                foot, L = g.arc_foot[arc], g.arc_len[arc]
+                if foot < -ex.tol_m or foot > L + ex.tol_m:  # CoM beyond an end: pivot onto that vertex
+                    k = int(ex.arc_vertices[arc, 0] if foot < 0 else ex.arc_vertices[arc, 1])
+                    u = _cell_step(ex, k, u)
+                    continue
+                s = np.arctan2(u @ g.arc_t[arc], u @ ex.face_up[f0])
+                ang_tol = ex.tol_m / max(np.linalg.norm(g.arc_w[arc]), ex.tol_m)
+                if s < g.arc_peak_s[arc] - ang_tol:
+                    f = f0
+                elif s > g.arc_peak_s[arc] + ang_tol:
+                    f = f1
+                else:  # on the saddle: the lower side, ties to the lower face index
+                    f = f0 if (ex.face_height_m[f0], f0) <= (ex.face_height_m[f1], f1) else f1
+                return _descend_face(ex, f)
+        return _descend_face(ex, _node_face(ex, top, u))
+    raise RuntimeError("rolling down did not settle; please report this body")
+
+
+# --------------------------------------------------------------------------------------------- searches
+def _minimax(n: int, eu, ev, ew, sources: list[int], goal: NDArray[np.bool_], stop: bool):
+    """Bottleneck Dijkstra on an undirected graph: lowest possible maximum edge weight from the sources.
+
+    Goal nodes are settled but never expanded. Returns (level per node, parent edge per node, first goal).
+    """
+    ptr = np.zeros(n + 1, dtype=np.int64)
+    ends = np.concatenate([eu, ev])
+    order = np.argsort(ends, kind="stable")
+    np.cumsum(np.bincount(ends, minlength=n), out=ptr[1:])
+    m = len(eu)
+    other = np.concatenate([ev, eu])[order].tolist()
+    edge = (order % m).tolist()
+    wl = np.asarray(ew)[order % m].tolist()
+    ptr_l = ptr.tolist()
+    goal_l = goal.tolist()
+    level = [np.inf] * n
+    parent = [-1] * n
+    done = [False] * n
+    heap = []
+    for s in sources:
+        level[s] = -np.inf
+        heap.append((-np.inf, s))
+    heapq.heapify(heap)
+    first = -1
+    while heap:
+        lv, x = heapq.heappop(heap)
+        if done[x]:
+            continue
+        done[x] = True
+        if goal_l[x]:
+            if first < 0:
+                first = x
+                if stop:
+                    break
+            continue
+        for q in range(ptr_l[x], ptr_l[x + 1]):
+            y = other[q]
+            if done[y]:
+                continue
+            nl = max(lv, wl[q])
+            if nl < level[y] or (nl == level[y] and parent[y] < 0 and level[y] != -np.inf):
+                level[y] = nl
+                parent[y] = edge[q]
+                heapq.heappush(heap, (nl, y))
+    return np.array(level), np.array(parent, dtype=np.int64), first
+
+
+def _chain(parent, eu, ev, x: int) -> list[tuple[int, int]]:
+    """(edge, node reached) pairs from the source to x along the search tree."""
+    out = []
+    while parent[x] >= 0:
+        e = int(parent[x])
+        out.append((e, x))
+        x = int(eu[e] if ev[e] == x else ev[e])
+    return out[::-1]
+
+
+def _arc_points(ex: ExactLandscape, arc: int, s0: float, s1: float) -> NDArray[np.float64]:
+    g = ex._g
+    n = max(2, int(np.ceil(abs(s1 - s0) / np.deg2rad(PATH_STEP_DEG))) + 1)
+    s = np.linspace(s0, s1, n)
+    u0 = ex.face_up[ex.arc_faces[arc, 0]]
+    return np.cos(s)[:, None] * u0 + np.sin(s)[:, None] * g.arc_t[arc]
+
+
+def _wrap(x: float) -> float:
+    return (x + 180.0) % 360.0 - 180.0
+
+
+def _nearest_rep(p: float, r: float, p_ref: float, r_ref: float) -> tuple[float, float]:
+    """The torus representative of (p, r), shifted by whole turns, nearest to (p_ref, r_ref), degrees.
+
+    Nearest in the larger of the pitch and roll differences; ties keep (p, r).
+    """
+    pole = abs(abs(p) - 90.0) < 1e-9  # at a pole any roll is the same orientation
+    p1, r1 = p_ref + _wrap(p - p_ref), r_ref if pole else r_ref + _wrap(r - r_ref)
+    p2, r2 = p_ref + _wrap(180.0 - p - p_ref), r_ref if pole else r_ref + _wrap(r + 180.0 - r_ref)
+    if max(abs(p2 - p_ref), abs(r2 - r_ref)) < max(abs(p1 - p_ref), abs(r1 - r_ref)) - 1e-12:
+        return p2, r2
+    return p1, r1
+
+
+def _torus_path(us: NDArray[np.float64], start_deg: tuple[float, float]) -> NDArray[np.float64]:
+    """A continuous torus path through up-directions: each point's representative nearest the previous one."""
+    out = [start_deg]
+    for p, r in _deg(us).tolist():
+        out.append(_nearest_rep(p, r, *out[-1]))
+    return np.array(out[1:], dtype=np.float64).reshape(-1, 2)
+
+
+def _in_sectors(us: NDArray[np.float64], start_deg: tuple[float, float]):
+    """Whether points lie in the pitch sector (|d roll| <= |d pitch|) and the roll sector around the start.
+
+    Uses each point's torus representative nearest the start (as :func:`_nearest_rep`).
+    """
+    pr = _deg(us)
+    pole = np.abs(np.abs(pr[:, 0]) - 90.0) < 1e-9
+    d = []
+    for p, r in ((pr[:, 0], pr[:, 1]), (180.0 - pr[:, 0], pr[:, 1] + 180.0)):
+        dp = np.abs(wrap_deg(p - start_deg[0]))
+        dr = np.where(pole, 0.0, np.abs(wrap_deg(r - start_deg[1])))
+        d.append((dp, dr))
+    second = np.maximum(*d[1]) < np.maximum(*d[0]) - 1e-12
+    dp = np.where(second, d[1][0], d[0][0])
+    dr = np.where(second, d[1][1], d[0][1])
+    return dr <= dp, dp <= dr
+
+
+def _direction(u: NDArray[np.float64], start_deg: tuple[float, float]) -> str:
+    p, r = _deg(u)[0]
+    pp, rr = _nearest_rep(float(p), float(r), *start_deg)
+    return "pitch" if abs(pp - start_deg[0]) >= abs(rr - start_deg[1]) else "roll"
+
+
+def _exit(ex: ExactLandscape, level_m: float, start_h: float, start_deg, pieces, kind: str | None) -> Exit:
+    """pieces: list of (arc, s0, s1, peak_h, peak_up) traversed in order."""
+    us = [up_vector(*np.deg2rad(start_deg))[None, :]]
+    us += [_arc_points(ex, a, s0, s1)[1:] for a, s0, s1, _, _ in pieces]
+    path = _torus_path(np.concatenate(us), start_deg)
+    k = int(np.argmax([ph for *_, ph, _ in pieces])) if pieces else -1
+    saddle_up = pieces[k][4] if pieces else up_vector(*np.deg2rad(start_deg))
+    sp, sr = canonical_pitch_roll_deg(*_deg(saddle_up)[0])
+    direction = kind or _direction(saddle_up, start_deg)
+    return Exit(float(ex.energy_scale_j * (level_m - start_h)), sp, sr, direction, path)
+
+
+def _piece(ex: ExactLandscape, arc: int, forward: bool, s_cut: float | None = None):
+    """Traversal of an arc (forward: face 0 -> face 1), optionally only up to s_cut from face 0."""
+    g = ex._g
+    theta = float(g.arc_theta[arc])
+    s_hi = theta if s_cut is None else s_cut
+    if forward:
+        s0, s1 = 0.0, s_hi
+    else:
+        s0, s1 = theta, 0.0
+    peak_s = float(g.arc_peak_s[arc])
+    lo, hi = min(s0, s1), max(s0, s1)
+    u0 = ex.face_up[ex.arc_faces[arc, 0]]
+
+    def h_at(s):
+        u = np.cos(s) * u0 + np.sin(s) * g.arc_t[arc]
+        return float(np.max(g.d @ u)), u
+
+    cands = [h_at(lo), h_at(hi)]
+    if lo < peak_s < hi:
+        cands.append(h_at(peak_s))
+    ph, pu = max(cands, key=lambda x: x[0])
+    return arc, s0, s1, ph, pu
+
+
+def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_roll_deg: float, *,
+                  g_m_s2: float = G_M_S2) -> ExactBarrier:
+    """Exact righting, pitch-wise, roll-wise and escape barriers from the basin containing a start.
+
+    Parameters
+    ----------
+    pose : geometry.Pose or ExactLandscape
+        The posed body (or its exact landscape, to reuse it across starts).
+    start_pitch_deg, start_roll_deg : float
+        Start orientation, degrees; the body rolls down from it (quasi-statically) to the face it settles on.
+    g_m_s2 : float
+        Gravitational acceleration, m/s^2 (ignored when an ExactLandscape is given).
+
+    Returns
+    -------
+    ExactBarrier
+        The start minimum and a GridBarrier of exits, with the grid method's meaning (module docstring).
+
+    Raises
+    ------
+    ExactMethodError
+        If the hull is flat or the CoM lies outside it.
+    ValueError
+        If the start angles are not finite.
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> from geometry import Robot
+    >>> cube = Robot.from_trimesh(trimesh.creation.box(extents=(2.0, 2.0, 2.0)), mass_kg=1.0)
+    >>> b = exact_barrier(cube.pose(), 0.0, 0.0, g_m_s2=1.0)
+    >>> round(b.barrier.righting.barrier_j, 12) == round(np.sqrt(2) - 1, 12), b.barrier.righting.saddle_roll_deg
+    (True, 45.0)
+    >>> box = Robot.from_trimesh(trimesh.creation.box(extents=(4.0, 2.0, 1.0)), mass_kg=1.0)
+    >>> b = exact_barrier(box.pose(), 3.0, -2.0, g_m_s2=1.0)
+    >>> b.start.pitch_deg, b.start.roll_deg, round(b.barrier.roll_wise.barrier_j, 6), b.barrier.righting.direction
+    (0.0, 0.0, 0.618034, 'roll')
+    """
+    if not (np.isfinite(start_pitch_deg) and np.isfinite(start_roll_deg)):
+        raise ValueError(f"start pitch and roll must be finite degrees; got ({start_pitch_deg!r}, {start_roll_deg!r})")
+    ex = pose if isinstance(pose, ExactLandscape) else exact_landscape(pose, g_m_s2=g_m_s2)
+    u = up_vector(np.deg2rad(start_pitch_deg), np.deg2rad(start_roll_deg))
+    f0 = _descend_from(ex, u)
+    h0 = float(ex.face_height_m[f0])
+    p0, r0 = (float(x) for x in _deg(ex.face_up[f0])[0])
+    p0, r0 = canonical_pitch_roll_deg(p0, r0)
+    start = Minimum(p0, r0, ex.energy_scale_j * h0, h0)
+    start_deg = (p0, r0)
+    g = ex._g
+    n_f = len(ex.face_up)
+    fa, fb = ex.arc_faces[:, 0], ex.arc_faces[:, 1]
+
+    # escape: bottleneck to any other minimum over the whole graph
+    goal = np.zeros(n_f, dtype=bool)
+    goal[ex.critical.minima_face] = True
+    goal[f0] = False
+    lev, par, first = _minimax(n_f, fa, fb, ex.arc_max_m, [f0], goal, True)
+    escape = None
+    if first >= 0:
+        pieces = [_piece(ex, e, bool(fb[e] == x)) for e, x in _chain(par, fa, fb, first)]
+        escape = _exit(ex, float(lev[first]), h0, start_deg, pieces, None)
+
+    # righting: faces with u_z <= tol are upright; arcs leaving the upper hemisphere end at the crossing
+    up_z = ex.face_up[:, 2]
+    upright = up_z <= UPRIGHT_Z_TOL
+    if upright[f0]:
+        zero = Exit(0.0, p0, r0, "roll", np.array([start_deg], dtype=np.float64))
+        return ExactBarrier(start, int(f0), GridBarrier(zero, zero, zero, escape), ex)
+    both_up = ~upright[fa] & ~upright[fb]
+    leave = upright[fa] != upright[fb]
+    arcs_in = np.flatnonzero(both_up)
+    arcs_out = np.flatnonzero(leave)
+    src = np.where(upright[fa[arcs_out]], fb[arcs_out], fa[arcs_out])  # the face above the equator
+    fwd = ~upright[fa[arcs_out]]                                       # leaving from face 0 toward face 1
+    pieces_out = []
+    for arc, forward in zip(arcs_out.tolist(), fwd.tolist(), strict=True):
+        u0 = ex.face_up[fa[arc]]
+        tz = g.arc_t[arc, 2]
+        theta = float(g.arc_theta[arc])
+        if forward:  # z(s) = u0_z cos s + t_z sin s crosses 0 going down
+            s_c = float(np.clip(np.arctan2(u0[2], -tz), 0.0, theta))
+            pieces_out.append(_piece(ex, arc, True, s_c))
+        else:
+            s_c = float(np.clip(np.arctan2(-u0[2], tz), 0.0, theta))
+            # traversed from face 1 (above) back toward face 0 (below): from theta down to the crossing
+            _, _, _, ph, pu = _piece_range(ex, arc, s_c, theta)
+            pieces_out.append((arc, theta, s_c, ph, pu))
+    t_node = n_f
+    eu = np.concatenate([fa[arcs_in], src]).astype(np.int64)
+    ev = np.concatenate([fb[arcs_in], np.full(len(arcs_out), t_node)]).astype(np.int64)
+    ew = np.concatenate([ex.arc_max_m[arcs_in], [pc[3] for pc in pieces_out]]).astype(np.float64)
+    goal = np.zeros(n_f + 1, dtype=bool)
+    goal[t_node] = True
+    goal[:n_f] = upright  # never entered: isolated, all their arcs are cut
+    lev_s, par_s, first = _minimax(n_f + 1, eu, ev, ew, [f0], goal, True)
+    n_in = len(arcs_in)
+
+    def edge_pieces(e: int, toward: int):
+        if e >= n_in:
+            return pieces_out[e - n_in]
+        arc = int(arcs_in[e])
+        return _piece(ex, arc, bool(fb[arc] == toward))
+
+    righting = None
+    if first >= 0:
+        pieces = [edge_pieces(e, x) for e, x in _chain(par_s, eu, ev, t_node)]
+        righting = _exit(ex, float(lev_s[t_node]), h0, start_deg, pieces, None)
+    # pitch-wise and roll-wise: the same search on the arcs lying wholly inside the sector around the start
+    lo = np.concatenate([np.zeros(n_in), [min(pc[1], pc[2]) for pc in pieces_out]])
+    hi = np.concatenate([g.arc_theta[arcs_in], [max(pc[1], pc[2]) for pc in pieces_out]])
+    arc_of = np.concatenate([arcs_in, arcs_out]).astype(np.int64)
+    n_s = np.maximum(2, np.ceil((hi - lo) / np.deg2rad(PATH_STEP_DEG)).astype(np.int64) + 1)
+    owner = np.repeat(np.arange(len(arc_of)), n_s)
+    frac = (np.arange(len(owner)) - np.repeat(np.cumsum(n_s) - n_s, n_s)) / np.repeat(n_s - 1, n_s)
+    s_all = lo[owner] + frac * (hi - lo)[owner]
+    u_all = (np.cos(s_all)[:, None] * ex.face_up[fa[arc_of[owner]]]
+             + np.sin(s_all)[:, None] * g.arc_t[arc_of[owner]])
+    in_pitch, in_roll = _in_sectors(u_all, start_deg)
+    sectors = []
+    for kind, inside in (("pitch", in_pitch), ("roll", in_roll)):
+        ok = np.ones(len(arc_of), dtype=bool)
+        np.logical_and.at(ok, owner, inside)
+        keep = np.flatnonzero(ok)
+        lev_k, par_k, first_k = _minimax(n_f + 1, eu[keep], ev[keep], ew[keep], [f0], goal, True)
+        if first_k < 0:
+            sectors.append(None)
+            continue
+        pieces = [edge_pieces(int(keep[e]), x) for e, x in _chain(par_k, eu[keep], ev[keep], t_node)]
+        sectors.append(_exit(ex, float(lev_k[t_node]), h0, start_deg, pieces, kind))
+    return ExactBarrier(start, int(f0), GridBarrier(righting, sectors[0], sectors[1], escape), ex)
+
+
+def _piece_range(ex: ExactLandscape, arc: int, lo: float, hi: float):
+    g = ex._g
+    u0 = ex.face_up[ex.arc_faces[arc, 0]]
+    cands = []
+    for s in (lo, hi, float(g.arc_peak_s[arc])):
+        if lo - 1e-15 <= s <= hi + 1e-15:
+            u = np.cos(s) * u0 + np.sin(s) * g.arc_t[arc]
+            cands.append((float(np.max(g.d @ u)), u))
+    ph, pu = max(cands, key=lambda x: x[0])
+    return arc, lo, hi, ph, pu
