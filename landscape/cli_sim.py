@@ -1,0 +1,123 @@
+"""Click commands for self-righting trials: ``simulate``, ``sweep``, ``export`` (registered on the ``landscape``
+group by ``landscape/cli.py``).
+
+Bad input exits with status 2 and one line on stderr, never a traceback: library ``ValueError``s are turned into
+:class:`SimUsageError` (a :class:`click.ClickException` with exit code 2).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import click
+import numpy as np
+
+from geometry import JointMap
+from sim.trial import DEFAULT_DT_S, DEFAULT_DURATION_S, Trace, run_trial
+from sim.world import SimulationDiverged
+
+
+class SimUsageError(click.ClickException):
+    """Bad command-line input: one line, exit status 2."""
+
+    exit_code = 2
+
+
+def _values(text: str, what: str) -> list[float]:
+    """'70,72,74' or '70:76:2' (inclusive) -> floats; empty -> SimUsageError."""
+    text = text.strip()
+    if not text:
+        raise SimUsageError(f"--{what} is empty; give values like 70,72,74 or a range START:STOP:STEP")
+    try:
+        if ":" in text:
+            start, stop, step = (float(x) for x in text.split(":"))
+            if not step > 0 or stop < start:
+                raise SimUsageError(f"--{what} range {text!r} must be START:STOP:STEP with STEP > 0, STOP >= START")
+            n = int(np.floor((stop - start) / step + 1e-9)) + 1
+            vals = [round(start + k * step, 10) for k in range(n)]
+        else:
+            vals = [float(x) for x in text.split(",") if x.strip()]
+    except ValueError as exc:
+        if isinstance(exc, click.ClickException):
+            raise
+        raise SimUsageError(f"--{what} {text!r} is not a list of numbers (e.g. 70,72,74 or 70:76:2)") from None
+    if not vals:
+        raise SimUsageError(f"--{what} is empty; give at least one value")
+    bad = [v for v in vals if not np.isfinite(v)]
+    if bad:
+        raise SimUsageError(f"--{what} must be finite numbers; got {bad[0]!r}")
+    return vals
+
+
+def _joint_map(joints: str | None) -> JointMap | None:
+    try:
+        return JointMap.parse(joints) if joints else None
+    except ValueError as exc:
+        raise SimUsageError(str(exc)) from None
+
+
+def write_trace_csv(trace: Trace, path: Path) -> Path:
+    """Write a trial trace as CSV with a header row (SI units and degrees, as the column names say)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(Trace.COLUMNS)
+        for row in trace.as_array():
+            w.writerow([f"{x:.9g}" for x in row])
+    return path
+
+
+def _human(r, robot: str) -> str:
+    lines = [
+        f"robot        {robot}",
+        f"inputs       theta_w {r.theta_w_deg:g}°  theta_l {r.theta_l_deg:g}°  phase {r.phase:g}  Cv {r.cv:g}  "
+        f"seed {r.seed}  duration {r.duration_s:g} s  dt {r.dt_s:g} s",
+    ]
+    if r.success:
+        lines.append(f"outcome      RIGHTED at {r.time_to_right_s:.3f} s on attempt {r.attempt} by {r.mode}")
+    else:
+        lines.append(f"outcome      not righted in {r.duration_s:g} s ({len(r.phases)} attempts)")
+    lines.append("phases       " + " ".join(f"{p:.3f}" for p in r.phases))
+    lines.append(f"timing       {r.wall_s:.2f} s wall, {r.cpu_s:.2f} s CPU for {r.sim_s:.2f} s simulated; "
+                 f"max joint tracking error {r.max_tracking_error_deg:.2f}°")
+    return "\n".join(lines)
+
+
+@click.command("simulate")
+@click.option("--theta-w", type=float, required=True, help="Wing opening angle, degrees.")
+@click.option("--theta-l", type=float, required=True, help="Leg oscillation amplitude, degrees.")
+@click.option("--phase", type=float, default=0.0, show_default=True,
+              help="First attempt's phase phi_1 = dt_1 / Tl, in [0, 1).")
+@click.option("--cv", type=float, default=0.0, show_default=True, help="Noise Cv = sigma / Tl (>= 0).")
+@click.option("--seed", type=click.IntRange(min=0), default=None, help="Random seed (default: fresh; reported).")
+@click.option("--duration", type=float, default=DEFAULT_DURATION_S, show_default=True, help="Trial length, s.")
+@click.option("--dt", type=float, default=DEFAULT_DT_S, show_default=True, help="Time step, s.")
+@click.option("--trace", "trace_path", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Write the pitch/roll/energy trace to this CSV file.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of a summary.")
+@click.option("--robot", type=str, default=None, help="URDF file (default: the built-in robot).")
+@click.option("--joints", type=str, default=None, help="Joint map 'wing=J1,J2,...;leg=J'.")
+def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_json, robot, joints):
+    """Run one self-righting trial in pybullet and report its outcome."""
+    from sim.model import default_robot_urdf
+
+    robot_path = str(robot) if robot else str(default_robot_urdf())
+    try:
+        r = run_trial(theta_w, theta_l, phase=phase, cv=cv, rng=seed, duration_s=duration, dt_s=dt,
+                      robot=robot_path, joint_map=_joint_map(joints), trace=trace_path is not None)
+    except SimulationDiverged as exc:
+        raise click.ClickException(str(exc).splitlines()[0]) from None
+    except ValueError as exc:
+        raise SimUsageError(str(exc).splitlines()[0]) from None
+    if trace_path is not None:
+        write_trace_csv(r.trace, trace_path)
+    if as_json:
+        d = r.to_dict()
+        d["robot"] = robot_path
+        click.echo(json.dumps(d))
+    else:
+        click.echo(_human(r, robot_path))
+        if trace_path is not None:
+            click.echo(f"trace        {trace_path}")

@@ -1,0 +1,211 @@
+"""Wing and leg actuation profiles (pure numpy).
+
+Times are seconds from the start of actuation (after the robot has settled on its back).
+
+Wings (every wing joint = theta_w(t)): attempt ``k`` opens at ``t_k``. The wings open at
+``wing_open_deg_s`` (300 deg/s) to theta_w, start closing ``wing_close_start_s`` (1.05 s) after ``t_k``, close at
+``wing_close_deg_s`` (250 deg/s) to 0 and stay closed until the next attempt. With no noise the attempts repeat
+every ``wing_period_s`` (Tw = 2 s), so the nominal closed hold is ``Tw - close_start - theta_w / close_speed``.
+
+Randomness: the closed hold after attempt ``k`` gets Gaussian noise ``delta_k ~ N(0, sigma^2)``,
+``sigma = cv * leg_period_s`` (Cv = sigma / Tl). A negative hold is avoided by clipping the hold at 0 (the
+wings reopen the moment they are closed); with the paper's largest Cv = 0.25 (sigma = 0.2 s) and theta_w = 76 deg
+the nominal hold is 0.65 s, so clipping happens with probability 6e-4 per attempt. The first attempt opens at
+``t_1 = phase * leg_period_s`` (phase phi_1 = Delta t_1 / Tl); each attempt's phase is
+``phi_k = (t_k mod Tl) / Tl``.
+
+Leg (the leg joint = theta_l(t)): a periodic trapezoid between -theta_l and +theta_l with period Tl = 0.8 s that
+crosses from one side to the other in ``leg_cross_s`` (0.15 s) at constant speed ``2 theta_l / leg_cross_s``.
+At t = 0 it is on the midline moving towards **+theta_l** first (for the lab robot the pendulum's sphere then
+swings to -y, the ``wing1`` side); it reaches +theta_l at ``leg_cross_s / 2``, passes the midline again at
+``Tl / 2`` and ``Tl``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+
+@dataclass(frozen=True)
+class Actuation:
+    """Actuation profile parameters (the paper's values by default).
+
+    Attributes
+    ----------
+    theta_w_deg, theta_l_deg : float
+        Wing opening angle and leg amplitude, degrees (>= 0).
+    wing_period_s : float
+        Tw, the nominal time between wing openings, s.
+    wing_open_deg_s, wing_close_deg_s : float
+        Wing opening and closing speeds, deg/s.
+    wing_close_start_s : float
+        Time from the start of an opening to the start of the closing, s.
+    leg_period_s : float
+        Tl, leg oscillation period, s.
+    leg_cross_s : float
+        Time the leg takes to cross from -theta_l to +theta_l, s.
+    """
+
+    theta_w_deg: float
+    theta_l_deg: float
+    wing_period_s: float = 2.0
+    wing_open_deg_s: float = 300.0
+    wing_close_deg_s: float = 250.0
+    wing_close_start_s: float = 1.05
+    leg_period_s: float = 0.8
+    leg_cross_s: float = 0.15
+
+    def __post_init__(self) -> None:
+        for name in ("theta_w_deg", "theta_l_deg"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v >= 0):
+                raise ValueError(f"{name} must be a finite angle >= 0 degrees; got {v!r}")
+        for name in ("wing_period_s", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s",
+                     "leg_period_s", "leg_cross_s"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v > 0):
+                raise ValueError(f"{name} must be a finite number > 0; got {v!r}")
+        if self.leg_cross_s > self.leg_period_s / 2:
+            raise ValueError(f"leg_cross_s = {self.leg_cross_s:g} s must be at most half the leg period "
+                             f"({self.leg_period_s / 2:g} s)")
+        if self.wing_closed_s > self.wing_period_s:
+            raise ValueError(f"the wing cycle (open, hold, close) lasts {self.wing_closed_s:g} s, longer than "
+                             f"wing_period_s = {self.wing_period_s:g} s; open or close faster")
+
+    @property
+    def wing_open_s(self) -> float:
+        """Time to open fully, s."""
+        return self.theta_w_deg / self.wing_open_deg_s
+
+    @property
+    def wing_peak_deg(self) -> float:
+        """Wing angle when closing starts (theta_w unless closing starts before the wings are open), deg."""
+        return min(self.theta_w_deg, self.wing_open_deg_s * self.wing_close_start_s)
+
+    @property
+    def wing_closed_s(self) -> float:
+        """Time from the start of an opening until the wings are closed again, s."""
+        return self.wing_close_start_s + self.wing_peak_deg / self.wing_close_deg_s
+
+    @property
+    def wing_hold_s(self) -> float:
+        """Nominal closed hold between attempts, s."""
+        return self.wing_period_s - self.wing_closed_s
+
+
+def attempt_starts_s(act: Actuation, *, phase: float, cv: float, rng: np.random.Generator,
+                     duration_s: float) -> NDArray[np.float64]:
+    """Opening times of every attempt that starts before ``duration_s``.
+
+    One normal deviate is drawn per closed hold, in order, so a longer duration extends the same sequence.
+
+    Parameters
+    ----------
+    act : Actuation
+    phase : float
+        phi_1 in [0, 1): the first opening is at ``phase * act.leg_period_s``.
+    cv : float
+        Cv = sigma / Tl (>= 0).
+    rng : numpy.random.Generator
+    duration_s : float
+        Trial length, s.
+
+    Returns
+    -------
+    starts_s : ndarray of shape (K,)
+
+    Examples
+    --------
+    >>> act = Actuation(74.0, 30.0)
+    >>> attempt_starts_s(act, phase=0.25, cv=0.0, rng=np.random.default_rng(0), duration_s=6.0).tolist()
+    [0.2, 2.2, 4.2]
+    """
+    sigma_s = cv * act.leg_period_s
+    starts = [phase * act.leg_period_s]
+    while True:
+        delta = float(rng.normal(0.0, sigma_s)) if sigma_s > 0 else 0.0
+        nxt = starts[-1] + act.wing_closed_s + max(0.0, act.wing_hold_s + delta)
+        if nxt >= duration_s:
+            break
+        starts.append(nxt)
+    return np.asarray([s for s in starts if s < duration_s], dtype=np.float64)
+
+
+def attempt_phases(starts_s: ArrayLike, act: Actuation) -> NDArray[np.float64]:
+    """Phase of each attempt, ``(t_k mod Tl) / Tl`` in [0, 1).
+
+    Examples
+    --------
+    >>> attempt_phases([0.2, 2.2, 4.2], Actuation(74.0, 30.0)).round(12).tolist()
+    [0.25, 0.75, 0.25]
+    """
+    t = np.asarray(starts_s, dtype=np.float64)
+    return np.mod(t, act.leg_period_s) / act.leg_period_s
+
+
+def wing_profile_deg(t_s: ArrayLike, starts_s: ArrayLike, act: Actuation) -> tuple[NDArray[np.float64],
+                                                                                   NDArray[np.float64]]:
+    """Commanded wing angle and angular speed at times ``t_s``.
+
+    Returns
+    -------
+    angle_deg, speed_deg_s : ndarray, shape of ``t_s``
+
+    Examples
+    --------
+    >>> act = Actuation(75.0, 30.0)
+    >>> a, w = wing_profile_deg([0.0, 0.1, 0.25, 1.0, 1.15, 1.35, 1.9], [0.0], act)
+    >>> a.round(9).tolist()
+    [0.0, 30.0, 75.0, 75.0, 50.0, 0.0, 0.0]
+    >>> w.tolist()
+    [300.0, 300.0, 0.0, 0.0, -250.0, 0.0, 0.0]
+    """
+    t = np.asarray(t_s, dtype=np.float64)
+    starts = np.asarray(starts_s, dtype=np.float64)
+    if len(starts) == 0:
+        return np.zeros_like(t), np.zeros_like(t)
+    k = np.searchsorted(starts, t, side="right") - 1
+    tau = np.where(k >= 0, t - starts[np.clip(k, 0, None)], -1.0)
+    c = act.wing_close_start_s
+    opening = (tau >= 0) & (tau < c)
+    closing = tau >= c
+    open_deg = np.minimum(act.theta_w_deg, act.wing_open_deg_s * np.maximum(tau, 0.0))
+    close_deg = np.maximum(0.0, act.wing_peak_deg - act.wing_close_deg_s * (tau - c))
+    angle = np.where(opening, open_deg, np.where(closing, close_deg, 0.0))
+    speed = np.where(opening & (tau * act.wing_open_deg_s < act.theta_w_deg), act.wing_open_deg_s, 0.0)
+    speed = np.where(closing & (close_deg > 0.0), -act.wing_close_deg_s, speed)
+    return angle, speed
+
+
+def leg_profile_deg(t_s: ArrayLike, act: Actuation) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Commanded leg angle and angular speed at times ``t_s`` (see the module docstring).
+
+    Returns
+    -------
+    angle_deg, speed_deg_s : ndarray, shape of ``t_s``
+
+    Examples
+    --------
+    >>> act = Actuation(75.0, 30.0)
+    >>> a, w = leg_profile_deg([0.0, 0.0375, 0.2, 0.4, 0.6, 0.8], act)
+    >>> a.round(9).tolist()
+    [0.0, 15.0, 30.0, 0.0, -30.0, 0.0]
+    >>> w.round(9).tolist()
+    [400.0, 400.0, 0.0, -400.0, 0.0, 400.0]
+    """
+    t = np.asarray(t_s, dtype=np.float64)
+    period, half_cross = act.leg_period_s, act.leg_cross_s / 2
+    tau = np.mod(t, period)
+    first = tau < period / 2
+    dist = np.where(first, np.minimum(tau, period / 2 - tau), np.minimum(tau - period / 2, period - tau))
+    sign = np.where(first, 1.0, -1.0)
+    angle = sign * act.theta_l_deg * np.minimum(dist / half_cross, 1.0) + 0.0  # no -0.0
+    rate = act.theta_l_deg / half_cross
+    # moving when within half a crossing of a midline passage: +rate around tau = 0 (and Tl), -rate around Tl/2
+    near_zero = (tau < half_cross) | (tau >= period - half_cross)
+    near_half = np.abs(tau - period / 2) < half_cross
+    speed = np.where(near_zero, rate, np.where(near_half, -rate, 0.0))
+    return angle, speed

@@ -1,0 +1,291 @@
+"""The robot as pybullet should see it: a URDF string with simplified convex collision hulls (pure, no I/O
+beyond reading the source URDF and its meshes).
+
+Contact with flat ground only ever touches the convex hull of a link, so each ``<collision>`` mesh is replaced
+by its convex hull, and a hull with more than a few dozen vertices is simplified by *support-gap refinement*:
+starting from the six axis-extreme vertices, the vertex that sticks out furthest beyond the current subset,
+measured along ``N_DIRECTIONS`` evenly spread directions, is added until no direction sees a gap above
+``tol_m`` (default 0.1 mm) or ``max_vertices`` is reached. The support function ``h(d) = max_v v.d`` is the
+height of the lowest point of the link above the ground when ``d`` points down, so the gap bounds how much
+higher the simplified link rests than the original in any of those directions. Primitive geometry (box,
+sphere, cylinder) is kept. Visual elements are dropped (DIRECT mode renders nothing). The lab robot's
+3325-vertex head comes out at under 100 vertices; ``benchmarks/sim_convergence.py`` checks that outcomes do not
+change.
+
+The URDF text is returned with placeholder mesh file names; :mod:`sim.world` writes the hull meshes to a cache
+directory and loads the result.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import logging
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+import trimesh
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial import ConvexHull
+
+from geometry import JointMap, Robot
+from geometry.errors import RobotDescriptionError
+
+log = logging.getLogger(__name__)
+
+N_DIRECTIONS = 2000
+"""Directions on which the support gap of a simplified hull is measured (Fibonacci sphere)."""
+
+HULL_TOL_M = 1e-4
+"""Default largest support gap of a simplified hull, m."""
+
+HULL_MAX_VERTICES = 96
+"""Default vertex budget of a simplified hull (Bullet's advice: keep convex hulls under ~100 vertices)."""
+
+MESH_PLACEHOLDER = "@HULL:{name}@"
+
+
+def default_robot_urdf() -> Path:
+    """The robot simulated when none is given.
+
+    The built-in robot's generated URDF (``geometry.builtin.builtin_urdf_path``) when that module exists,
+    else the lab robot in ``../shared/ref/lab_robot/lab_robot.urdf`` next to the repository.
+
+    Examples
+    --------
+    >>> default_robot_urdf().suffix
+    '.urdf'
+    """
+    try:
+        from geometry.builtin import builtin_urdf_path  # type: ignore[import-not-found]
+    except ImportError:
+        return Path(__file__).resolve().parents[1].parent / "shared" / "ref" / "lab_robot" / "lab_robot.urdf"
+    return Path(builtin_urdf_path())
+
+
+def fibonacci_directions(n: int) -> NDArray[np.float64]:
+    """``n`` unit vectors spread evenly over the sphere.
+
+    Examples
+    --------
+    >>> d = fibonacci_directions(100)
+    >>> d.shape, bool(np.allclose(np.linalg.norm(d, axis=1), 1.0))
+    ((100, 3), True)
+    """
+    k = np.arange(n, dtype=np.float64) + 0.5
+    z = 1.0 - 2.0 * k / n
+    rho = np.sqrt(np.clip(1.0 - z * z, 0.0, None))
+    phi = np.pi * (3.0 - np.sqrt(5.0)) * k
+    return np.stack([rho * np.cos(phi), rho * np.sin(phi), z], axis=1)
+
+
+@dataclass(frozen=True)
+class SimplifiedHull:
+    """A convex hull reduced to the vertices that matter for contact.
+
+    Attributes
+    ----------
+    vertices : ndarray of shape (K, 3)
+        Kept vertices, in the units of the input points.
+    faces : ndarray of shape (F, 3) of int64
+        Outward triangles of the hull of ``vertices``.
+    n_full : int
+        Vertex count of the full convex hull.
+    gap : float
+        Largest support gap over the test directions, input units (0 when nothing was dropped).
+    """
+
+    vertices: NDArray[np.float64]
+    faces: NDArray[np.int64]
+    n_full: int
+    gap: float
+
+
+def simplified_hull(points: ArrayLike, *, tol: float, max_vertices: int = HULL_MAX_VERTICES) -> SimplifiedHull:
+    """Convex hull of ``points``, simplified by support-gap refinement (see the module docstring).
+
+    Parameters
+    ----------
+    points : array_like of shape (N, 3)
+        Vertices, any length unit.
+    tol : float
+        Largest support gap allowed, same unit as ``points``; ``0`` keeps the full hull.
+    max_vertices : int
+        Vertex budget (>= 4); refinement stops there even if the gap is larger.
+
+    Returns
+    -------
+    SimplifiedHull
+
+    Examples
+    --------
+    >>> s = simplified_hull(trimesh.creation.icosphere(subdivisions=4).vertices, tol=0.02, max_vertices=200)
+    >>> s.n_full, len(s.vertices) < 200, s.gap <= 0.02
+    (2562, True, True)
+    """
+    pts = np.unique(np.asarray(points, dtype=np.float64).reshape(-1, 3), axis=0)
+    full = pts[ConvexHull(pts).vertices]
+    dirs = fibonacci_directions(N_DIRECTIONS)
+    proj = full @ dirs.T  # (K, D)
+    h_full = proj.max(axis=0)
+    if tol <= 0 or len(full) <= max(4, min(max_vertices, 24)):
+        keep = np.arange(len(full))
+    else:
+        seed = {int(np.argmax(full[:, a] * s)) for a in range(3) for s in (1.0, -1.0)}
+        keep = sorted(seed)
+        h = proj[keep].max(axis=0)
+        while len(keep) < max_vertices:
+            gap = h_full - h
+            j = int(np.argmax(gap))
+            if gap[j] <= tol:
+                break
+            v = int(np.argmax(proj[:, j]))
+            keep.append(v)
+            h = np.maximum(h, proj[v])
+        keep = np.asarray(keep)
+    verts = full[keep]
+    gap = float((h_full - (verts @ dirs.T).max(axis=0)).max())
+    tri = trimesh.Trimesh(verts, ConvexHull(verts).simplices, process=True)
+    trimesh.repair.fix_normals(tri)
+    return SimplifiedHull(np.asarray(tri.vertices), np.asarray(tri.faces, dtype=np.int64), len(full), max(gap, 0.0))
+
+
+def hull_obj_text(hull: SimplifiedHull) -> str:
+    """Wavefront OBJ text of a hull (vertices and 1-based faces)."""
+    lines = [f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in hull.vertices]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in hull.faces]
+    return "\n".join(lines) + "\n"
+
+
+@dataclass(frozen=True)
+class SimModel:
+    """A URDF rewritten for simulation.
+
+    Attributes
+    ----------
+    urdf_text : str
+        URDF with visuals dropped and each collision mesh pointing at ``MESH_PLACEHOLDER`` names.
+    meshes : dict[str, str]
+        Placeholder name -> OBJ text of its simplified hull (units of the original mesh file; the URDF keeps
+        the original ``scale``).
+    joint_map : JointMap
+        Which joints theta_w and theta_l drive.
+    description_hash : str
+        ``Robot.description_hash`` of the source URDF.
+    model_hash : str
+        Hash of the rewritten URDF and its meshes (names the cache directory).
+    max_gap_m : float
+        Largest support gap of any simplified hull, m.
+    vertex_counts : dict[str, tuple[int, int]]
+        Placeholder name -> (full hull vertices, kept vertices).
+    rest_pitch_deg : float
+        Pitch of the lowest-energy resting orientation at roll 0 with the wings closed and the leg centred.
+    theta_limits_deg : dict[str, tuple[float, float]]
+        ``{"theta_w": (lo, hi), "theta_l": (lo, hi)}``: the range every mapped joint allows, degrees.
+    source : Path
+    """
+
+    urdf_text: str = field(repr=False)
+    meshes: dict[str, str] = field(repr=False)
+    joint_map: JointMap
+    description_hash: str
+    model_hash: str
+    max_gap_m: float
+    vertex_counts: dict[str, tuple[int, int]] = field(repr=False)
+    rest_pitch_deg: float
+    theta_limits_deg: dict[str, tuple[float, float]] = field(repr=False)
+    source: Path
+
+
+def _scale_m(mesh_el: ET.Element) -> float:
+    s = mesh_el.get("scale")
+    if not s:
+        return 1.0
+    vals = [float(x) for x in s.split()]
+    return float(max(abs(v) for v in vals))
+
+
+def rest_pitch_deg(robot: Robot) -> float:
+    """Pitch (degrees) of the lowest CoM at roll 0 near the upside-down pose, wings closed, leg centred.
+
+    Searched on a 0.1-degree grid over [-45, 45] degrees using the pose's hull (geometry layer).
+    """
+    from geometry import up_vector
+
+    pose = robot.pose(0.0, 0.0) if robot.has_joints else robot.pose()
+    pitch = np.deg2rad(np.arange(-45.0, 45.0 + 1e-9, 0.1))
+    u = up_vector(pitch, np.zeros_like(pitch))
+    h = u @ pose.com_m - (u @ pose.hull_points_m.T).min(axis=1)
+    return float(np.rad2deg(pitch[int(np.argmin(h))]))
+
+
+@lru_cache(maxsize=8)
+def _build(path_str: str, mtime_ns: int, tol_m: float, max_vertices: int, joint_map: JointMap | None) -> SimModel:
+    path = Path(path_str)
+    robot = Robot.from_urdf(path, joint_map=joint_map)
+    if not robot.has_joints:
+        raise RobotDescriptionError(
+            f"'{path.name}' has none of the default wing/leg joints; the simulation needs theta_w and theta_l "
+            "joints (declare them with a joint map 'wing=NAME,...;leg=NAME')"
+        )
+    root = ET.fromstring(path.read_text())
+    meshes: dict[str, str] = {}
+    counts: dict[str, tuple[int, int]] = {}
+    max_gap = 0.0
+    for link in root.iter("link"):
+        for vis in list(link.findall("visual")):
+            link.remove(vis)
+        for i, col in enumerate(link.findall("collision")):
+            mesh_el = col.find("geometry/mesh")
+            if mesh_el is None:
+                continue
+            fname = mesh_el.get("filename", "")
+            mpath = Path(fname.removeprefix("file://"))
+            mpath = mpath if mpath.is_absolute() else path.parent / mpath
+            if not mpath.is_file():
+                raise RobotDescriptionError(f"link '{link.get('name')}': mesh '{fname}' not found (looked for {mpath})")
+            mesh = trimesh.load(str(mpath), force="mesh", process=False)
+            scale = _scale_m(mesh_el)
+            hull = simplified_hull(mesh.vertices, tol=tol_m / scale if tol_m > 0 else 0.0, max_vertices=max_vertices)
+            name = f"{link.get('name')}_{i}"
+            meshes[name] = hull_obj_text(hull)
+            counts[name] = (hull.n_full, len(hull.vertices))
+            max_gap = max(max_gap, hull.gap * scale)
+            mesh_el.set("filename", MESH_PLACEHOLDER.format(name=name))
+    text = ET.tostring(root, encoding="unicode")
+    h = hashlib.sha256(text.encode())
+    for k in sorted(meshes):
+        h.update(k.encode() + meshes[k].encode())
+    model = SimModel(text, meshes, robot.joint_map, robot.description_hash, h.hexdigest()[:16], max_gap, counts,
+                     rest_pitch_deg(robot), robot.theta_limits_deg(), path)
+    log.info("sim model %s: hulls %s, max support gap %.3g mm", path.name, counts, max_gap * 1e3)
+    return model
+
+
+def sim_model(urdf: str | Path | None = None, *, tol_m: float = HULL_TOL_M,
+              max_vertices: int = HULL_MAX_VERTICES, joint_map: JointMap | None = None) -> SimModel:
+    """The simulation model of a URDF robot (cached per process).
+
+    Parameters
+    ----------
+    urdf : path, optional
+        URDF file; default :func:`default_robot_urdf`.
+    tol_m : float
+        Largest support gap of a simplified collision hull, m; ``0`` keeps every hull vertex (the unsimplified
+        baseline of the benchmarks).
+    max_vertices : int
+        Vertex budget per simplified hull.
+    joint_map : JointMap, optional
+        Joints driven by theta_w and theta_l (default: the lab robot's names).
+
+    Raises
+    ------
+    RobotDescriptionError
+        If the file or a mesh is missing, or the robot has no wing/leg joints.
+    """
+    path = Path(urdf) if urdf is not None else default_robot_urdf()
+    if not path.is_file():
+        raise RobotDescriptionError(f"robot file '{path}' not found; give the path to a .urdf file")
+    return _build(str(path.resolve()), path.stat().st_mtime_ns, float(tol_m), int(max_vertices), joint_map)

@@ -1,0 +1,323 @@
+"""One self-righting trial: settle on the back, actuate wings and leg, stop as soon as the outcome is known.
+
+Protocol
+--------
+1. The robot is placed on its back at roll 0 and the pitch of its lowest resting orientation
+   (:func:`sim.model.rest_pitch_deg`), wings closed, leg centred, its lowest point 0.1 mm above the ground, and
+   left to settle for ``SETTLE_S`` (0.5 s, a fixed time so that every time step starts actuating from the same
+   physical state) with the motors holding 0; a warning is logged if the base still moves faster than 5 mm/s
+   or 0.05 rad/s. Time t = 0 is the end of settling.
+2. The joints track :mod:`sim.actuation`'s profiles by pybullet position control within each joint's effort
+   limit (the URDF's, 1 N m for the lab robot), with feed-forward of the profile speed (velocity gain 1) and a
+   position gain ``dt / SERVO_TAU_S`` (a 10 ms servo time constant, so the servo does not change with ``dt``).
+3. Outcome rule: the robot is **upright** when world-up in the body frame has ``u_z < 0``. The trial succeeds
+   when it stays upright for ``UPRIGHT_HOLD_S`` (0.3 s) without interruption; ``time_to_right_s`` is the time the
+   robot became upright at the start of that stretch, and the simulation stops there. Otherwise it runs for
+   ``duration_s`` and fails. The succeeding attempt is the last wing opening that started at or before
+   ``time_to_right_s``. The mode is ``"roll"`` when at that moment ``|u_y| >= |u_x|`` (the body turned about
+   its long axis: roll-over) and ``"somersault"`` otherwise (it turned about its pitch axis, over head or tail).
+
+Body pitch and roll follow ``geometry/frames.py``; the trace reports them on the ``|pitch| <= 90`` branch.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from geometry import JointMap, pitch_roll_from_up
+from geometry.errors import GeometryError, JointLimitError
+
+from .actuation import Actuation, attempt_phases, attempt_starts_s, leg_profile_deg, wing_profile_deg
+from .model import HULL_MAX_VERTICES, HULL_TOL_M, sim_model
+from .world import G_M_S2, Contact, SimulationDiverged, World
+
+log = logging.getLogger(__name__)
+
+DEFAULT_DT_S = 1e-3
+"""Default time step, s (chosen by ``benchmarks/sim_convergence.py``; see docs/sim.md)."""
+DEFAULT_DURATION_S = 10.0
+UPRIGHT_HOLD_S = 0.3
+SETTLE_S = 0.5
+SERVO_TAU_S = 0.01
+CHECK_EVERY_S = 5e-3
+"""The outcome, tracking error and divergence are checked at this interval (or every step if dt is larger)."""
+TRACE_EVERY_S = 0.01
+
+__all__ = ["DEFAULT_DT_S", "SimulationDiverged", "Trace", "TrialResult", "run_trial", "resolve_seed"]
+
+
+class TrialInputError(GeometryError):
+    """Bad trial parameters (a ValueError: the command line reports it on one line, exit status 2)."""
+
+
+@dataclass(frozen=True)
+class Trace:
+    """Time series sampled every ``TRACE_EVERY_S`` from t = 0 (end of settling).
+
+    Attributes
+    ----------
+    t_s, pitch_deg, roll_deg, up_z, com_height_m, energy_j, wing_cmd_deg, wing_deg, leg_cmd_deg, leg_deg
+        ndarray of shape (N,): time (s); body pitch and roll (deg); world-up's body-z component; CoM height (m);
+        potential energy m g z_com (J); commanded and measured wing angle (mean of the wing joints) and leg
+        angle (deg).
+    """
+
+    t_s: NDArray[np.float64]
+    pitch_deg: NDArray[np.float64]
+    roll_deg: NDArray[np.float64]
+    up_z: NDArray[np.float64]
+    com_height_m: NDArray[np.float64]
+    energy_j: NDArray[np.float64]
+    wing_cmd_deg: NDArray[np.float64]
+    wing_deg: NDArray[np.float64]
+    leg_cmd_deg: NDArray[np.float64]
+    leg_deg: NDArray[np.float64]
+
+    COLUMNS = ("t_s", "pitch_deg", "roll_deg", "up_z", "com_height_m", "energy_j", "wing_cmd_deg", "wing_deg",
+               "leg_cmd_deg", "leg_deg")
+
+    def as_array(self) -> NDArray[np.float64]:
+        """Columns ``COLUMNS`` side by side, shape (N, 10)."""
+        return np.stack([getattr(self, c) for c in self.COLUMNS], axis=1)
+
+
+@dataclass(frozen=True)
+class TrialResult:
+    """Outcome of one trial.
+
+    Attributes
+    ----------
+    theta_w_deg, theta_l_deg, phase, cv : float
+        Inputs: wing angle, leg amplitude (deg), first-attempt phase phi_1, noise Cv = sigma / Tl.
+    seed : int
+        Seed of the trial's random generator (``np.random.default_rng(seed)`` reproduces the trial).
+    duration_s, dt_s : float
+        Trial length and time step, s.
+    success : bool
+    time_to_right_s : float or None
+        Time from the start of actuation to becoming upright for good, s.
+    attempt : int or None
+        1-based index of the wing opening that righted the robot.
+    phases : tuple of float
+        Phase phi_k of every attempt that started before the trial ended.
+    attempt_starts_s : tuple of float
+        Opening time of those attempts, s.
+    mode : {"roll", "somersault"} or None
+    sim_s : float
+        Simulated actuation time until the trial stopped, s.
+    wall_s, cpu_s : float
+        Wall-clock and process CPU time of the whole trial (model, settling, stepping), s.
+    max_tracking_error_deg : float
+        Largest |measured - commanded| driven-joint angle over the trial, deg.
+    robot_hash, model_hash : str
+        Hash of the robot description and of the simulated model (hulls).
+    trace : Trace or None
+    """
+
+    theta_w_deg: float
+    theta_l_deg: float
+    phase: float
+    cv: float
+    seed: int
+    duration_s: float
+    dt_s: float
+    success: bool
+    time_to_right_s: float | None
+    attempt: int | None
+    phases: tuple[float, ...]
+    attempt_starts_s: tuple[float, ...]
+    mode: str | None
+    sim_s: float
+    wall_s: float
+    cpu_s: float
+    max_tracking_error_deg: float
+    robot_hash: str
+    model_hash: str
+    trace: Trace | None = field(default=None, repr=False)
+
+    def to_dict(self) -> dict:
+        """Plain JSON-able dict without the trace."""
+        d = asdict(self)
+        d.pop("trace")
+        d["phases"] = list(self.phases)
+        d["attempt_starts_s"] = list(self.attempt_starts_s)
+        return d
+
+
+def resolve_seed(rng: np.random.Generator | int | None) -> tuple[int, np.random.Generator]:
+    """A seed and the generator it makes: an int is the seed, a Generator draws one, None draws from the OS.
+
+    Examples
+    --------
+    >>> seed, g = resolve_seed(7)
+    >>> seed, float(g.random()) == float(np.random.default_rng(7).random())
+    (7, True)
+    """
+    if isinstance(rng, np.random.Generator):
+        seed = int(rng.integers(0, 2**63 - 1))
+    elif rng is None:
+        seed = int(np.random.SeedSequence().entropy % (2**63 - 1))
+    elif isinstance(rng, (int, np.integer)) and not isinstance(rng, bool) and rng >= 0:
+        seed = int(rng)
+    else:
+        raise TrialInputError(f"rng must be a numpy Generator, a seed int >= 0 or None; got {rng!r}")
+    return seed, np.random.default_rng(seed)
+
+
+def _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, limits) -> None:
+    for name, v in (("theta_w_deg", theta_w_deg), ("theta_l_deg", theta_l_deg), ("phase", phase), ("cv", cv),
+                    ("duration_s", duration_s), ("dt_s", dt_s)):
+        if not np.isfinite(v):
+            raise TrialInputError(f"{name} must be a finite number; got {v!r}")
+    for name, v in (("theta_w", theta_w_deg), ("theta_l", theta_l_deg)):
+        lo, hi = limits[name]
+        lo = max(lo, 0.0) if name == "theta_w" else max(0.0, -hi, lo)
+        if not lo - 1e-9 <= v <= hi + 1e-9:
+            raise JointLimitError(f"{name} = {v:g} deg is outside [{lo:g}, {hi:g}] deg allowed by the robot's "
+                                  "joints; choose a value inside")
+    if not 0.0 <= phase < 1.0:
+        raise TrialInputError(f"phase must be in [0, 1) (fraction of the leg period); got {phase!r}")
+    if cv < 0:
+        raise TrialInputError(f"cv must be >= 0 (sigma / leg period); got {cv!r}")
+    if not duration_s > 0:
+        raise TrialInputError(f"duration must be > 0 s; got {duration_s!r}")
+    if not 0 < dt_s <= 0.01:
+        raise TrialInputError(f"dt must be in (0, 0.01] s; got {dt_s!r}")
+
+
+def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float,
+              rng: np.random.Generator | int | None = None, duration_s: float = DEFAULT_DURATION_S,
+              dt_s: float = DEFAULT_DT_S, robot: str | Path | None = None, joint_map: JointMap | None = None,
+              actuation: Actuation | None = None, contact: Contact | None = None, hull_tol_m: float = HULL_TOL_M,
+              hull_max_vertices: int = HULL_MAX_VERTICES, trace: bool = False) -> TrialResult:
+    """Run one self-righting trial in a fresh pybullet DIRECT client.
+
+    Parameters
+    ----------
+    theta_w_deg, theta_l_deg : float
+        Wing opening angle and leg oscillation amplitude, degrees.
+    phase : float
+        phi_1 = Delta t_1 / Tl in [0, 1): when the wings first open, as a fraction of the leg period.
+    cv : float
+        Coefficient of variation Cv = sigma / Tl (>= 0) of the closed-hold noise (see :mod:`sim.actuation`).
+    rng : numpy.random.Generator, int or None
+        Seed or generator of the noise; the seed used is kept in the result.
+    duration_s, dt_s : float
+        Trial length and time step, s.
+    robot : path, optional
+        URDF file (default :func:`sim.model.default_robot_urdf`).
+    joint_map : JointMap, optional
+    actuation : Actuation, optional
+        Profile timing; its theta fields are replaced by ``theta_w_deg`` and ``theta_l_deg``.
+    contact : Contact, optional
+    hull_tol_m, hull_max_vertices
+        Collision hull simplification (:func:`sim.model.sim_model`); ``hull_tol_m=0`` keeps full hulls.
+    trace : bool
+        Record a :class:`Trace`.
+
+    Returns
+    -------
+    TrialResult
+
+    Raises
+    ------
+    TrialInputError, JointLimitError
+        For bad parameters (both are ValueError).
+    RobotDescriptionError
+        If the robot cannot be loaded.
+    SimulationDiverged
+        If the physics blows up.
+    """
+    wall0, cpu0 = time.perf_counter(), time.process_time()
+    model = sim_model(robot, tol_m=hull_tol_m, max_vertices=hull_max_vertices, joint_map=joint_map)
+    theta_w_deg, theta_l_deg, phase, cv = float(theta_w_deg), float(theta_l_deg), float(phase), float(cv)
+    duration_s, dt_s = float(duration_s), float(dt_s)
+    _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, model.theta_limits_deg)
+    seed, gen = resolve_seed(rng)
+    base = actuation or Actuation(theta_w_deg, theta_l_deg)
+    act = Actuation(theta_w_deg, theta_l_deg, base.wing_period_s, base.wing_open_deg_s, base.wing_close_deg_s,
+                    base.wing_close_start_s, base.leg_period_s, base.leg_cross_s)
+    starts = attempt_starts_s(act, phase=phase, cv=cv, rng=gen, duration_s=duration_s)
+
+    n_steps = int(round(duration_s / dt_s))
+    t = np.arange(1, n_steps + 1) * dt_s  # command for the step ending at t
+    wing_deg, wing_speed = wing_profile_deg(t, starts, act)
+    leg_deg, leg_speed = leg_profile_deg(t, act)
+    n_wing = len(model.joint_map.wing)
+    n_leg = len(model.joint_map.leg)
+    target = np.deg2rad(np.concatenate([np.repeat(wing_deg[:, None], n_wing, 1),
+                                        np.repeat(leg_deg[:, None], n_leg, 1)], axis=1))
+    speed = np.deg2rad(np.concatenate([np.repeat(wing_speed[:, None], n_wing, 1),
+                                       np.repeat(leg_speed[:, None], n_leg, 1)], axis=1))
+    kp = min(1.0, dt_s / SERVO_TAU_S)
+    check_every = max(1, int(round(CHECK_EVERY_S / dt_s)))
+    trace_every = max(1, int(round(TRACE_EVERY_S / dt_s)))
+    rows: list[list[float]] = []
+
+    success, t_right, mode, t_end = False, None, None, duration_s
+    max_err = 0.0
+    with World(model, dt_s=dt_s, contact=contact) as world:
+        zeros = np.zeros(len(world.driven))
+        world.place(np.deg2rad(model.rest_pitch_deg), 0.0, joints_rad=zeros)
+        for _ in range(int(round(SETTLE_S / dt_s))):
+            world.drive(zeros, zeros, kp=kp, kd=1.0)
+            world.step()
+        v, w = world.base_velocity()
+        if np.linalg.norm(v) > 5e-3 or np.linalg.norm(w) > 0.05:
+            log.warning("robot still moving after %.1f s of settling (%.3g m/s, %.3g rad/s)",
+                        SETTLE_S, np.linalg.norm(v), np.linalg.norm(w))
+        world.check_finite(0.0)
+        if world.up_in_body()[2] <= 0:
+            raise SimulationDiverged("the robot did not settle on its back; check the robot and --dt")
+
+        upright_since, u_first = None, None
+        for i in range(n_steps):
+            world.drive(target[i], speed[i], kp=kp, kd=1.0)
+            world.step()
+            ti = (i + 1) * dt_s
+            if trace and (i + 1) % trace_every == 0:
+                rows.append(_trace_row(world, ti, wing_deg[i], leg_deg[i], n_wing))
+            if (i + 1) % check_every:
+                continue
+            world.check_finite(ti)
+            err = max(abs(a - b) for a, b in zip(world.joint_positions_rad(), target[i], strict=True))
+            max_err = max(max_err, err)
+            u = world.up_in_body()
+            if u[2] < 0:
+                if upright_since is None:
+                    upright_since, u_first = ti, u
+                if ti - upright_since >= UPRIGHT_HOLD_S - 1e-12:
+                    success, t_right, t_end = True, upright_since, ti
+                    mode = "roll" if abs(u_first[1]) >= abs(u_first[0]) else "somersault"
+                    break
+            else:
+                upright_since = None
+
+    started = starts[starts <= t_end]
+    attempt = int(np.searchsorted(starts, t_right, side="right")) if success else None
+    tr = None
+    if trace:
+        a = np.asarray(rows, dtype=np.float64).reshape(-1, len(Trace.COLUMNS))
+        tr = Trace(*(a[:, k].copy() for k in range(a.shape[1])))
+    return TrialResult(
+        theta_w_deg=theta_w_deg, theta_l_deg=theta_l_deg, phase=phase, cv=cv, seed=seed, duration_s=duration_s,
+        dt_s=dt_s, success=success, time_to_right_s=t_right, attempt=attempt,
+        phases=tuple(float(x) for x in attempt_phases(started, act)),
+        attempt_starts_s=tuple(float(x) for x in started), mode=mode, sim_s=t_end,
+        wall_s=time.perf_counter() - wall0, cpu_s=time.process_time() - cpu0, max_tracking_error_deg=float(np.rad2deg(max_err)),
+        robot_hash=model.description_hash, model_hash=model.model_hash, trace=tr)
+
+
+def _trace_row(world: World, t_s: float, wing_cmd_deg: float, leg_cmd_deg: float, n_wing: int) -> list[float]:
+    u = world.up_in_body()
+    p, r = pitch_roll_from_up(u)
+    q = np.rad2deg(world.joint_positions_rad())
+    h = world.com_height_m()
+    return [t_s, float(np.rad2deg(p)), float(np.rad2deg(r)), float(u[2]), h, world.mass_kg * G_M_S2 * h,
+            wing_cmd_deg, float(q[:n_wing].mean()), leg_cmd_deg, float(q[n_wing:].mean())]

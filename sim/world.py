@@ -1,0 +1,242 @@
+"""The pybullet world of one trial: a DIRECT client, a flat ground plane and the robot (the only module that
+owns a pybullet client; :mod:`sim.trial` drives it).
+
+Physics settings (measured in ``benchmarks/sim_convergence.py``; see ``docs/sim.md``):
+
+- Gravity 9.81 m/s^2 along -z; ground = a static ``GEOM_PLANE`` at z = 0.
+- Robot loaded with ``URDF_USE_INERTIA_FROM_FILE`` (inertias from the URDF, not from the collision shapes),
+  self-collision off (pybullet's default without ``URDF_USE_SELF_COLLISION``; the lab geometry has parts that
+  interpenetrate), collision = simplified convex hulls from :mod:`sim.model`.
+- Contact: friction coefficient mu = 1 and restitution e = 0.1. pybullet multiplies the two bodies' values,
+  so the plane gets mu = 1, e = 1 and every robot link mu = 1, e = 0.1. ``contactProcessingThreshold`` is set to
+  0 on every body; with its default pybullet drops the restitution term. :class:`Contact` can also make the
+  contact soft (``contactStiffness``/``contactDamping``). Bullet then computes ERP/CFM from the spring, and
+  restitution no longer enters.
+- ``numSolverIterations`` 50 (pybullet default) and a fixed time step ``dt_s``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import logging
+import math
+import os
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pybullet as pb
+from numpy.typing import NDArray
+
+from .model import MESH_PLACEHOLDER, SimModel
+
+log = logging.getLogger(__name__)
+
+G_M_S2 = 9.81
+
+
+class SimulationDiverged(RuntimeError):
+    """The physics blew up: a state became non-finite or left any plausible range."""
+
+
+@dataclass(frozen=True)
+class Contact:
+    """Contact model between the robot and the ground.
+
+    Attributes
+    ----------
+    friction : float
+        Coulomb friction coefficient mu.
+    restitution : float
+        Coefficient of restitution (rigid contact only).
+    stiffness_n_m, damping_n_s_m : float or None
+        Soft contact spring and damper, N/m and N s/m (default 1e4 N/m and 100 N s/m); None for pybullet's
+        rigid contact.
+    solver_iterations : int
+        pybullet ``numSolverIterations``.
+    """
+
+    friction: float = 1.0
+    restitution: float = 0.1
+    stiffness_n_m: float | None = 1e4
+    damping_n_s_m: float | None = 100.0
+    solver_iterations: int = 50
+
+    @classmethod
+    def rigid(cls, **kw) -> Contact:
+        """pybullet's rigid contact (restitution applies); does not converge with the time step here."""
+        return cls(stiffness_n_m=None, damping_n_s_m=None, **kw)
+
+
+def _cache_dir() -> Path:
+    d = Path(os.environ.get("SELFRIGHTING_SIM_CACHE", Path(tempfile.gettempdir()) / "selfrighting-sim-cache"))
+    d.mkdir(parents=True, exist_ok=True)
+    return d
+
+
+def _atomic_write(path: Path, text: str) -> None:
+    if path.is_file() and path.read_text() == text:
+        return
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+
+
+def model_urdf_file(model: SimModel) -> Path:
+    """Write the model's hull meshes and URDF into a content-addressed cache directory; return the URDF path.
+
+    Safe when several processes write the same model at once (atomic renames of identical content).
+    """
+    d = _cache_dir() / model.model_hash
+    d.mkdir(exist_ok=True)
+    text = model.urdf_text
+    for name, obj in model.meshes.items():
+        digest = hashlib.sha256(obj.encode()).hexdigest()[:12]
+        f = d / f"{name}_{digest}.obj"
+        _atomic_write(f, obj)
+        text = text.replace(MESH_PLACEHOLDER.format(name=name), str(f))
+    urdf = d / "robot.urdf"
+    _atomic_write(urdf, text)
+    return urdf
+
+
+class World:
+    """One pybullet DIRECT client holding the ground and the robot; use as a context manager.
+
+    Parameters
+    ----------
+    model : SimModel
+    dt_s : float
+        Fixed time step, s.
+    contact : Contact
+
+    Examples
+    --------
+    >>> from sim.model import sim_model
+    >>> with World(sim_model(), dt_s=1e-3) as w:  # doctest: +SKIP
+    ...     w.step()
+    """
+
+    def __init__(self, model: SimModel, *, dt_s: float, contact: Contact | None = None):
+        self.model = model
+        self.dt_s = float(dt_s)
+        self.contact = contact or Contact()
+        self.cid: int | None = None
+
+    # ------------------------------------------------------------------ lifecycle
+    def __enter__(self) -> World:
+        urdf = model_urdf_file(self.model)
+        self.cid = pb.connect(pb.DIRECT)
+        if self.cid < 0:
+            raise RuntimeError("pybullet could not connect in DIRECT mode")
+        try:
+            self._build(urdf)
+        except BaseException:
+            self.close()
+            raise
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        if self.cid is not None:
+            try:
+                pb.disconnect(physicsClientId=self.cid)
+            finally:
+                self.cid = None
+
+    def _build(self, urdf: Path) -> None:
+        cid, c = self.cid, self.contact
+        pb.setGravity(0.0, 0.0, -G_M_S2, physicsClientId=cid)
+        pb.setPhysicsEngineParameter(fixedTimeStep=self.dt_s, numSubSteps=0, numSolverIterations=c.solver_iterations,
+                                     deterministicOverlappingPairs=1, physicsClientId=cid)
+        plane = pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=cid)
+        self.ground = pb.createMultiBody(0.0, plane, physicsClientId=cid)
+        self.body = pb.loadURDF(str(urdf), basePosition=[0.0, 0.0, 0.5], flags=pb.URDF_USE_INERTIA_FROM_FILE,
+                                physicsClientId=cid)
+        self.n_joints = pb.getNumJoints(self.body, physicsClientId=cid)
+        names = {pb.getJointInfo(self.body, j, physicsClientId=cid)[1].decode(): j for j in range(self.n_joints)}
+        jm = self.model.joint_map
+        self.wing_joints = [names[n] for n in jm.wing]
+        self.leg_joints = [names[n] for n in jm.leg]
+        self.driven = self.wing_joints + self.leg_joints
+        self.max_force_n_m = np.array([pb.getJointInfo(self.body, j, physicsClientId=cid)[10] for j in self.driven])
+        self.max_force_n_m = np.where(self.max_force_n_m > 0, self.max_force_n_m, 1.0)
+        self.links = [-1, *range(self.n_joints)]
+        self.link_mass_kg = np.array([pb.getDynamicsInfo(self.body, k, physicsClientId=cid)[0] for k in self.links])
+        self.mass_kg = float(self.link_mass_kg.sum())
+        soft = {} if c.stiffness_n_m is None else {"contactStiffness": c.stiffness_n_m,
+                                                    "contactDamping": c.damping_n_s_m}
+        pb.changeDynamics(self.ground, -1, lateralFriction=c.friction, restitution=1.0,
+                          contactProcessingThreshold=0.0, physicsClientId=cid)
+        for k in self.links:
+            pb.changeDynamics(self.body, k, lateralFriction=c.friction, restitution=c.restitution,
+                              contactProcessingThreshold=0.0, linearDamping=0.0, angularDamping=0.0,
+                              jointDamping=0.0, **soft, physicsClientId=cid)
+        # free the non-driven joints of pybullet's default velocity motors
+        for j in range(self.n_joints):
+            if j not in self.driven:
+                pb.setJointMotorControl2(self.body, j, pb.VELOCITY_CONTROL, force=0.0, physicsClientId=cid)
+
+    # ------------------------------------------------------------------ state
+    def place(self, pitch_rad: float, roll_rad: float, *, joints_rad: NDArray[np.float64],
+              clearance_m: float = 1e-4) -> None:
+        """Put the robot at rest at (pitch, roll), joints at ``joints_rad``, its lowest point ``clearance_m`` above
+        the ground (by pybullet's own bounding boxes, which include the collision margin)."""
+        cid = self.cid
+        q = pb.getQuaternionFromEuler([roll_rad, pitch_rad, 0.0])
+        for j, v in zip(self.driven, joints_rad, strict=True):
+            pb.resetJointState(self.body, j, float(v), 0.0, physicsClientId=cid)
+        pb.resetBasePositionAndOrientation(self.body, [0.0, 0.0, 0.5], q, physicsClientId=cid)
+        zmin = min(pb.getAABB(self.body, k, physicsClientId=cid)[0][2] for k in self.links)
+        pb.resetBasePositionAndOrientation(self.body, [0.0, 0.0, 0.5 - zmin + clearance_m], q, physicsClientId=cid)
+        pb.resetBaseVelocity(self.body, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], physicsClientId=cid)
+
+    def drive(self, target_rad: NDArray[np.float64], speed_rad_s: NDArray[np.float64], *,
+              kp: float, kd: float) -> None:
+        """Position control of the driven joints (wing joints then leg joints) within their effort limits."""
+        n = len(self.driven)
+        pb.setJointMotorControlArray(self.body, self.driven, pb.POSITION_CONTROL, targetPositions=target_rad,
+                                     targetVelocities=speed_rad_s, forces=self.max_force_n_m,
+                                     positionGains=[kp] * n, velocityGains=[kd] * n, physicsClientId=self.cid)
+
+    def step(self) -> None:
+        pb.stepSimulation(physicsClientId=self.cid)
+
+    def base_pose(self) -> tuple[tuple[float, float, float], tuple[float, float, float, float]]:
+        """Base position (m) and orientation quaternion (x, y, z, w)."""
+        return pb.getBasePositionAndOrientation(self.body, physicsClientId=self.cid)
+
+    def base_velocity(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+        """Base linear (m/s) and angular (rad/s) velocity."""
+        return pb.getBaseVelocity(self.body, physicsClientId=self.cid)
+
+    def up_in_body(self) -> NDArray[np.float64]:
+        """World-up expressed in the base frame, ``R.T @ e_z`` (the third row of R)."""
+        _, q = self.base_pose()
+        m = pb.getMatrixFromQuaternion(q, physicsClientId=self.cid)
+        return np.array([m[6], m[7], m[8]])
+
+    def joint_positions_rad(self) -> NDArray[np.float64]:
+        """Positions of the driven joints, rad."""
+        return np.array([s[0] for s in pb.getJointStates(self.body, self.driven, physicsClientId=self.cid)])
+
+    def com_height_m(self) -> float:
+        """Height of the robot's mass-weighted CoM, m."""
+        z = [self.base_pose()[0][2]]
+        z += [s[0][2] for s in pb.getLinkStates(self.body, list(range(self.n_joints)), physicsClientId=self.cid)]
+        return float(np.dot(self.link_mass_kg, z) / self.mass_kg)
+
+    def check_finite(self, t_s: float, *, max_speed_m_s: float = 50.0, max_dist_m: float = 100.0) -> None:
+        """Raise :class:`SimulationDiverged` if the base state is non-finite or implausible."""
+        pos, q = self.base_pose()
+        v, _ = self.base_velocity()
+        speed = math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
+        dist = math.sqrt(pos[0] ** 2 + pos[1] ** 2 + pos[2] ** 2)
+        if not (speed <= max_speed_m_s and dist <= max_dist_m and all(map(math.isfinite, q))):
+            raise SimulationDiverged(
+                f"simulation diverged at t = {t_s:.4f} s (dt = {self.dt_s:g} s): base position {np.round(pos, 3)}"
+                f" m, speed {speed:.3g} m/s; try a smaller --dt"
+            )
