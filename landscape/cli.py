@@ -158,7 +158,8 @@ def human_summary(c, robot: Robot) -> str:
 @click.option("--start-pitch", type=float, default=None, help="Start by descent from this pitch, degrees.")
 @click.option("--start-roll", type=float, default=None, help="Start by descent from this roll, degrees.")
 @click.option("--connectivity", type=click.Choice(["8", "4"]), default="8", show_default=True)
-@click.option("--method", type=click.Choice(["grid"]), default="grid", show_default=True)
+@click.option("--method", type=click.Choice(["exact", "grid"]), default="exact", show_default=True,
+              help="exact: no discretisation error (hull face-edge graph); grid: the paper's grid search.")
 @robot_options
 @click.option("--out", type=click.Path(file_okay=False), default=None,
               help="Write landscape.npz, landscape.csv and summary.json here.")
@@ -194,9 +195,10 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
 @click.option("--theta-l", "theta_l", type=str, default="20:50:10", show_default=True,
               help="Leg angles: list or range, degrees.")
 @click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees.")
+@click.option("--method", type=click.Choice(["exact", "grid"]), default="exact", show_default=True)
 @robot_options
 @click.option("--out", type=click.Path(file_okay=False), default="barrier-map", show_default=True)
-def barrier_map(theta_w, theta_l, step, out, **kw):
+def barrier_map(theta_w, theta_l, step, method, out, **kw):
     """Minimal barrier over theta_w x theta_l: CSV and heat map (the source paper's Fig. 5)."""
     from tqdm import tqdm
 
@@ -222,7 +224,8 @@ def barrier_map(theta_w, theta_l, step, out, **kw):
               disable=None) as bar:
         for i, w in enumerate(ws):
             for j, leg in enumerate(ls_):
-                c = run(robot, theta_w_deg=w, theta_l_deg=leg, step_deg=step, start_deg=starts[(w, leg)])
+                c = run(robot, theta_w_deg=w, theta_l_deg=leg, step_deg=step, start_deg=starts[(w, leg)],
+                        method=method)
                 b = c.barrier
                 r = b.righting
                 grid[i, j] = np.nan if r is None else r.barrier_j * MJ
@@ -241,7 +244,8 @@ def barrier_map(theta_w, theta_l, step, out, **kw):
     outd = Path(out)
     csv_path = io.write_rows_csv(rows, outd / "barrier_map.csv")
     png = plots.render_barrier_map(ws, ls_, grid, outd / "barrier_map.png",
-                                   title=f"Minimal righting barrier, {robot.name}, {step:g}° grid")
+                                   title=f"Minimal righting barrier, {robot.name}, "
+                                         + ("exact" if method == "exact" else f"{step:g}° grid"))
     click.echo(f"{len(rows)} poses in {time.perf_counter() - t0:.2f} s; "
                f"righting barrier {np.nanmin(grid):.3f} .. {np.nanmax(grid):.3f} mJ")
     click.echo(f"wrote {csv_path} and {png}")

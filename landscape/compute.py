@@ -13,10 +13,12 @@ from geometry.frames import canonical_pitch_roll_deg
 
 from .barrier import GridBarrier, grid_barrier
 from .energy import G_M_S2, Landscape, energy_landscape
+from .exact import exact_barrier
 from .grid import cells_per_turn
 from .minima import Minimum, as_minimum, follow_minimum, grid_minimum, local_descent, metastable_orientation
 
-METHODS = ("grid",)
+METHODS = ("exact", "grid")
+DEFAULT_METHOD = "exact"
 
 
 @dataclass(frozen=True)
@@ -96,7 +98,7 @@ def start_orientation(robot: Robot, pose: Pose, theta_w_deg: float | None, theta
 
 def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float | None = 0.0,
             step_deg: float = 1.0, start_pitch_deg: float | None = None, start_roll_deg: float | None = None,
-            connectivity: int = 8, method: str = "grid", g_m_s2: float = G_M_S2,
+            connectivity: int = 8, method: str = DEFAULT_METHOD, g_m_s2: float = G_M_S2,
             start_deg: tuple[float, float] | None = None) -> Computation:
     """Landscape, start minimum and barriers of a robot at (theta_w, theta_l).
 
@@ -110,7 +112,11 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
     start_pitch_deg, start_roll_deg : float, optional
         Seek the start minimum by descent from here instead of the metastable continuation.
     connectivity : {8, 4}
-    method : {"grid"}
+        Grid neighbours (method "grid").
+    method : {"exact", "grid"}
+        "exact": barriers on the hull's face-edge graph, no discretisation error (landscape/exact.py);
+        "grid": the source paper's graph search on the pitch-roll grid. The landscape grid is computed either
+        way (for files and figures).
     start_deg : (float, float), optional
         A start orientation already found (used by sweeps that continue along theta); skips the search.
 
@@ -137,11 +143,15 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
     ls = energy_landscape(pose, step_deg=step_deg, g_m_s2=g_m_s2)
     timing["landscape"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    cell = grid_minimum(ls, *start_deg)
-    barrier = grid_barrier(ls, cell, connectivity=connectivity)
+    if method == "exact":
+        ex = exact_barrier(pose, *start_deg, g_m_s2=g_m_s2)
+        minimum, barrier = ex.start, ex.barrier
+    else:
+        cell = grid_minimum(ls, *start_deg)
+        minimum, barrier = as_minimum(ls, *cell), grid_barrier(ls, cell, connectivity=connectivity)
     timing["barrier"] = time.perf_counter() - t0
     return Computation(pose.theta_w_deg, pose.theta_l_deg, float(step_deg), method, pose.mass_kg, pose.com_m,
-                       canonical_pitch_roll_deg(*start_deg), as_minimum(ls, *cell), barrier, ls, pose, timing)
+                       canonical_pitch_roll_deg(*start_deg), minimum, barrier, ls, pose, timing)
 
 
 def sweep_starts(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float]

@@ -49,12 +49,18 @@ def test_compute_out_files(capsys, box_stl, tmp_path):
 
 
 def test_compute_lab_robot(capsys, lab_robot):
-    code, out, err = run(capsys, "compute", "--theta-w", "74", "--robot", str(lab_robot.source), "--json")
+    code, out, err = run(capsys, "compute", "--theta-w", "74", "--robot", str(lab_robot.source), "--json",
+                         "--method", "grid")
     assert code == 0, err
     s = json.loads(out)
     assert s["minimum"]["pitch_deg"] == pytest.approx(70, abs=1)
     assert s["minimum"]["energy_j"] == pytest.approx(0.26251, abs=2e-5)
     assert 0 < s["barrier"]["righting_j"] < 0.02
+    code, out, err = run(capsys, "compute", "--theta-w", "74", "--robot", str(lab_robot.source), "--json")
+    exact = json.loads(out)
+    assert exact["method"] == "exact"
+    assert exact["minimum"]["energy_j"] < s["minimum"]["energy_j"]
+    assert exact["barrier"]["righting_j"] == pytest.approx(s["barrier"]["righting_j"], rel=0.05)
 
 
 @pytest.mark.parametrize("argv, message", [

@@ -107,8 +107,8 @@ LAB_MIN = {0: (-6, 44.42), 30: (35, 136.80), 60: (59, 231.25), 70: (67, 254.07),
 
 @pytest.mark.parametrize("tw", sorted(LAB_MIN))
 def test_lab_robot_metastable_minimum(lab_robot, tw):
-    """The continuation start reproduces the lab's published minima (pitch, energy) at roll 0."""
-    c = compute(lab_robot, theta_w_deg=tw, theta_l_deg=0.0, step_deg=1.0)
+    """The continuation start reproduces the lab's published minima (pitch, energy) at roll 0 (a 1° grid)."""
+    c = compute(lab_robot, theta_w_deg=tw, theta_l_deg=0.0, step_deg=1.0, method="grid")
     pitch, e_mj = LAB_MIN[tw]
     assert c.minimum.pitch_deg == pytest.approx(pitch, abs=1.0)
     assert c.minimum.roll_deg == pytest.approx(0.0, abs=1.0)
@@ -119,18 +119,21 @@ def test_lab_robot_continuation_not_descent(lab_robot):
     """At theta_w 90, descending from pitch = roll = 0 falls into another basin; the opening does not."""
     cont = compute(lab_robot, theta_w_deg=90, theta_l_deg=0.0, step_deg=1.0)
     desc = compute(lab_robot, theta_w_deg=90, theta_l_deg=0.0, step_deg=1.0, start_pitch_deg=0, start_roll_deg=0)
+    # the exact minimum lies below the 1° grid's, which samples the sharp face minimum off its corner
+    assert cont.minimum.energy_j * 1e3 == pytest.approx(286.209, abs=1e-3)
     assert cont.minimum.pitch_deg == pytest.approx(80, abs=1)
     assert desc.minimum.pitch_deg < 0
 
 
-def test_lab_robot_trends(lab_robot):
+@pytest.mark.parametrize("method", ["exact", "grid"])
+def test_lab_robot_trends(lab_robot, method):
     """The righting barrier falls as theta_w grows (60 -> 90) and as theta_l grows (20 -> 50 at 74)."""
-    by_w = [compute(lab_robot, theta_w_deg=w, theta_l_deg=0, step_deg=1.0).barrier.righting.barrier_j
+    by_w = [compute(lab_robot, theta_w_deg=w, theta_l_deg=0, step_deg=1.0, method=method).barrier.righting.barrier_j
             for w in (60, 70, 80, 90)]
-    by_l = [compute(lab_robot, theta_w_deg=74, theta_l_deg=tl, step_deg=1.0).barrier.righting.barrier_j
+    by_l = [compute(lab_robot, theta_w_deg=74, theta_l_deg=tl, step_deg=1.0, method=method).barrier.righting.barrier_j
             for tl in (20, 30, 40, 50)]
     assert np.all(np.diff(by_w) < 0) and np.all(np.diff(by_l) < 0)
     # and rolling is the easy way out
-    c = compute(lab_robot, theta_w_deg=74, theta_l_deg=0, step_deg=1.0)
+    c = compute(lab_robot, theta_w_deg=74, theta_l_deg=0, step_deg=1.0, method="grid")
     assert c.barrier.righting.direction == "roll"
     assert c.barrier.pitch_wise.barrier_j > 3 * c.barrier.roll_wise.barrier_j
