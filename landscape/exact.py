@@ -206,7 +206,8 @@ class _Graph:
     arc_peak_s: NDArray[np.float64]   # (A,) where w.u peaks along the arc (may lie outside [0, theta])
     arc_foot: NDArray[np.float64]     # (A,) foot of the perpendicular along the edge, m from vertex 0
     arc_len: NDArray[np.float64]      # (A,) edge length, m
-    pair_arc: dict
+    pair_arc: tuple                   # (sorted keys min * K + max of vertex pairs, arc of each)
+    face_next: NDArray[np.int64]      # where a face that is no minimum tips: face >= 0, or -2 - vertex
 
 
 # --------------------------------------------------------------------------------------------- construction
@@ -292,8 +293,6 @@ def _build(pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
     d = com[None, :] - pts
     face_up = -normal
-    heights = face_up @ d.T                                  # (F, K)
-    face_h = heights.max(axis=1)
     inside = -(eq[:, :3] @ com + eq[:, 3])                   # distance of the CoM inside each triangle plane
     if inside.min() < -tol_m:
         k = int(np.argmin(inside))
@@ -301,6 +300,9 @@ def _build(pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g
     # faces' vertices and the faces at each vertex
     fr = np.repeat(tri_face, 3)
     face_ptr, face_idx = _csr(n_f, fr, tri.ravel())
+    # CoM height resting on each face: its vertices are the lowest there
+    face_h = np.maximum.reduceat(np.einsum("ij,ij->i", face_up[np.repeat(np.arange(n_f), np.diff(face_ptr))],
+                                           d[face_idx]), face_ptr[:-1])
     vface_ptr, vface_idx = _csr(k_v, tri.ravel(), fr)
     # boundary edges between different faces (each once), grouped by face pair
     t_i = np.repeat(np.arange(len(tri)), 3)
@@ -333,11 +335,11 @@ def _build(pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g
     is_hi = flat_p == hi_val[flat_i]
     arc_a[flat_i[is_lo]] = flat_v[is_lo]
     arc_b[flat_i[is_hi]] = flat_v[is_hi]
-    pair_arc = {}
-    for (a, b), k in zip(e_v.tolist(), inv.tolist(), strict=True):
-        pair_arc[(min(a, b), max(a, b))] = k
-    for a, b, k in zip(arc_a.tolist(), arc_b.tolist(), range(n_a), strict=True):
-        pair_arc[(min(a, b), max(a, b))] = k
+    pa = np.concatenate([e_v[:, 0], arc_a])
+    pb = np.concatenate([e_v[:, 1], arc_b])
+    keys = np.minimum(pa, pb) * k_v + np.maximum(pa, pb)
+    keys, first_k = np.unique(keys, return_index=True)
+    pair_arc = (keys, np.concatenate([inv, np.arange(n_a)])[first_k].astype(np.int64))
     # arc geometry
     u0 = face_up[arc_faces[:, 0]]
     u1 = face_up[arc_faces[:, 1]]
@@ -373,8 +375,9 @@ def _build(pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g
     margin = _face_margins(pts, normal, face_proj, face_ptr, face_idx, half_face, half_a, half_b, n_f)
     nbr_ptr, nbr_idx = _csr(k_v, np.concatenate([tri[:, [0, 1, 2]].ravel(), tri[:, [1, 2, 0]].ravel()]),
                             np.concatenate([tri[:, [1, 2, 0]].ravel(), tri[:, [0, 1, 2]].ravel()]))
+    face_next = _face_exits(pts, face_proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, tol_m)
     g = _Graph(d, nbr_ptr, nbr_idx, face_ptr, face_idx, vface_ptr, vface_idx, face_proj, half_ptr, half_arc,
-               half_a, half_b, t, theta, w, peak_s, foot, seg_len, pair_arc)
+               half_a, half_b, t, theta, w, peak_s, foot, seg_len, pair_arc, face_next)
     ang_tol = tol_m / max(float(np.linalg.norm(d, axis=1).max()), tol_m)
     scale = mass_kg * g_m_s2
     # critical points
@@ -453,41 +456,42 @@ def _node_face(ex: ExactLandscape, top: int, u: NDArray[np.float64]) -> int:
     return int(faces[np.argmax(ex.face_up[faces] @ u)])
 
 
-def _face_exit(ex: ExactLandscape, f: int):
-    """Where a face that is not a minimum tips over: ('arc', arc, next face) or ('vertex', k)."""
-    g = ex._g
-    sel = np.arange(g.half_ptr[f], g.half_ptr[f + 1])
-    p = g.face_proj[f]
-    a, b = ex.vertices_m[g.half_a[sel]], ex.vertices_m[g.half_b[sel]]
+def _face_exits(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, tol_m):
+    """Where each face that is no minimum tips: over the boundary feature nearest the CoM's projection.
+
+    Returns, per face, -1 (a minimum), the next face (tipping over an edge) or -2 - k (pivoting on vertex k).
+    """
+    n_f = len(half_ptr) - 1
+    face = np.repeat(np.arange(n_f), np.diff(half_ptr))
+    a, b = pts[half_a], pts[half_b]
     seg = b - a
-    L = np.linalg.norm(seg, axis=1)
-    s = np.clip(np.einsum("ij,ij->i", p - a, seg) / L**2, 0.0, 1.0)
-    dist = np.linalg.norm(a + s[:, None] * seg - p, axis=1)
-    i = int(np.argmin(dist))
-    along = s[i] * L[i]
-    arc = int(g.half_arc[sel[i]])
-    if along <= ex.tol_m:
-        return "vertex", int(g.half_a[sel[i]])
-    if along >= L[i] - ex.tol_m:
-        return "vertex", int(g.half_b[sel[i]])
-    other = ex.arc_faces[arc]
-    return "arc", arc, int(other[1] if other[0] == f else other[0])
+    seg_len = np.linalg.norm(seg, axis=1)
+    s = np.clip(np.einsum("ij,ij->i", proj[face] - a, seg) / seg_len**2, 0.0, 1.0)
+    dist = np.linalg.norm(a + s[:, None] * seg - proj[face], axis=1)
+    order = np.lexsort((np.arange(len(face)), dist, face))   # nearest per face, ties to the first half-edge
+    best = order[half_ptr[:-1]]
+    along = s[best] * seg_len[best]
+    arc = half_arc[best]
+    other = np.where(arc_faces[arc, 0] == np.arange(n_f), arc_faces[arc, 1], arc_faces[arc, 0])
+    out = np.where(along <= tol_m, -2 - half_a[best],
+                   np.where(along >= seg_len[best] - tol_m, -2 - half_b[best], other))
+    return np.where(margin > tol_m, -1, out).astype(np.int64)
 
 
 def _descend_face(ex: ExactLandscape, f: int) -> int:
     """The minimum face reached by quasi-static rolling from resting on face f."""
-    for _ in range(4 * len(ex.face_up) + 8):
-        if ex.face_margin_m[f] > ex.tol_m:
+    nxt = ex._g.face_next
+    for _ in range(len(nxt) + 1):
+        if nxt[f] == -1:
             return f
-        step = _face_exit(ex, f)
-        if step[0] == "arc":
-            f = step[2]
+        if nxt[f] >= 0:
+            f = int(nxt[f])
         else:
-            return _descend_from(ex, _cell_step(ex, step[1], ex.face_up[f]), depth=1)
+            return _descend_from(ex, _cell_step(ex, int(-2 - nxt[f]), ex.face_up[f]))
     raise RuntimeError(f"rolling down from face {f} did not settle; please report this body")
 
 
-def _descend_from(ex: ExactLandscape, u: NDArray[np.float64], depth: int = 0) -> int:
+def _descend_from(ex: ExactLandscape, u: NDArray[np.float64]) -> int:
     """The minimum face reached by quasi-static rolling (steepest descent of h) from up-direction u."""
     g = ex._g
     u = np.asarray(u, dtype=np.float64)
@@ -500,7 +504,9 @@ def _descend_from(ex: ExactLandscape, u: NDArray[np.float64], depth: int = 0) ->
             u = _cell_step(ex, top, u)
             continue
         if len(act) == 2:
-            arc = g.pair_arc.get((int(act.min()), int(act.max())))
+            key = int(act.min()) * len(g.d) + int(act.max())
+            i = int(np.searchsorted(g.pair_arc[0], key))
+            arc = int(g.pair_arc[1][i]) if i < len(g.pair_arc[0]) and g.pair_arc[0][i] == key else None
             if arc is not None:
                 f0, f1 = (int(x) for x in ex.arc_faces[arc])
                 foot, L = g.arc_foot[arc], g.arc_len[arc]
