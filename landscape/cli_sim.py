@@ -121,3 +121,65 @@ def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_jso
         click.echo(_human(r, robot_path))
         if trace_path is not None:
             click.echo(f"trace        {trace_path}")
+
+
+@click.command("sweep")
+@click.option("--theta-w", default="70,72,74,76", show_default=True, help="Wing angles, degrees: list or START:STOP:STEP.")
+@click.option("--theta-l", default="20,30,40,50", show_default=True, help="Leg amplitudes, degrees.")
+@click.option("--cv", default="0,0.05,0.1,0.15,0.2,0.25", show_default=True, help="Noise levels Cv = sigma / Tl.")
+@click.option("--phase", default="0.7", show_default=True, help="First-attempt phases phi_1 in [0, 1).")
+@click.option("--trials", type=int, default=40, show_default=True, help="Trials per parameter combination.")
+@click.option("--db", type=click.Path(dir_okay=False, path_type=Path), required=True, help="SQLite results file.")
+@click.option("--duration", type=float, default=DEFAULT_DURATION_S, show_default=True, help="Trial length, s.")
+@click.option("--dt", type=float, default=DEFAULT_DT_S, show_default=True, help="Time step, s.")
+@click.option("--seed", "base_seed", type=click.IntRange(min=0), default=0, show_default=True,
+              help="Base seed mixed into every trial's seed.")
+@click.option("--workers", type=click.IntRange(min=1), default=None, help="Local worker processes (default: all cores).")
+@click.option("--scheduler", type=str, default=None, help="Dask scheduler address tcp://HOST:PORT.")
+@click.option("--robot", type=str, default=None, help="URDF file (default: the built-in robot).")
+@click.option("--no-progress", is_flag=True, help="No progress bar.")
+@click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object.")
+def sweep(theta_w, theta_l, cv, phase, trials, db, duration, dt, base_seed, workers, scheduler, robot,
+          no_progress, as_json):
+    """Run (or resume) a sweep of self-righting trials into an SQLite database."""
+    from dataclasses import asdict
+
+    from sim.store import KEY_COLUMNS, TrialStore
+    from sim.sweep import run_sweep, success_table, sweep_specs
+
+    if workers is not None and scheduler is not None:
+        raise SimUsageError("give either --workers N (local processes) or --scheduler ADDRESS (Dask), not both")
+    tw, tl, cvs, phs = (_values(theta_w, "theta-w"), _values(theta_l, "theta-l"), _values(cv, "cv"),
+                        _values(phase, "phase"))
+    try:
+        specs = sweep_specs(tw, tl, cvs, phase=phs, trials=trials, duration_s=duration, dt_s=dt, robot=robot)
+        summary = run_sweep(specs, db=db, workers=workers, scheduler=scheduler, progress=not no_progress)
+    except (ValueError, OSError) as exc:
+        raise SimUsageError(str(exc).splitlines()[0]) from None
+    if as_json:
+        click.echo(json.dumps(asdict(summary)))
+        return
+    click.echo(f"{summary.total} trials: {summary.skipped} already in {db}, ran {summary.ran} "
+               f"({summary.diverged} diverged) in {summary.wall_s:.1f} s on {summary.workers} workers "
+               f"= {summary.trials_per_s:.2f} trials/s, {summary.cpu_s:.0f} trial CPU-s")
+    keys = {s.key() for s in specs}
+    with TrialStore(db) as store:
+        rows = [r for r in store.rows() if tuple(r[c] for c in KEY_COLUMNS) in keys]
+    click.echo("success   theta_w  theta_l  cv     rate")
+    for (w, l_, c), (k, n) in success_table(rows).items():
+        click.echo(f"          {w:7g}  {l_:7g}  {c:5g}  {k:3d}/{n:<3d}")
+
+
+@click.command("export")
+@click.option("--db", type=click.Path(dir_okay=False, path_type=Path), required=True, help="SQLite results file.")
+@click.option("--csv", "csv_path", type=click.Path(dir_okay=False, path_type=Path), required=True,
+              help="CSV file to write.")
+def export(db, csv_path):
+    """Export every stored trial to CSV."""
+    from sim.store import export_csv
+
+    try:
+        n = export_csv(db, csv_path)
+    except (ValueError, OSError) as exc:
+        raise SimUsageError(str(exc).splitlines()[0]) from None
+    click.echo(f"wrote {n} trials to {csv_path}")

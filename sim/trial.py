@@ -39,8 +39,9 @@ from .world import G_M_S2, Contact, SimulationDiverged, World
 
 log = logging.getLogger(__name__)
 
-DEFAULT_DT_S = 1e-3
-"""Default time step, s (chosen by ``benchmarks/sim_convergence.py``; see docs/sim.md)."""
+DEFAULT_DT_S = 2e-4
+"""Default time step, s: the largest with < 0.5 deg orientation difference from dt = 5e-5 over the first
+second and the same outcomes (``benchmarks/sim_convergence.py``; see docs/sim.md)."""
 DEFAULT_DURATION_S = 10.0
 UPRIGHT_HOLD_S = 0.3
 SETTLE_S = 0.5
@@ -277,8 +278,9 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
             raise SimulationDiverged("the robot did not settle on its back; check the robot and --dt")
 
         upright_since, u_first = None, None
+        target_l, speed_l = target.tolist(), speed.tolist()
         for i in range(n_steps):
-            world.drive(target[i], speed[i], kp=kp, kd=1.0)
+            world.drive(target_l[i], speed_l[i], kp=kp, kd=1.0)
             world.step()
             ti = (i + 1) * dt_s
             if trace and (i + 1) % trace_every == 0:
@@ -286,7 +288,7 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
             if (i + 1) % check_every:
                 continue
             world.check_finite(ti)
-            err = max(abs(a - b) for a, b in zip(world.joint_positions_rad(), target[i], strict=True))
+            err = max(abs(a - b) for a, b in zip(world.joint_positions_rad(), target_l[i], strict=True))
             max_err = max(max_err, err)
             u = world.up_in_body()
             if u[2] < 0:

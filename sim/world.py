@@ -123,6 +123,7 @@ class World:
         self.dt_s = float(dt_s)
         self.contact = contact or Contact()
         self.cid: int | None = None
+        self._gains: dict = {}
 
     # ------------------------------------------------------------------ lifecycle
     def __enter__(self) -> World:
@@ -194,13 +195,15 @@ class World:
         pb.resetBasePositionAndOrientation(self.body, [0.0, 0.0, 0.5 - zmin + clearance_m], q, physicsClientId=cid)
         pb.resetBaseVelocity(self.body, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], physicsClientId=cid)
 
-    def drive(self, target_rad: NDArray[np.float64], speed_rad_s: NDArray[np.float64], *,
-              kp: float, kd: float) -> None:
+    def drive(self, target_rad, speed_rad_s, *, kp: float, kd: float) -> None:
         """Position control of the driven joints (wing joints then leg joints) within their effort limits."""
-        n = len(self.driven)
+        gains = self._gains.get((kp, kd))
+        if gains is None:
+            n = len(self.driven)
+            gains = self._gains[(kp, kd)] = ([kp] * n, [kd] * n, self.max_force_n_m.tolist())
         pb.setJointMotorControlArray(self.body, self.driven, pb.POSITION_CONTROL, targetPositions=target_rad,
-                                     targetVelocities=speed_rad_s, forces=self.max_force_n_m,
-                                     positionGains=[kp] * n, velocityGains=[kd] * n, physicsClientId=self.cid)
+                                     targetVelocities=speed_rad_s, forces=gains[2], positionGains=gains[0],
+                                     velocityGains=gains[1], physicsClientId=self.cid)
 
     def step(self) -> None:
         pb.stepSimulation(physicsClientId=self.cid)

@@ -1,0 +1,279 @@
+"""Sweeps of self-righting trials over (theta_w, theta_l, Cv, phi_1) with deterministic per-trial seeds, run on a
+local process pool or a Dask distributed cluster (the same ``concurrent.futures`` code path: a
+``ProcessPoolExecutor`` or ``distributed.Client.get_executor()``), stored in SQLite (:mod:`sim.store`).
+
+Seeds: ``trial_seed`` hashes the trial's parameters (theta_w, theta_l, Cv, phi_1, trial index and a base seed)
+with SHA-256, so a trial has the same noise whatever else is in the sweep, on any machine, and a resumed
+sweep reruns nothing. The time step, duration and robot are part of the stored key but not of the seed, so the
+same trial at another ``dt`` sees the same noise (common random numbers).
+
+Resuming: trials whose key is already in the database are skipped. At most ``window`` trials (2 per worker)
+are submitted at a time and each result is committed when it arrives, so an interrupted sweep loses at most
+those in flight.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import logging
+import multiprocessing
+import os
+import time
+from collections.abc import Callable, Iterable, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from dataclasses import dataclass
+from datetime import datetime, timezone
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+
+import numpy as np
+
+from .model import default_robot_urdf, sim_model
+from .store import KEY_COLUMNS, TrialStore
+from .trial import DEFAULT_DT_S, DEFAULT_DURATION_S, TrialInputError, run_trial
+from .world import SimulationDiverged
+
+log = logging.getLogger(__name__)
+
+PAPER_THETA_W_DEG = (70.0, 72.0, 74.0, 76.0)
+PAPER_THETA_L_DEG = (20.0, 30.0, 40.0, 50.0)
+PAPER_CV = (0.0, 0.05, 0.1, 0.15, 0.2, 0.25)
+PAPER_TRIALS = 40
+
+
+def package_version() -> str:
+    try:
+        return version("selfrighting-landscape")
+    except PackageNotFoundError:  # pragma: no cover - running from a source tree
+        return "unknown"
+
+
+def trial_seed(theta_w_deg: float, theta_l_deg: float, cv: float, phase: float, trial: int, *,
+               base_seed: int = 0) -> int:
+    """Deterministic seed in [0, 2**63) of one trial, from its parameters.
+
+    Examples
+    --------
+    >>> trial_seed(74.0, 30.0, 0.1, 0.7, 3) == trial_seed(74, 30, 0.1, 0.7, 3)
+    True
+    >>> trial_seed(74.0, 30.0, 0.1, 0.7, 3) != trial_seed(74.0, 30.0, 0.1, 0.7, 4)
+    True
+    """
+    text = f"{float(theta_w_deg)!r}|{float(theta_l_deg)!r}|{float(cv)!r}|{float(phase)!r}|{int(trial)}|{int(base_seed)}"
+    return int.from_bytes(hashlib.sha256(text.encode()).digest()[:8], "big") >> 1
+
+
+@dataclass(frozen=True)
+class TrialSpec:
+    """One trial of a sweep (everything a worker needs)."""
+
+    theta_w_deg: float
+    theta_l_deg: float
+    cv: float
+    phase: float
+    trial: int
+    seed: int
+    duration_s: float
+    dt_s: float
+    robot: str
+    robot_hash: str
+
+    def key(self) -> tuple:
+        """Primary key in ``sim.store.KEY_COLUMNS`` order."""
+        return tuple(getattr(self, c) for c in KEY_COLUMNS)
+
+
+def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: Iterable[float], *,
+                phase: Iterable[float] = (0.7,), trials: int = PAPER_TRIALS,
+                duration_s: float = DEFAULT_DURATION_S, dt_s: float = DEFAULT_DT_S,
+                robot: str | Path | None = None, base_seed: int = 0) -> list[TrialSpec]:
+    """Every trial of a full-factorial sweep, in a fixed order.
+
+    Raises
+    ------
+    TrialInputError
+        If a parameter list is empty, ``trials`` < 1 or a value is out of range.
+    """
+    grids = {"theta-w": [float(x) for x in theta_w_deg], "theta-l": [float(x) for x in theta_l_deg],
+             "cv": [float(x) for x in cv], "phase": [float(x) for x in phase]}
+    for name, vals in grids.items():
+        if not vals:
+            raise TrialInputError(f"--{name} is empty; the sweep needs at least one value")
+        if not np.isfinite(vals).all():
+            raise TrialInputError(f"--{name} values must be finite; got {vals}")
+    if any(c < 0 for c in grids["cv"]):
+        raise TrialInputError(f"--cv values must be >= 0; got {grids['cv']}")
+    if any(not 0 <= p < 1 for p in grids["phase"]):
+        raise TrialInputError(f"--phase values must be in [0, 1); got {grids['phase']}")
+    if trials < 1:
+        raise TrialInputError(f"--trials must be >= 1; got {trials}")
+    path = Path(robot) if robot is not None else default_robot_urdf()
+    model = sim_model(path)
+    for name, key in (("theta-w", "theta_w"), ("theta-l", "theta_l")):
+        lo, hi = model.theta_limits_deg[key]
+        bad = [v for v in grids[name] if not (max(lo, 0.0) <= v <= hi)]
+        if bad:
+            raise TrialInputError(f"--{name} {bad[0]:g} is outside [{max(lo, 0.0):g}, {hi:g}] deg allowed by "
+                                  f"the robot's joints")
+    robot_str = str(path.resolve())
+    return [TrialSpec(tw, tl, c, ph, k, trial_seed(tw, tl, c, ph, k, base_seed=base_seed), float(duration_s),
+                      float(dt_s), robot_str, model.description_hash)
+            for tw, tl, c, ph, k in itertools.product(grids["theta-w"], grids["theta-l"], grids["cv"],
+                                                      grids["phase"], range(trials))]
+
+
+def run_spec(spec: TrialSpec) -> dict:
+    """Run one trial (in a worker) and return its database row; a diverged trial is a row with status
+    ``"diverged"``."""
+    row = {c: getattr(spec, c) for c in KEY_COLUMNS}
+    row.update(robot=spec.robot, version=package_version(), error=None,
+               created_utc=datetime.now(timezone.utc).isoformat(timespec="seconds"))
+    try:
+        r = run_trial(spec.theta_w_deg, spec.theta_l_deg, phase=spec.phase, cv=spec.cv, rng=spec.seed,
+                      duration_s=spec.duration_s, dt_s=spec.dt_s, robot=spec.robot)
+    except SimulationDiverged as exc:
+        row.update(status="diverged", error=str(exc))
+        return row
+    d = r.to_dict()
+    row.update({k: d[k] for k in ("success", "time_to_right_s", "attempt", "mode", "phases", "attempt_starts_s",
+                                  "sim_s", "wall_s", "cpu_s", "max_tracking_error_deg", "model_hash")})
+    row["success"] = int(r.success)
+    row["status"] = "ok"
+    if r.robot_hash != spec.robot_hash:
+        raise RuntimeError(f"robot file {spec.robot} changed during the sweep (hash {r.robot_hash} != "
+                           f"{spec.robot_hash}); restart the sweep")
+    return row
+
+
+@dataclass(frozen=True)
+class SweepSummary:
+    """What a sweep did.
+
+    Attributes
+    ----------
+    total, skipped, ran, diverged : int
+        Trials in the sweep, already in the database, run now, and diverged among those run.
+    wall_s : float
+        Wall-clock time of the run, s.
+    trials_per_s : float
+        ``ran / wall_s``.
+    cpu_s : float
+        Sum of the trials' own CPU time, s.
+    workers : int
+        Worker processes (or Dask worker threads) used.
+    db : str
+    """
+
+    total: int
+    skipped: int
+    ran: int
+    diverged: int
+    wall_s: float
+    trials_per_s: float
+    cpu_s: float
+    workers: int
+    db: str
+
+
+def _local_executor(workers: int) -> ProcessPoolExecutor:
+    return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+
+
+def run_sweep(specs: Sequence[TrialSpec], *, db: str | Path, workers: int | None = None,
+              scheduler: str | None = None, progress: bool = True,
+              on_result: Callable[[dict], None] | None = None) -> SweepSummary:
+    """Run the trials of ``specs`` that are not yet in ``db``, storing each as it finishes.
+
+    Parameters
+    ----------
+    specs : sequence of TrialSpec
+        From :func:`sweep_specs`.
+    db : path
+        SQLite database (created if absent).
+    workers : int, optional
+        Local worker processes (default: all cores). Ignored with ``scheduler``.
+    scheduler : str, optional
+        Address of a Dask distributed scheduler (``tcp://HOST:PORT``); the trials run on its workers.
+    progress : bool
+        Show a tqdm progress bar (rate and ETA) on stderr.
+    on_result : callable, optional
+        Called with each stored row (after its commit).
+
+    Returns
+    -------
+    SweepSummary
+    """
+    if not specs:
+        raise TrialInputError("the sweep has no trials; give at least one value per parameter")
+    t0 = time.perf_counter()
+    with TrialStore(db) as store:
+        done = store.done_keys()
+        todo = [s for s in specs if s.key() not in done]
+        skipped = len(specs) - len(todo)
+        client = None
+        if scheduler:
+            from distributed import Client
+
+            client = Client(scheduler, timeout="30s", set_as_default=False)
+            executor = client.get_executor(pure=False)
+            n_workers = max(1, sum(client.nthreads().values()))
+        else:
+            n_workers = int(workers or os.cpu_count() or 1)
+            if n_workers < 1:
+                raise TrialInputError(f"--workers must be >= 1; got {workers}")
+            executor = _local_executor(n_workers) if todo else None
+        ran = diverged = 0
+        cpu = 0.0
+        bar = None
+        if progress:
+            from tqdm import tqdm
+
+            bar = tqdm(total=len(specs), initial=skipped, unit="trial", dynamic_ncols=True, smoothing=0.05)
+        try:
+            window = 2 * n_workers
+            queue = iter(todo)
+            pending: set[Future] = set()
+            while True:
+                while len(pending) < window:
+                    spec = next(queue, None)
+                    if spec is None:
+                        break
+                    pending.add(executor.submit(run_spec, spec))
+                if not pending:
+                    break
+                finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for fut in finished:
+                    row = fut.result()
+                    store.add(row)
+                    ran += 1
+                    diverged += row["status"] == "diverged"
+                    cpu += row.get("cpu_s") or 0.0
+                    if bar is not None:
+                        bar.update(1)
+                    if on_result is not None:
+                        on_result(row)
+        finally:
+            if bar is not None:
+                bar.close()
+            if client is not None:
+                executor.shutdown(wait=False)
+                client.close()
+            elif executor is not None:
+                executor.shutdown(wait=False, cancel_futures=True)
+    wall = time.perf_counter() - t0
+    return SweepSummary(len(specs), skipped, ran, diverged, wall, ran / wall if wall > 0 else 0.0, cpu,
+                        n_workers, str(db))
+
+
+def success_table(rows: Iterable[dict]) -> dict[tuple[float, float, float], tuple[int, int]]:
+    """(theta_w, theta_l, Cv) -> (successes, trials) over stored rows with status ``ok``."""
+    out: dict[tuple[float, float, float], list[int]] = {}
+    for r in rows:
+        if r["status"] != "ok":
+            continue
+        k = (r["theta_w_deg"], r["theta_l_deg"], r["cv"])
+        acc = out.setdefault(k, [0, 0])
+        acc[0] += int(bool(r["success"]))
+        acc[1] += 1
+    return {k: (v[0], v[1]) for k, v in sorted(out.items())}
