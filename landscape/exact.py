@@ -654,28 +654,35 @@ def _exit(ex: ExactLandscape, level_m: float, start_h: float, start_deg, pieces,
     return Exit(float(ex.energy_scale_j * (level_m - start_h)), sp, sr, direction, path)
 
 
-def _piece(ex: ExactLandscape, arc: int, forward: bool, s_cut: float | None = None):
-    """Traversal of an arc (forward: face 0 -> face 1), optionally only up to s_cut from face 0."""
+def _pieces(ex: ExactLandscape, arcs, s0, s1) -> list[tuple]:
+    """Traversals of arcs from s0 to s1: (arc, s0, s1, highest CoM height m, where it is reached).
+
+    On an arc ``h(s) = w.u(s) = A cos s + B sin s``, highest at an end or at the peak ``atan2(B, A)``.
+    """
     g = ex._g
-    theta = float(g.arc_theta[arc])
-    s_hi = theta if s_cut is None else s_cut
-    if forward:
-        s0, s1 = 0.0, s_hi
-    else:
-        s0, s1 = theta, 0.0
-    peak_s = float(g.arc_peak_s[arc])
-    lo, hi = min(s0, s1), max(s0, s1)
-    u0 = ex.face_up[ex.arc_faces[arc, 0]]
+    arcs = np.atleast_1d(np.asarray(arcs, dtype=np.int64))
+    s0 = np.broadcast_to(np.asarray(s0, dtype=np.float64), arcs.shape)
+    s1 = np.broadcast_to(np.asarray(s1, dtype=np.float64), arcs.shape)
+    u0 = ex.face_up[ex.arc_faces[arcs, 0]]
+    t = g.arc_t[arcs]
+    amp_a = np.einsum("ij,ij->i", g.arc_w[arcs], u0)
+    amp_b = np.einsum("ij,ij->i", g.arc_w[arcs], t)
+    lo, hi = np.minimum(s0, s1), np.maximum(s0, s1)
+    peak = g.arc_peak_s[arcs]
+    cand = np.stack([lo, hi, np.where((lo < peak) & (peak < hi), peak, lo)], axis=1)
+    h = amp_a[:, None] * np.cos(cand) + amp_b[:, None] * np.sin(cand)
+    k = np.argmax(h, axis=1)
+    s_pk = cand[np.arange(len(arcs)), k]
+    up = np.cos(s_pk)[:, None] * u0 + np.sin(s_pk)[:, None] * t
+    h_pk = h[np.arange(len(arcs)), k]
+    return [(int(a_), float(x0), float(x1), float(hh), uu) for a_, x0, x1, hh, uu in
+            zip(arcs.tolist(), s0.tolist(), s1.tolist(), h_pk.tolist(), up, strict=True)]
 
-    def h_at(s):
-        u = np.cos(s) * u0 + np.sin(s) * g.arc_t[arc]
-        return float(np.max(g.d @ u)), u
 
-    cands = [h_at(lo), h_at(hi)]
-    if lo < peak_s < hi:
-        cands.append(h_at(peak_s))
-    ph, pu = max(cands, key=lambda x: x[0])
-    return arc, s0, s1, ph, pu
+def _piece(ex: ExactLandscape, arc: int, forward: bool) -> tuple:
+    """A whole arc, forward (face 0 -> face 1) or back."""
+    theta = float(ex._g.arc_theta[arc])
+    return _pieces(ex, arc, 0.0 if forward else theta, theta if forward else 0.0)[0]
 
 
 def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_roll_deg: float, *,
@@ -752,19 +759,12 @@ def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_rol
     arcs_out = np.flatnonzero(leave)
     src = np.where(upright[fa[arcs_out]], fb[arcs_out], fa[arcs_out])  # the face above the equator
     fwd = ~upright[fa[arcs_out]]                                       # leaving from face 0 toward face 1
-    pieces_out = []
-    for arc, forward in zip(arcs_out.tolist(), fwd.tolist(), strict=True):
-        u0 = ex.face_up[fa[arc]]
-        tz = g.arc_t[arc, 2]
-        theta = float(g.arc_theta[arc])
-        if forward:  # z(s) = u0_z cos s + t_z sin s crosses 0 going down
-            s_c = float(np.clip(np.arctan2(u0[2], -tz), 0.0, theta))
-            pieces_out.append(_piece(ex, arc, True, s_c))
-        else:
-            s_c = float(np.clip(np.arctan2(-u0[2], tz), 0.0, theta))
-            # traversed from face 1 (above) back toward face 0 (below): from theta down to the crossing
-            _, _, _, ph, pu = _piece_range(ex, arc, s_c, theta)
-            pieces_out.append((arc, theta, s_c, ph, pu))
+    u0z = ex.face_up[fa[arcs_out], 2]
+    tz = g.arc_t[arcs_out, 2]
+    theta_out = g.arc_theta[arcs_out]
+    # z(s) = u0_z cos s + t_z sin s crosses 0 at s_c; forward arcs run 0 -> s_c, backward ones theta -> s_c
+    s_c = np.clip(np.where(fwd, np.arctan2(u0z, -tz), np.arctan2(-u0z, tz)), 0.0, theta_out)
+    pieces_out = _pieces(ex, arcs_out, np.where(fwd, 0.0, theta_out), s_c)
     t_node = n_f
     eu = np.concatenate([fa[arcs_in], src]).astype(np.int64)
     ev = np.concatenate([fb[arcs_in], np.full(len(arcs_out), t_node)]).astype(np.int64)
@@ -808,15 +808,3 @@ def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_rol
         pieces = [edge_pieces(int(keep[e]), x) for e, x in _chain(par_k, eu[keep], ev[keep], t_node)]
         sectors.append(_exit(ex, float(lev_k[t_node]), h0, start_deg, pieces, kind))
     return ExactBarrier(start, int(f0), GridBarrier(righting, sectors[0], sectors[1], escape), ex)
-
-
-def _piece_range(ex: ExactLandscape, arc: int, lo: float, hi: float):
-    g = ex._g
-    u0 = ex.face_up[ex.arc_faces[arc, 0]]
-    cands = []
-    for s in (lo, hi, float(g.arc_peak_s[arc])):
-        if lo - 1e-15 <= s <= hi + 1e-15:
-            u = np.cos(s) * u0 + np.sin(s) * g.arc_t[arc]
-            cands.append((float(np.max(g.d @ u)), u))
-    ph, pu = max(cands, key=lambda x: x[0])
-    return arc, lo, hi, ph, pu
