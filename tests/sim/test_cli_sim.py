@@ -1,0 +1,82 @@
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+SHARED = Path(__file__).resolve().parents[2].parent / "shared"
+LAB_URDF = SHARED / "ref" / "lab_robot" / "lab_robot.urdf"
+pytestmark = pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
+
+pytest.importorskip("pybullet")
+
+from landscape.cli_sim import export, simulate, sweep  # noqa: E402
+
+
+def invoke(cmd, *args):
+    return CliRunner().invoke(cmd, [str(a) for a in args])
+
+
+def test_simulate_json_and_trace(tmp_path):
+    trace = tmp_path / "t.csv"
+    r = invoke(simulate, "--theta-w", 80, "--theta-l", 50, "--phase", 0.7, "--cv", 0.1, "--seed", 1,
+               "--dt", 1e-3, "--duration", 4, "--robot", LAB_URDF, "--json", "--trace", trace)
+    assert r.exit_code == 0, r.output
+    d = json.loads(r.output)
+    assert d["success"] is True and d["attempt"] == 1 and d["mode"] == "roll"
+    assert d["phases"] == pytest.approx([0.7]) and d["seed"] == 1 and d["theta_w_deg"] == 80.0 and d["dt_s"] == 1e-3
+    assert set(d) >= {"time_to_right_s", "wall_s", "cv", "phase", "theta_l_deg", "robot"}
+    a = np.loadtxt(trace, delimiter=",", skiprows=1)
+    assert a.shape[1] == 10 and a[0, 0] == pytest.approx(0.01)
+    assert a[-1, 0] == pytest.approx(d["time_to_right_s"] + 0.3, abs=0.011)
+
+
+def test_simulate_human_summary():
+    r = invoke(simulate, "--theta-w", 70, "--theta-l", 20, "--phase", 0.2, "--seed", 3, "--dt", 1e-3,
+               "--duration", 2, "--robot", LAB_URDF)
+    assert r.exit_code == 0, r.output
+    assert "not righted in 2 s (1 attempts)" in r.output and "seed 3" in r.output
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--theta-w", "80", "--theta-l", "30", "--phase", "1.2"], "phase must be in [0, 1)"),
+    (["--theta-w", "120", "--theta-l", "30"], "theta_w = 120 deg is outside"),
+    (["--theta-w", "80", "--theta-l", "30", "--robot", "/nonexistent.urdf"], "not found"),
+    (["--theta-w", "80", "--theta-l", "30", "--dt", "0"], "dt must be in"),
+])
+def test_simulate_bad_input_one_line_exit_2(args, message):
+    if "--robot" not in args:
+        args = [*args, "--robot", str(LAB_URDF)]
+    r = invoke(simulate, *args)
+    assert r.exit_code == 2
+    assert message in r.output and len(r.output.strip().splitlines()) == 1 and "Traceback" not in r.output
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--theta-w", ""], "--theta-w is empty"),
+    (["--theta-l", "a,b"], "is not a list of numbers"),
+    (["--cv", "-0.1"], "--cv values must be >= 0"),
+    (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
+])
+def test_sweep_bad_input(tmp_path, args, message):
+    r = invoke(sweep, "--db", tmp_path / "x.sqlite", "--robot", LAB_URDF, *args)
+    assert r.exit_code == 2, r.output
+    assert message in r.output and len(r.output.strip().splitlines()) == 1
+
+
+def test_sweep_and_export(tmp_path):
+    db, out = tmp_path / "s.sqlite", tmp_path / "s.csv"
+    args = ["--theta-w", "80", "--theta-l", "50", "--cv", "0,0.2", "--trials", "1", "--db", db,
+            "--duration", "1.5", "--dt", "1e-3", "--workers", "1", "--robot", LAB_URDF, "--no-progress"]
+    r = invoke(sweep, *args, "--json")
+    assert r.exit_code == 0, r.output
+    s = json.loads(r.output)
+    assert (s["total"], s["ran"], s["skipped"]) == (2, 2, 0)
+    r = invoke(sweep, *args)
+    assert r.exit_code == 0 and "2 already in" in r.output and "ran 0" in r.output
+    r = invoke(export, "--db", db, "--csv", out)
+    assert r.exit_code == 0 and "wrote 2 trials" in r.output
+    assert len(out.read_text().splitlines()) == 3
+    r = invoke(export, "--db", tmp_path / "missing.sqlite", "--csv", out)
+    assert r.exit_code == 2 and "not found" in r.output
