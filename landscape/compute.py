@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -14,7 +14,7 @@ from geometry.frames import canonical_pitch_roll_deg
 from .barrier import GridBarrier, grid_barrier
 from .energy import G_M_S2, Landscape, energy_landscape
 from .exact import exact_barrier
-from .grid import cells_per_turn
+from .grid import cells_per_turn, wrap_deg
 from .minima import Minimum, as_minimum, follow_minimum, grid_minimum, local_descent, metastable_orientation
 
 METHODS = ("exact", "grid")
@@ -63,6 +63,12 @@ class Computation:
 
 
 _WARM = []
+
+
+def _in_sector(path_deg: NDArray[np.float64], kind: str) -> bool:
+    """Whether a torus path stays in the sector |d roll| <= |d pitch| ("pitch") or the reverse ("roll")."""
+    d = np.abs(wrap_deg(np.asarray(path_deg) - np.asarray(path_deg)[0]))
+    return bool(np.all(d[:, 1] <= d[:, 0] + 1e-9) if kind == "pitch" else np.all(d[:, 0] <= d[:, 1] + 1e-9))
 
 
 def warm_up() -> None:
@@ -114,7 +120,9 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
     connectivity : {8, 4}
         Grid neighbours (method "grid").
     method : {"exact", "grid"}
-        "exact": barriers on the hull's face-edge graph, no discretisation error (landscape/exact.py);
+        "exact": righting and escape barriers on the hull's face-edge graph, no discretisation error
+        (landscape/exact.py); pitch-wise and roll-wise are the exact righting barrier when its path stays
+        in that sector, else the grid's sector search at ``step_deg`` referenced to the exact start energy;
         "grid": the source paper's graph search on the pitch-roll grid. The landscape grid is computed either
         way (for files and figures).
     start_deg : (float, float), optional
@@ -145,7 +153,22 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
     t0 = time.perf_counter()
     if method == "exact":
         ex = exact_barrier(pose, *start_deg, g_m_s2=g_m_s2)
-        minimum, barrier = ex.start, ex.barrier
+        minimum = ex.start
+        # Sector-restricted (pitch-wise / roll-wise) barriers have no exact reduction to the face-edge graph
+        # (landscape/exact.py gives only an upper bound), so they come from the grid's sector searches: the
+        # grid's bottleneck level minus the exact start energy.
+        # Where the exact righting path stays inside a sector, it is that sector's exact barrier.
+        cell = grid_minimum(ls, minimum.pitch_deg, minimum.roll_deg)
+        gb = grid_barrier(ls, cell, connectivity=connectivity)
+        shift = ls.at(*cell) - minimum.energy_j
+        sectors = []
+        for kind, x in (("pitch", gb.pitch_wise), ("roll", gb.roll_wise)):
+            r = ex.barrier.righting
+            if r is not None and _in_sector(r.path_deg, kind):
+                sectors.append(replace(r, direction=kind))
+            else:
+                sectors.append(None if x is None else replace(x, barrier_j=x.barrier_j + shift))
+        barrier = replace(ex.barrier, pitch_wise=sectors[0], roll_wise=sectors[1])
     else:
         cell = grid_minimum(ls, *start_deg)
         minimum, barrier = as_minimum(ls, *cell), grid_barrier(ls, cell, connectivity=connectivity)
