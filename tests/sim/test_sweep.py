@@ -7,6 +7,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 SHARED = Path(__file__).resolve().parents[2].parent / "shared"
@@ -202,3 +203,21 @@ def test_sweep_on_dask_cluster(tmp_path):
                     p.wait(timeout=20)
                 except subprocess.TimeoutExpired:
                     p.kill()
+
+
+@pytest.mark.slow
+def test_reduced_paper_sweep_success_rises_with_leg_and_wing(tmp_path):
+    """The paper's grid at Cv 0.1, 2 trials per cell (32 trials, a few minutes on 2 cores)."""
+    specs = sweep_specs((70, 72, 74, 76), (20, 30, 40, 50), (0.1,), trials=2, robot=LAB_URDF)
+    s = run_sweep(specs, db=tmp_path / "paper.sqlite", progress=False)
+    assert s.ran == 32 and s.diverged == 0
+    with TrialStore(tmp_path / "paper.sqlite") as store:
+        rows = store.rows()
+    rate = {}
+    for r in rows:
+        rate.setdefault(r["theta_l_deg"], []).append(r["success"])
+    by_leg = [np.mean(rate[tl]) for tl in (20.0, 30.0, 40.0, 50.0)]
+    assert by_leg[0] < by_leg[-1]
+    assert all(r["mode"] == "roll" for r in rows if r["success"])
+    wing = {tw: np.mean([r["success"] for r in rows if r["theta_w_deg"] == tw]) for tw in (70.0, 76.0)}
+    assert wing[70.0] <= wing[76.0]
