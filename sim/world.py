@@ -187,7 +187,7 @@ class World:
         """Put the robot at rest at (pitch, roll), joints at ``joints_rad``, its lowest point ``clearance_m`` above
         the ground (by pybullet's own bounding boxes, which include the collision margin)."""
         cid = self.cid
-        q = pb.getQuaternionFromEuler([roll_rad, pitch_rad, 0.0])
+        q = pb.getQuaternionFromEuler([roll_rad, pitch_rad, 0.0], physicsClientId=cid)
         for j, v in zip(self.driven, joints_rad, strict=True):
             pb.resetJointState(self.body, j, float(v), 0.0, physicsClientId=cid)
         pb.resetBasePositionAndOrientation(self.body, [0.0, 0.0, 0.5], q, physicsClientId=cid)
