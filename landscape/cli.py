@@ -289,7 +289,7 @@ def _register_optional():
         from . import cli_sim
     except ImportError:
         return
-    for name in ("simulate", "sweep", "export"):
+    for name in ("simulate", "sweep", "export"):  # sim commands
         cmd = getattr(cli_sim, name, None)
         if cmd is not None:
             cli.add_command(cmd)

@@ -26,10 +26,37 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import pybullet as pb
 from numpy.typing import NDArray
 
 from .model import MESH_PLACEHOLDER, SimModel
+
+
+def _quiet_import_pybullet():
+    """Import pybullet without its "pybullet build time" banner, which its C code prints to stdout and stderr:
+    it would corrupt ``--json`` output and turn one-line errors into two."""
+    import ctypes
+    import sys
+
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved = [os.dup(1), os.dup(2)]
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, 1)
+        os.dup2(devnull, 2)
+        import pybullet
+
+        ctypes.CDLL(None).fflush(None)
+    finally:
+        os.dup2(saved[0], 1)
+        os.dup2(saved[1], 2)
+        for fd in (*saved, devnull):
+            os.close(fd)
+    return pybullet
+
+
+pb = _quiet_import_pybullet()
+
 
 log = logging.getLogger(__name__)
 

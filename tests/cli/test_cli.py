@@ -117,3 +117,18 @@ def test_parse_values():
     assert len(parse_values("-10:90:0.5", "theta-w")) == 201
     with pytest.raises(ValueError, match="not a list of numbers"):
         parse_values("a,b", "theta-w")
+
+
+def test_real_process_clean_streams(box_stl):
+    """As a user runs it: stdout is pure JSON (no pybullet banner), an error is exactly one stderr line."""
+    import subprocess
+    import sys
+
+    ok = subprocess.run([sys.executable, "-m", "landscape", "compute", "--mesh", str(box_stl), "--units", "mm",
+                         "--json", "--step", "10"], capture_output=True, text=True)
+    assert ok.returncode == 0 and ok.stderr == ""
+    assert json.loads(ok.stdout)["mass_kg"] == 1.0
+    bad = subprocess.run([sys.executable, "-m", "landscape", "compute", "--mesh", "nope.stl"],
+                         capture_output=True, text=True)
+    assert bad.returncode == 2 and bad.stdout == ""
+    assert bad.stderr.count("\n") == 1 and bad.stderr.startswith("landscape: error:")
