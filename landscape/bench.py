@@ -12,6 +12,7 @@ from geometry import Robot
 
 from .barrier import grid_barrier
 from .energy import brute_force_landscape, energy_landscape
+from .exact import exact_barrier
 from .minima import grid_minimum, metastable_orientation
 
 
@@ -43,6 +44,7 @@ def landscape_bench(robot: Robot, *, theta_w_deg: float = 74.0, theta_l_deg: flo
              else (0.0, 0.0))
     cell = grid_minimum(ours, *start)
     t_bar, bar = _median_time(lambda: grid_barrier(ours, cell), repeat)
+    t_exact, ex = _median_time(lambda: exact_barrier(pose, *start), max(3, repeat // 4))
 
     tracemalloc.start()
     t0 = time.perf_counter()
@@ -54,6 +56,8 @@ def landscape_bench(robot: Robot, *, theta_w_deg: float = 74.0, theta_l_deg: flo
     naive_bytes = n_fine * n_fine * len(points) * 8
 
     r = bar.righting
+    re_ = ex.barrier.righting
+    err = abs(r.barrier_j - re_.barrier_j) / re_.barrier_j if re_ and r else float("nan")
     rows = [
         ("robot", f"{robot.name}, theta_w {theta_w_deg:g}°, theta_l {theta_l_deg:g}°"),
         ("mesh vertices (lab method input)", f"{len(points)}"),
@@ -63,7 +67,10 @@ def landscape_bench(robot: Robot, *, theta_w_deg: float = 74.0, theta_l_deg: flo
         ("speed-up, lab / ours", f"{t_lab / t_ours:.0f}x"),
         ("agreement, max |ours - lab| / max |lab|", f"{rel:.1e}"),
         ("1° barriers (righting, pitch-, roll-wise, escape)", f"{t_bar * 1e3:.2f} ms"),
-        ("righting barrier", f"{r.barrier_j * 1e3:.3f} mJ ({r.direction})" if r else "none"),
+        ("righting barrier, 1° grid", f"{r.barrier_j * 1e3:.3f} mJ ({r.direction})" if r else "none"),
+        ("exact barriers (hull face-edge graph, median)", f"{t_exact * 1e3:.1f} ms"),
+        ("righting barrier, exact", f"{re_.barrier_j * 1e3:.3f} mJ ({re_.direction})" if re_ else "none"),
+        ("1° grid error against exact", f"{err * 100:.1f} %"),
         ("0.1° landscape (3600 x 3600 cells)", f"{t_fine:.2f} s, peak memory {peak / 2**20:.0f} MiB"),
         ("an orientations x vertices array at 0.1°", f"would be {naive_bytes / 2**30:.0f} GiB (never formed)"),
     ]
