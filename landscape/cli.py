@@ -285,6 +285,8 @@ def bench(what, theta_w, repeat, **kw):
 
 # ----------------------------------------------------------------------------------------------- entry point
 def _register_optional():
+    from . import cli_render  # noqa: F401  (registers the render command; works in either import order)
+
     try:
         from . import cli_sim
     except ImportError:
