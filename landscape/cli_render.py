@@ -133,12 +133,16 @@ def render(theta_w, theta_l, step, method, exit_kind, out, **kw):
     title = f"{robot.name}{pose_text}  {barrier_text}"
 
     outd = Path(out)
-    written = [rd.write_vtk(energy_j, angles_deg, angles_deg, outd / "landscape.vts")]
+    written = []
     contour = {k: marks[k] for k in ("minimum_deg", "saddle_deg", "saddle_j", "path_deg")}
     for suffix in ("png", "svg"):
         written.append(rd.render_contour(energy_j, angles_deg, angles_deg, outd / f"contour.{suffix}",
                                          title=title, **contour))
-    problem = rd.off_screen_problem()
+    try:
+        written.append(rd.write_vtk(energy_j, angles_deg, angles_deg, outd / "landscape.vts"))
+        problem = rd.off_screen_problem()
+    except rd.MissingDependencyError as exc:
+        problem = str(exc)
     if problem is not None:
         raise click.ClickException(f"{problem} (wrote only {', '.join(p.name for p in written)} in {outd})")
     written.append(rd.render_landscape(energy_j, angles_deg, angles_deg, outd / "landscape.png", title=title,

@@ -18,6 +18,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import os
+import re
 import subprocess
 import sys
 from collections.abc import Sequence
@@ -89,8 +90,9 @@ def off_screen_problem(timeout_s: float = 120.0) -> str | None:
     if res.returncode == 0:
         return None
     how = f"signal {-res.returncode}" if res.returncode < 0 else f"exit status {res.returncode}"
-    last = [ln.strip() for ln in res.stderr.splitlines() if ln.strip()]
-    detail = f" ({last[-1][-160:]})" if last else ""
+    lines = [re.sub(r"\x1b\[[0-9;]*m", "", ln).strip() for ln in res.stderr.splitlines()]
+    lines = [ln.split("| ", 1)[-1] for ln in lines if ln]  # drop vtk's log prefix
+    detail = f" ({lines[-1][:160]})" if lines else ""
     return f"vtk cannot render off-screen here: test render ended with {how}{detail}; {OFF_SCREEN_HINT}"
 
 
@@ -165,7 +167,7 @@ def _landscape_plotter(energy_j, pitch_deg, roll_deg, *, minimum_deg, minimum_j,
     pl.set_background("white")
     pl.add_mesh(grid, scalars="energy (mJ)", cmap="viridis", smooth_shading=True, specular=0.15,
                 scalar_bar_args={"title": "energy (mJ)", "color": "black", "vertical": True,
-                                 "position_x": 0.9, "position_y": 0.3, "height": 0.45, "width": 0.04,
+                                 "position_x": 0.86, "position_y": 0.3, "height": 0.45, "width": 0.04,
                                  "fmt": "%.0f", "title_font_size": 16, "label_font_size": 14})
     lift = 0.01 * base_deg
     if path is not None and path[1] is not None:
