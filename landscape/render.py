@@ -167,7 +167,7 @@ def _landscape_plotter(energy_j, pitch_deg, roll_deg, *, minimum_deg, minimum_j,
     pl.set_background("white")
     pl.add_mesh(grid, scalars="energy (mJ)", cmap="viridis", smooth_shading=True, specular=0.15,
                 scalar_bar_args={"title": "energy (mJ)", "color": "black", "vertical": True,
-                                 "position_x": 0.86, "position_y": 0.3, "height": 0.45, "width": 0.04,
+                                 "position_x": 0.9, "position_y": 0.3, "height": 0.45, "width": 0.04,
                                  "fmt": "%.0f", "title_font_size": 16, "label_font_size": 14})
     lift = 0.01 * base_deg
     if path is not None and path[1] is not None:
@@ -202,7 +202,7 @@ def _landscape_plotter(energy_j, pitch_deg, roll_deg, *, minimum_deg, minimum_j,
     pl.camera.position = tuple(centre + 3.0 * base_deg * view)
     pl.camera.up = (0.0, 0.0, 1.0)
     pl.reset_camera()
-    pl.camera.zoom(1.1)
+    pl.camera.zoom(1.02)
     return pl
 
 
