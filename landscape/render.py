@@ -5,7 +5,7 @@ Marks come in as plain coordinates: a path is an (L, 2) array of (pitch, roll) i
 rows of NaN break it into pieces (where it wraps round the torus), with its energies (L,) in J.
 
 pyvista (the optional dependency ``render``) is imported on first use, so the contour map needs only
-matplotlib. The interactive HTML export needs the ``trame-pyvista`` package as well.
+matplotlib. The interactive HTML export needs ``trame-pyvista`` and ``nest-asyncio2`` as well.
 
 Off-screen rendering without an X server works through the vtk wheel's EGL or OSMesa back end, which
 loads the system's libraries at run time (Debian: ``libegl1 libegl-mesa0 libgl1-mesa-dri`` for EGL, or
@@ -40,7 +40,8 @@ RELIEF = 0.3  # height of the 3-D relief as a fraction of the 360 deg base
 OFF_SCREEN_HINT = ("install the EGL libraries (Debian/Ubuntu: apt-get install libegl1 libegl-mesa0 "
                    "libgl1-mesa-dri) or OSMesa (libosmesa6, with VTK_DEFAULT_OPENGL_WINDOW=vtkOSOpenGLRenderWindow)")
 PYVISTA_MISSING = "3-D rendering needs pyvista and vtk; pip install 'selfrighting-landscape[render]'"
-TRAME_MISSING = "the interactive HTML export needs trame-pyvista; pip install trame-pyvista"
+TRAME_MISSING = ("the interactive HTML export needs trame-pyvista and nest-asyncio2; "
+                 "pip install trame-pyvista nest-asyncio2")
 
 
 class MissingDependencyError(ImportError):
@@ -295,7 +296,8 @@ def export_landscape_html(energy_j: ArrayLike, pitch_deg: ArrayLike, roll_deg: A
             try:
                 exporter.export_html(str(path))
             except ImportError as exc:
-                raise MissingDependencyError(f"{TRAME_MISSING} ({exc})") from None
+                first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+                raise MissingDependencyError(f"{TRAME_MISSING} ({first})") from None
         finally:
             pl.close()
     return path
