@@ -1,4 +1,5 @@
-"""Accuracy against time: grid barriers at shrinking steps (4- and 8-connected) versus the exact method (#3).
+"""Accuracy against time: grid barriers at shrinking steps (4- and 8-connected) and icosphere barriers at rising
+levels, versus the exact method (#3).
 
 For the lab robot (../shared/ref/lab_robot when present, else the built-in robot) at theta_w in {60, 74, 90} and
 for closed-form shapes, prints a markdown table (method, time, righting and escape barriers, absolute and
@@ -22,6 +23,7 @@ from landscape.compute import start_orientation, warm_up
 from landscape.energy import energy_landscape
 from landscape.exact import exact_barrier
 from landscape.minima import grid_minimum
+from landscape.sphere import sphere_barrier, sphere_graph
 
 LAB_URDF = Path(__file__).resolve().parents[2] / "shared" / "ref" / "lab_robot" / "lab_robot.urdf"
 
@@ -77,6 +79,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", type=Path, default=Path("figures/accuracy.png"))
     ap.add_argument("--steps", type=float, nargs="+", default=[4.0, 2.0, 1.0, 0.5, 0.25])
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--levels", type=int, nargs="+", default=[4, 5, 6, 7], help="icosphere levels")
     args = ap.parse_args(argv)
     warm_up()
     rows = []
@@ -100,6 +103,17 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"| {name} | grid {step:g}° {conn}-conn | {t * 1e3:.1f} | {val * 1e3:.6f} | {err * 1e3:.6f} "
                       f"| {err / ref if ref else np.nan:.2e} | {esc * 1e3:.6f} | {abs(esc - ref_esc) * 1e3:.6f} |")
                 rows.append((name, f"grid {conn}", step, t, err / ref if ref else np.nan))
+        for level in args.levels:
+            sphere_graph(level)
+            t, sb = _timed(lambda pose=pose, start=start, level=level: sphere_barrier(pose, *start, subdivisions=level),
+                           1 if level > 6 else args.repeat)
+            val = sb.barrier.righting.barrier_j
+            esc = sb.barrier.escape.barrier_j if sb.barrier.escape else np.nan
+            err = abs(val - ref)
+            print(f"| {name} | sphere level {level} ({sb.n_vertices} dirs, {sphere_graph(level).spacing_deg:.2f}°) "
+                  f"| {t * 1e3:.1f} | {val * 1e3:.6f} | {err * 1e3:.6f} | {err / ref if ref else np.nan:.2e} "
+                  f"| {esc * 1e3:.6f} | {abs(esc - ref_esc) * 1e3:.6f} |")
+            rows.append((name, "sphere", level, t, err / ref if ref else np.nan))
     _plot(rows, args.out)
     print(f"\nwrote {args.out}")
     return 0
@@ -117,17 +131,17 @@ def _plot(rows, out: Path) -> None:
     floor = 1e-7  # exact has no discretisation error; drawn at this floor
     for i, name in enumerate(names):
         c = colors[i % len(colors)]
-        for conn, ls in (("grid 4", ":"), ("grid 8", "-")):
+        for conn, ls in (("grid 4", ":"), ("grid 8", "-"), ("sphere", "--")):
             sel = [r for r in rows if r[0] == name and r[1] == conn]
-            ax.plot([r[3] for r in sel], [max(r[4], floor) for r in sel], ls, marker="o", ms=3, color=c,
-                    label=f"{name}, {conn}-conn" if conn == "grid 8" else None)
+            ax.plot([r[3] for r in sel], [max(r[4], floor) for r in sel], ls, marker="s" if conn == "sphere" else "o",
+                    ms=3, color=c, label=f"{name}, {conn}-conn" if conn == "grid 8" else None)
         t_ex = [r[3] for r in rows if r[0] == name and r[1] == "exact"][0]
         ax.plot([t_ex], [floor], "*", ms=11, color=c)
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("wall time per barrier (s)")
     ax.set_ylabel("relative error of the righting barrier")
-    ax.set_title("Grid (solid: 8-conn, dotted: 4-conn) vs exact (stars, at the floor)")
+    ax.set_title("Grid (solid: 8-conn, dotted: 4-conn), icosphere (dashed) vs exact (stars, at the floor)", fontsize=9)
     ax.legend(fontsize=7, loc="upper right")
     ax.grid(True, which="both", alpha=0.3)
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -202,3 +202,74 @@ def descend(energy, i, j):
         if bi == i and bj == j:
             return i, j
         i, j = bi, bj
+
+
+# ---------------------------------------------------------------------------- the same searches on any graph (CSR)
+@numba.njit(cache=True)
+def flood_graph(energy, ptr, idx, start, target, blocked, is_min, same_as_start, tol, stop_at_escape):
+    """:func:`flood` on a graph given by CSR adjacency (ptr, idx), e.g. an icosphere of up-directions."""
+    total = energy.shape[0]
+    parent = np.full(total, -1, dtype=np.int64)
+    seen = np.zeros(total, dtype=np.bool_)
+    he = np.zeros(total)
+    hi = np.zeros(total, dtype=np.int64)
+    levels = np.full(3, np.inf)
+    cells = np.full(3, -1, dtype=np.int64)
+    e_start = energy[start]
+    size = _push(he, hi, 0, energy[start], start)
+    seen[start] = True
+    level = e_start
+    found = 0
+    while size > 0:
+        e, c, size = _pop(he, hi, size)
+        if e > level:
+            level = e
+        t = target[c]
+        if t > 0:
+            if cells[t - 1] < 0:
+                cells[t - 1] = c
+                levels[t - 1] = level
+                found += 1
+            continue
+        if found > 0 and not stop_at_escape:
+            break
+        if cells[2] < 0 and is_min[c] and level > e_start + tol and not same_as_start[c]:
+            cells[2] = c
+            levels[2] = level
+            if stop_at_escape:
+                break
+        for k in range(ptr[c], ptr[c + 1]):
+            nc = idx[k]
+            if not seen[nc] and not blocked[nc]:
+                seen[nc] = True
+                parent[nc] = c
+                size = _push(he, hi, size, energy[nc], nc)
+    return levels, cells, parent
+
+
+@numba.njit(cache=True)
+def local_minima_graph(energy, ptr, idx, tol):
+    """Nodes no neighbour of which is lower by more than tol."""
+    n = energy.shape[0]
+    out = np.zeros(n, dtype=np.bool_)
+    for c in range(n):
+        ok = True
+        for k in range(ptr[c], ptr[c + 1]):
+            if energy[idx[k]] < energy[c] - tol:
+                ok = False
+                break
+        out[c] = ok
+    return out
+
+
+@numba.njit(cache=True)
+def descend_graph(energy, ptr, idx, c):
+    """Steepest descent over graph neighbours until none is lower."""
+    while True:
+        best, nxt = energy[c], c
+        for k in range(ptr[c], ptr[c + 1]):
+            if energy[idx[k]] < best:
+                best, nxt = energy[idx[k]], idx[k]
+        if nxt == c:
+            return c
+        c = nxt

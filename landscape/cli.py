@@ -158,8 +158,9 @@ def human_summary(c, robot: Robot) -> str:
 @click.option("--start-pitch", type=float, default=None, help="Start by descent from this pitch, degrees.")
 @click.option("--start-roll", type=float, default=None, help="Start by descent from this roll, degrees.")
 @click.option("--connectivity", type=click.Choice(["8", "4"]), default="8", show_default=True)
-@click.option("--method", type=click.Choice(["exact", "grid"]), default="exact", show_default=True,
-              help="exact: no discretisation error (hull face-edge graph); grid: the paper's grid search.")
+@click.option("--method", type=click.Choice(["exact", "grid", "sphere"]), default="exact", show_default=True,
+              help="exact: no discretisation error (hull face-edge graph); grid: the paper's grid search on "
+                   "the pitch-roll torus; sphere: the same search on an icosphere spaced about --step apart.")
 @robot_options
 @click.option("--out", type=click.Path(file_okay=False), default=None,
               help="Write landscape.npz, landscape.csv and summary.json here.")
@@ -195,7 +196,7 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
 @click.option("--theta-l", "theta_l", type=str, default="20:50:10", show_default=True,
               help="Leg angles: list or range, degrees.")
 @click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees.")
-@click.option("--method", type=click.Choice(["exact", "grid"]), default="exact", show_default=True)
+@click.option("--method", type=click.Choice(["exact", "grid", "sphere"]), default="exact", show_default=True)
 @robot_options
 @click.option("--out", type=click.Path(file_okay=False), default="barrier-map", show_default=True)
 def barrier_map(theta_w, theta_l, step, method, out, **kw):

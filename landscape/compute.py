@@ -16,8 +16,9 @@ from .energy import G_M_S2, Landscape, energy_landscape
 from .exact import exact_barrier
 from .grid import cells_per_turn, wrap_deg
 from .minima import Minimum, as_minimum, follow_minimum, grid_minimum, local_descent, metastable_orientation
+from .sphere import sphere_barrier, subdivisions_for_step
 
-METHODS = ("exact", "grid")
+METHODS = ("exact", "grid", "sphere")
 DEFAULT_METHOD = "exact"
 
 
@@ -83,6 +84,27 @@ def warm_up() -> None:
     _WARM.append(True)
 
 
+def _with_sectors(barrier: GridBarrier, minimum: Minimum, ls: Landscape, connectivity: int) -> GridBarrier:
+    """Fill the pitch-wise and roll-wise exits of a non-grid method.
+
+    Sector-restricted barriers live on the torus (a path over the pole changes sheet), so neither the exact
+    face-edge graph (landscape/exact.py gives only an upper bound) nor the icosphere has them. Where the method's
+    righting path stays inside a sector, it is that sector's barrier; otherwise the grid's sector search gives
+    it: the grid's bottleneck level minus the method's start energy.
+    """
+    cell = grid_minimum(ls, minimum.pitch_deg, minimum.roll_deg)
+    gb = grid_barrier(ls, cell, connectivity=connectivity)
+    shift = ls.at(*cell) - minimum.energy_j
+    r = barrier.righting
+    sectors = []
+    for kind, x in (("pitch", gb.pitch_wise), ("roll", gb.roll_wise)):
+        if r is not None and _in_sector(r.path_deg, kind):
+            sectors.append(replace(r, direction=kind))
+        else:
+            sectors.append(None if x is None else replace(x, barrier_j=x.barrier_j + shift))
+    return replace(barrier, pitch_wise=sectors[0], roll_wise=sectors[1])
+
+
 def start_orientation(robot: Robot, pose: Pose, theta_w_deg: float | None, theta_l_deg: float | None, *,
                       start_pitch_deg: float | None = None, start_roll_deg: float | None = None
                       ) -> tuple[float, float]:
@@ -124,7 +146,9 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
         (landscape/exact.py); pitch-wise and roll-wise are the exact righting barrier when its path stays
         in that sector, else the grid's sector search at ``step_deg`` referenced to the exact start energy;
         "grid": the source paper's graph search on the pitch-roll grid. The landscape grid is computed either
-        way (for files and figures).
+        way (for files and figures);
+        "sphere": the same search on an icosphere of up-directions spaced about ``step_deg`` apart
+        (landscape/sphere.py).
     start_deg : (float, float), optional
         A start orientation already found (used by sweeps that continue along theta); skips the search.
 
@@ -151,27 +175,17 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
     ls = energy_landscape(pose, step_deg=step_deg, g_m_s2=g_m_s2)
     timing["landscape"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    if method == "exact":
-        ex = exact_barrier(pose, *start_deg, g_m_s2=g_m_s2)
-        minimum = ex.start
-        # Sector-restricted (pitch-wise / roll-wise) barriers have no exact reduction to the face-edge graph
-        # (landscape/exact.py gives only an upper bound), so they come from the grid's sector searches: the
-        # grid's bottleneck level minus the exact start energy.
-        # Where the exact righting path stays inside a sector, it is that sector's exact barrier.
-        cell = grid_minimum(ls, minimum.pitch_deg, minimum.roll_deg)
-        gb = grid_barrier(ls, cell, connectivity=connectivity)
-        shift = ls.at(*cell) - minimum.energy_j
-        sectors = []
-        for kind, x in (("pitch", gb.pitch_wise), ("roll", gb.roll_wise)):
-            r = ex.barrier.righting
-            if r is not None and _in_sector(r.path_deg, kind):
-                sectors.append(replace(r, direction=kind))
-            else:
-                sectors.append(None if x is None else replace(x, barrier_j=x.barrier_j + shift))
-        barrier = replace(ex.barrier, pitch_wise=sectors[0], roll_wise=sectors[1])
-    else:
+    if method == "grid":
         cell = grid_minimum(ls, *start_deg)
         minimum, barrier = as_minimum(ls, *cell), grid_barrier(ls, cell, connectivity=connectivity)
+    else:
+        if method == "exact":
+            ex = exact_barrier(pose, *start_deg, g_m_s2=g_m_s2)
+            minimum, barrier = ex.start, ex.barrier
+        else:
+            sb = sphere_barrier(pose, *start_deg, subdivisions=subdivisions_for_step(step_deg), g_m_s2=g_m_s2)
+            minimum, barrier = sb.start, sb.barrier
+        barrier = _with_sectors(barrier, minimum, ls, connectivity)
     timing["barrier"] = time.perf_counter() - t0
     return Computation(pose.theta_w_deg, pose.theta_l_deg, float(step_deg), method, pose.mass_kg, pose.com_m,
                        canonical_pitch_roll_deg(*start_deg), minimum, barrier, ls, pose, timing)
