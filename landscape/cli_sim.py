@@ -12,9 +12,9 @@ import json
 from pathlib import Path
 
 import click
-import numpy as np
 
 from geometry import JointMap
+from landscape.options import InputError, parse_values
 from sim.trial import DEFAULT_DT_S, DEFAULT_DURATION_S, Trace, run_trial
 from sim.world import SimulationDiverged
 
@@ -26,29 +26,11 @@ class SimUsageError(click.ClickException):
 
 
 def _values(text: str, what: str) -> list[float]:
-    """'70,72,74' or '70:76:2' (inclusive) -> floats; empty -> SimUsageError."""
-    text = text.strip()
-    if not text:
-        raise SimUsageError(f"--{what} is empty; give values like 70,72,74 or a range START:STOP:STEP")
+    """'70,72,74' or '70:76:2' (inclusive) -> floats (landscape.options.parse_values); bad -> SimUsageError."""
     try:
-        if ":" in text:
-            start, stop, step = (float(x) for x in text.split(":"))
-            if not step > 0 or stop < start:
-                raise SimUsageError(f"--{what} range {text!r} must be START:STOP:STEP with STEP > 0, STOP >= START")
-            n = int(np.floor((stop - start) / step + 1e-9)) + 1
-            vals = [round(start + k * step, 10) for k in range(n)]
-        else:
-            vals = [float(x) for x in text.split(",") if x.strip()]
-    except ValueError as exc:
-        if isinstance(exc, click.ClickException):
-            raise
-        raise SimUsageError(f"--{what} {text!r} is not a list of numbers (e.g. 70,72,74 or 70:76:2)") from None
-    if not vals:
-        raise SimUsageError(f"--{what} is empty; give at least one value")
-    bad = [v for v in vals if not np.isfinite(v)]
-    if bad:
-        raise SimUsageError(f"--{what} must be finite numbers; got {bad[0]!r}")
-    return vals
+        return parse_values(text, what)
+    except InputError as exc:
+        raise SimUsageError(str(exc)) from None
 
 
 def _joint_map(joints: str | None) -> JointMap | None:
