@@ -180,7 +180,7 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
         minimum, barrier = as_minimum(ls, *cell), grid_barrier(ls, cell, connectivity=connectivity)
     else:
         if method == "exact":
-            ex = exact_barrier(pose, *start_deg, g_m_s2=g_m_s2)
+            ex = exact_barrier(pose, *start_deg, g_m_s2=g_m_s2, sectors=False)
             minimum, barrier = ex.start, ex.barrier
         else:
             sb = sphere_barrier(pose, *start_deg, subdivisions=subdivisions_for_step(step_deg), g_m_s2=g_m_s2)

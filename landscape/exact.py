@@ -686,7 +686,7 @@ def _piece(ex: ExactLandscape, arc: int, forward: bool) -> tuple:
 
 
 def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_roll_deg: float, *,
-                  g_m_s2: float = G_M_S2) -> ExactBarrier:
+                  g_m_s2: float = G_M_S2, sectors: bool = True) -> ExactBarrier:
     """Exact righting, pitch-wise, roll-wise and escape barriers from the basin containing a start.
 
     Parameters
@@ -697,6 +697,9 @@ def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_rol
         Start orientation, degrees; the body rolls down from it (quasi-statically) to the face it settles on.
     g_m_s2 : float
         Gravitational acceleration, m/s^2 (ignored when an ExactLandscape is given).
+    sectors : bool
+        Also search the pitch-wise and roll-wise sectors (upper bounds, see the module docstring); with False
+        those two exits are None (``landscape.compute`` fills them its own way and skips this cost).
 
     Returns
     -------
@@ -785,6 +788,8 @@ def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_rol
     if first >= 0:
         pieces = [edge_pieces(e, x) for e, x in _chain(par_s, eu, ev, t_node)]
         righting = _exit(ex, float(lev_s[t_node]), h0, start_deg, pieces, None)
+    if not sectors:
+        return ExactBarrier(start, int(f0), GridBarrier(righting, None, None, escape), ex)
     # pitch-wise and roll-wise: the same search on the arcs lying wholly inside the sector around the start
     lo = np.concatenate([np.zeros(n_in), [min(pc[1], pc[2]) for pc in pieces_out]])
     hi = np.concatenate([g.arc_theta[arcs_in], [max(pc[1], pc[2]) for pc in pieces_out]])
