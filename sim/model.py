@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import hashlib
 import logging
+import warnings
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -29,6 +30,7 @@ import numpy as np
 import trimesh
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import ConvexHull
+from scipy.spatial.transform import Rotation
 
 from geometry import JointMap, Robot
 from geometry.errors import RobotDescriptionError
@@ -207,6 +209,122 @@ def _scale_m(mesh_el: ET.Element) -> float:
     return float(max(abs(v) for v in vals))
 
 
+def _origin(el: ET.Element | None) -> NDArray[np.float64]:
+    """4x4 transform of an element's ``<origin xyz rpy>`` (URDF rpy: fixed axes x, y, z)."""
+    t = np.eye(4)
+    o = None if el is None else el.find("origin")
+    if o is not None:
+        t[:3, 3] = [float(x) for x in o.get("xyz", "0 0 0").split()]
+        t[:3, :3] = Rotation.from_euler("xyz", [float(x) for x in o.get("rpy", "0 0 0").split()]).as_matrix()
+    return t
+
+
+def _set_origin(el: ET.Element, t: NDArray[np.float64]) -> None:
+    o = el.find("origin")
+    if o is None:
+        o = ET.Element("origin")
+        el.insert(0, o)
+    rpy = np.zeros(3)
+    if not np.allclose(t[:3, :3], np.eye(3), rtol=0.0, atol=1e-15):
+        with warnings.catch_warnings():  # at pitch +-90 deg scipy warns of gimbal lock; the rotation is still exact
+            warnings.simplefilter("ignore", UserWarning)
+            rpy = Rotation.from_matrix(t[:3, :3]).as_euler("xyz")
+    o.set("xyz", " ".join(f"{x:.17g}" for x in t[:3, 3]))
+    o.set("rpy", " ".join(f"{x:.17g}" for x in rpy))
+
+
+def _inertial(link: ET.Element) -> tuple[float, NDArray[np.float64], NDArray[np.float64]]:
+    """(mass kg, CoM m, 3x3 inertia about the CoM kg m^2) of a link in its own frame."""
+    el = link.find("inertial")
+    if el is None or el.find("mass") is None:
+        return 0.0, np.zeros(3), np.zeros((3, 3))
+    t = _origin(el)
+    i = el.find("inertia")
+    g = {k: float(i.get(k, "0")) if i is not None else 0.0 for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
+    tensor = np.array([[g["ixx"], g["ixy"], g["ixz"]], [g["ixy"], g["iyy"], g["iyz"]], [g["ixz"], g["iyz"], g["izz"]]])
+    return float(el.find("mass").get("value")), t[:3, 3], t[:3, :3] @ tensor @ t[:3, :3].T
+
+
+def _principal_frame(tensor: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Principal moments and axes (columns, a proper rotation as close to the identity as the axes allow)."""
+    if np.abs(tensor - np.diag(np.diag(tensor))).max() <= 1e-12 * max(np.abs(tensor).max(), 1e-300):
+        return np.diag(tensor).copy(), np.eye(3)
+    w, v = np.linalg.eigh(tensor)
+    order = np.argsort([int(np.argmax(np.abs(v[:, k]))) for k in range(3)])  # axis k ~ link axis k
+    if sorted(int(np.argmax(np.abs(v[:, k]))) for k in range(3)) != [0, 1, 2]:
+        order = np.arange(3)
+    w, v = w[order], v[:, order]
+    v = v * np.where(np.diag(v) < 0, -1.0, 1.0)
+    if np.linalg.det(v) < 0:
+        v[:, 2] *= -1
+    return w, v
+
+
+def merge_fixed_links(root: ET.Element) -> list[str]:
+    """Merge every link hanging on a ``fixed`` joint into its parent, in place; return the merged link names.
+
+    The parent gets the children's collision elements (origins composed with the joint's) and their joints
+    (re-parented), and one ``<inertial>``: total mass, mass-weighted CoM, and the inertia about that CoM
+    (parallel-axis theorem), written in its principal axes. pybullet's own ``URDF_MERGE_FIXED_LINKS`` puts a
+    child's mass at the child's link origin, ignoring its ``<inertial><origin>`` (pybullet 3.2.7), so it is
+    not used.
+
+    Examples
+    --------
+    >>> urdf = ('<robot name="r"><link name="a"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1"/>'
+    ...         '</inertial></link><link name="b"><inertial><origin xyz="0.5 0 0"/><mass value="1"/>'
+    ...         '<inertia ixx="1" iyy="1" izz="1"/></inertial></link><joint name="j" type="fixed">'
+    ...         '<parent link="a"/><child link="b"/><origin xyz="0.5 0 0"/></joint></robot>')
+    >>> root = ET.fromstring(urdf)
+    >>> merge_fixed_links(root)
+    ['b']
+    >>> el = root.find("link/inertial")
+    >>> el.find("origin").get("xyz"), el.find("mass").get("value"), el.find("inertia").get("izz")
+    ('0.5 0 0', '2', '2.5')
+    """
+    links = {lk.get("name"): lk for lk in root.findall("link")}
+    merged: list[str] = []
+    while True:
+        fixed = next((j for j in root.findall("joint") if j.get("type") == "fixed"), None)
+        if fixed is None:
+            return merged
+        parent = links[fixed.find("parent").get("link")]
+        child = links.pop(fixed.find("child").get("link"))
+        t_pc = _origin(fixed)
+        for col in child.findall("collision"):
+            _set_origin(col, t_pc @ _origin(col))
+            parent.append(col)
+        for j in root.findall("joint"):
+            if j is not fixed and j.find("parent").get("link") == child.get("name"):
+                j.find("parent").set("link", parent.get("name"))
+                _set_origin(j, t_pc @ _origin(j))
+        m_p, c_p, i_p = _inertial(parent)
+        m_c, c_c, i_c = _inertial(child)
+        c_c = t_pc[:3, :3] @ c_c + t_pc[:3, 3]
+        i_c = t_pc[:3, :3] @ i_c @ t_pc[:3, :3].T
+        mass = m_p + m_c
+        if mass > 0:
+            com = (m_p * c_p + m_c * c_c) / mass
+            tensor = i_p + i_c
+            for m, c in ((m_p, c_p), (m_c, c_c)):
+                d = c - com
+                tensor = tensor + m * (d @ d * np.eye(3) - np.outer(d, d))
+            moments, axes = _principal_frame(tensor)
+            old = parent.find("inertial")
+            if old is not None:
+                parent.remove(old)
+            el = ET.SubElement(parent, "inertial")
+            t = np.eye(4)
+            t[:3, :3], t[:3, 3] = axes, com
+            _set_origin(el, t)
+            ET.SubElement(el, "mass", value=f"{mass:.17g}")
+            ET.SubElement(el, "inertia", ixx=f"{moments[0]:.17g}", ixy="0", ixz="0", iyy=f"{moments[1]:.17g}",
+                          iyz="0", izz=f"{moments[2]:.17g}")
+        root.remove(fixed)
+        root.remove(child)
+        merged.append(child.get("name"))
+
+
 def rest_pitch_deg(robot: Robot) -> float:
     """Pitch (degrees) of the lowest CoM at roll 0 near the upside-down pose, wings closed, leg centred.
 
@@ -222,7 +340,8 @@ def rest_pitch_deg(robot: Robot) -> float:
 
 
 @lru_cache(maxsize=8)
-def _build(path_str: str, mtime_ns: int, tol_m: float, max_vertices: int, joint_map: JointMap | None) -> SimModel:
+def _build(path_str: str, mtime_ns: int, tol_m: float, max_vertices: int, joint_map: JointMap | None,
+           merge_fixed: bool) -> SimModel:
     path = Path(path_str)
     robot = Robot.from_urdf(path, joint_map=joint_map)
     if not robot.has_joints:
@@ -254,18 +373,21 @@ def _build(path_str: str, mtime_ns: int, tol_m: float, max_vertices: int, joint_
             counts[name] = (hull.n_full, len(hull.vertices))
             max_gap = max(max_gap, hull.gap * scale)
             mesh_el.set("filename", MESH_PLACEHOLDER.format(name=name))
+    merged = merge_fixed_links(root) if merge_fixed else []
     text = ET.tostring(root, encoding="unicode")
     h = hashlib.sha256(text.encode())
     for k in sorted(meshes):
         h.update(k.encode() + meshes[k].encode())
     model = SimModel(text, meshes, robot.joint_map, robot.description_hash, h.hexdigest()[:16], max_gap, counts,
                      rest_pitch_deg(robot), robot.theta_limits_deg(), path)
-    log.info("sim model %s: hulls %s, max support gap %.3g mm", path.name, counts, max_gap * 1e3)
+    log.info("sim model %s: hulls %s, max support gap %.3g mm, merged links %s", path.name, counts,
+             max_gap * 1e3, merged)
     return model
 
 
 def sim_model(urdf: str | Path | None = None, *, tol_m: float = HULL_TOL_M,
-              max_vertices: int = HULL_MAX_VERTICES, joint_map: JointMap | None = None) -> SimModel:
+              max_vertices: int = HULL_MAX_VERTICES, joint_map: JointMap | None = None,
+              merge_fixed: bool = False) -> SimModel:
     """The simulation model of a URDF robot (cached per process).
 
     Parameters
@@ -279,6 +401,9 @@ def sim_model(urdf: str | Path | None = None, *, tol_m: float = HULL_TOL_M,
         Vertex budget per simplified hull.
     joint_map : JointMap, optional
         Joints driven by theta_w and theta_l (default: the lab robot's names).
+    merge_fixed : bool
+        Merge links on fixed joints into their parents (:func:`merge_fixed_links`): the same rigid body with
+        fewer links, so each physics step is cheaper.
 
     Raises
     ------
@@ -288,4 +413,5 @@ def sim_model(urdf: str | Path | None = None, *, tol_m: float = HULL_TOL_M,
     path = Path(urdf) if urdf is not None else default_robot_urdf()
     if not path.is_file():
         raise RobotDescriptionError(f"robot file '{path}' not found; give the path to a .urdf file")
-    return _build(str(path.resolve()), path.stat().st_mtime_ns, float(tol_m), int(max_vertices), joint_map)
+    return _build(str(path.resolve()), path.stat().st_mtime_ns, float(tol_m), int(max_vertices), joint_map,
+                  bool(merge_fixed))
