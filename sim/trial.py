@@ -9,7 +9,10 @@ Protocol
    or 0.05 rad/s. Time t = 0 is the end of settling.
 2. The joints track :mod:`sim.actuation`'s profiles by pybullet position control within each joint's effort
    limit (the URDF's, 1 N m for the lab robot), with feed-forward of the profile speed (velocity gain 1) and a
-   position gain ``dt / SERVO_TAU_S`` (a 10 ms servo time constant, so the servo does not change with ``dt``).
+   position gain ``dt / SERVO_TAU_S`` per physics step (a 10 ms servo time constant, so the servo does not
+   change with ``dt``). The servos are commanded every ``CONTROL_PERIOD_S`` (1 ms, a whole number of physics
+   steps; every step if ``dt`` is larger): each command holds the profile's angle at the middle of the period
+   (so a ramp is tracked without lag) and its speed, and pybullet sub-steps through the period in one call.
 3. Outcome rule: the robot is **upright** when world-up in the body frame has ``u_z < 0``. The trial succeeds
    when it stays upright for ``UPRIGHT_HOLD_S`` (0.3 s) without interruption; ``time_to_right_s`` is the time the
    robot became upright at the start of that stretch, and the simulation stops there. Otherwise it runs for
@@ -40,15 +43,18 @@ from .world import G_M_S2, Contact, SimulationDiverged, World
 log = logging.getLogger(__name__)
 
 DEFAULT_DT_S = 2e-4
-"""Default time step, s: the largest with < 0.5 deg orientation difference from dt = 5e-5 over the first
-second and the same outcomes (``benchmarks/sim_convergence.py``; see docs/sim.md)."""
+"""Default physics time step, s: the largest with < 0.5 deg orientation difference over the first second and the
+same outcomes as dt = 5e-5 with 50 solver iterations (``benchmarks/sim_convergence.py``; see docs/sim.md)."""
 DEFAULT_DURATION_S = 10.0
 UPRIGHT_HOLD_S = 0.3
 SETTLE_S = 0.5
 SERVO_TAU_S = 0.01
 CHECK_EVERY_S = 5e-3
-"""The outcome, tracking error and divergence are checked at this interval (or every step if dt is larger)."""
+"""The outcome, tracking error and divergence are checked at this interval (or every control period if longer)."""
 TRACE_EVERY_S = 0.01
+CONTROL_PERIOD_S = 1e-3
+"""Servo command period, s: the commands are held for this many physics steps, which pybullet sub-steps in one
+``stepSimulation`` call. The same at every ``dt`` that divides it, so it is part of the model, not the numerics."""
 
 __all__ = ["DEFAULT_DT_S", "SimulationDiverged", "Trace", "TrialResult", "run_trial", "resolve_seed"]
 
@@ -196,7 +202,9 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
               rng: np.random.Generator | int | None = None, duration_s: float = DEFAULT_DURATION_S,
               dt_s: float = DEFAULT_DT_S, robot: str | Path | None = None, joint_map: JointMap | None = None,
               actuation: Actuation | None = None, contact: Contact | None = None, hull_tol_m: float = HULL_TOL_M,
-              hull_max_vertices: int = HULL_MAX_VERTICES, trace: bool = False) -> TrialResult:
+              hull_max_vertices: int = HULL_MAX_VERTICES, trace: bool = False,
+              control_period_s: float | None = CONTROL_PERIOD_S, engine_substeps: bool = True,
+              merge_fixed_links: bool = False) -> TrialResult:
     """Run one self-righting trial in a fresh pybullet DIRECT client.
 
     Parameters
@@ -221,8 +229,15 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
         Collision hull simplification (:func:`sim.model.sim_model`); ``hull_tol_m=0`` keeps full hulls.
     trace : bool
         Record a :class:`Trace`.
-
-    Returns
+    control_period_s : float or None
+        Servo command period, s (rounded to a whole number of steps); None commands every physics step (the
+        configuration before the speed-up, kept for the benchmarks).
+    engine_substeps : bool
+        Let pybullet sub-step through a control period in one call (default) rather than one call per step;
+        the physics is identical (tested), only faster.
+    merge_fixed_links : bool
+        Merge links on fixed joints into their parents (:func:`sim.model.merge_fixed_links`). Off by default:
+        about 15 % faster, but it fails the convergence criterion at the default dt (docs/sim.md).
     -------
     TrialResult
 
@@ -236,7 +251,8 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
         If the physics blows up.
     """
     wall0, cpu0 = time.perf_counter(), time.process_time()
-    model = sim_model(robot, tol_m=hull_tol_m, max_vertices=hull_max_vertices, joint_map=joint_map)
+    model = sim_model(robot, tol_m=hull_tol_m, max_vertices=hull_max_vertices, joint_map=joint_map,
+                      merge_fixed=merge_fixed_links)
     theta_w_deg, theta_l_deg, phase, cv = float(theta_w_deg), float(theta_l_deg), float(phase), float(cv)
     duration_s, dt_s = float(duration_s), float(dt_s)
     _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, model.theta_limits_deg)
@@ -246,29 +262,37 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
                     base.wing_close_start_s, base.leg_period_s, base.leg_cross_s)
     starts = attempt_starts_s(act, phase=phase, cv=cv, rng=gen, duration_s=duration_s)
 
-    n_steps = int(round(duration_s / dt_s))
-    t = np.arange(1, n_steps + 1) * dt_s  # command for the step ending at t
-    wing_deg, wing_speed = wing_profile_deg(t, starts, act)
-    leg_deg, leg_speed = leg_profile_deg(t, act)
+    # the servos are commanded once per control period (CONTROL_PERIOD_S, a whole number of physics steps)
+    sub = max(1, int(round(control_period_s / dt_s))) if control_period_s else 1
+    ctrl_s = sub * dt_s
+    n_ctrl = int(round(duration_s / ctrl_s))
+    t_end_k = np.arange(1, n_ctrl + 1) * ctrl_s  # end of control period k
+    t_hold = t_end_k - (ctrl_s / 2 if sub > 1 else 0.0)  # held command: the profile mid-period (exact on ramps)
     n_wing = len(model.joint_map.wing)
     n_leg = len(model.joint_map.leg)
-    target = np.deg2rad(np.concatenate([np.repeat(wing_deg[:, None], n_wing, 1),
-                                        np.repeat(leg_deg[:, None], n_leg, 1)], axis=1))
-    speed = np.deg2rad(np.concatenate([np.repeat(wing_speed[:, None], n_wing, 1),
-                                       np.repeat(leg_speed[:, None], n_leg, 1)], axis=1))
+
+    def _joint_profiles(t):
+        wing, wing_v = wing_profile_deg(t, starts, act)
+        leg, leg_v = leg_profile_deg(t, act)
+        q = np.deg2rad(np.concatenate([np.repeat(wing[:, None], n_wing, 1), np.repeat(leg[:, None], n_leg, 1)], 1))
+        v = np.deg2rad(np.concatenate([np.repeat(wing_v[:, None], n_wing, 1),
+                                       np.repeat(leg_v[:, None], n_leg, 1)], 1))
+        return wing, leg, q, v
+
+    _, _, target, speed = _joint_profiles(t_hold)
+    wing_deg, leg_deg, target_end, _ = _joint_profiles(t_end_k)
     kp = min(1.0, dt_s / SERVO_TAU_S)
-    check_every = max(1, int(round(CHECK_EVERY_S / dt_s)))
-    trace_every = max(1, int(round(TRACE_EVERY_S / dt_s)))
+    check_every = max(1, int(round(CHECK_EVERY_S / ctrl_s)))
+    trace_every = max(1, int(round(TRACE_EVERY_S / ctrl_s)))
     rows: list[list[float]] = []
 
     success, t_right, mode, t_end = False, None, None, duration_s
     max_err = 0.0
-    with World(model, dt_s=dt_s, contact=contact) as world:
+    with World(model, dt_s=dt_s, substeps=sub if engine_substeps else 1, contact=contact) as world:
         zeros = np.zeros(len(world.driven))
         world.place(np.deg2rad(model.rest_pitch_deg), 0.0, joints_rad=zeros)
-        for _ in range(int(round(SETTLE_S / dt_s))):
-            world.drive(zeros, zeros, kp=kp, kd=1.0)
-            world.step()
+        world.drive(zeros, zeros, kp=kp, kd=1.0)
+        world.advance(sub * int(round(SETTLE_S / ctrl_s)))
         v, w = world.base_velocity()
         if np.linalg.norm(v) > 5e-3 or np.linalg.norm(w) > 0.05:
             log.warning("robot still moving after %.1f s of settling (%.3g m/s, %.3g rad/s)",
@@ -278,17 +302,17 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
             raise SimulationDiverged("the robot did not settle on its back; check the robot and --dt")
 
         upright_since, u_first = None, None
-        target_l, speed_l = target.tolist(), speed.tolist()
-        for i in range(n_steps):
+        target_l, speed_l, end_l = target.tolist(), speed.tolist(), target_end.tolist()
+        for i in range(n_ctrl):
             world.drive(target_l[i], speed_l[i], kp=kp, kd=1.0)
-            world.step()
-            ti = (i + 1) * dt_s
+            world.advance(sub)
+            ti = (i + 1) * ctrl_s
             if trace and (i + 1) % trace_every == 0:
                 rows.append(_trace_row(world, ti, wing_deg[i], leg_deg[i], n_wing))
             if (i + 1) % check_every:
                 continue
             world.check_finite(ti)
-            err = max(abs(a - b) for a, b in zip(world.joint_positions_rad(), target_l[i], strict=True))
+            err = max(abs(a - b) for a, b in zip(world.joint_positions_rad(), end_l[i], strict=True))
             max_err = max(max_err, err)
             u = world.up_in_body()
             if u[2] < 0:

@@ -12,7 +12,10 @@ Physics settings (measured in ``benchmarks/sim_convergence.py``; see ``docs/sim.
   0 on every body; with its default pybullet drops the restitution term. :class:`Contact` can also make the
   contact soft (``contactStiffness``/``contactDamping``). Bullet then computes ERP/CFM from the spring, and
   restitution no longer enters.
-- ``numSolverIterations`` 50 (pybullet default) and a fixed time step ``dt_s``.
+- ``numSolverIterations`` 20 (pybullet's default is 50) and a fixed time step ``dt_s``. With ``substeps`` > 1 one
+  ``stepSimulation`` call advances ``substeps`` physics steps (``fixedTimeStep = substeps * dt_s``,
+  ``numSubSteps = substeps``), and the motor force limits are divided by ``substeps``, because pybullet caps a
+  motor's impulse per physics step at force x ``fixedTimeStep``. ``deterministicOverlappingPairs`` is on.
 """
 
 from __future__ import annotations
@@ -81,14 +84,15 @@ class Contact:
         Soft contact spring and damper, N/m and N s/m (default 1e4 N/m and 100 N s/m); None for pybullet's
         rigid contact.
     solver_iterations : int
-        pybullet ``numSolverIterations``.
+        pybullet ``numSolverIterations`` (its default is 50). 20 passes the same convergence criterion as the
+        time step at less cost per step (``benchmarks/sim_convergence.py``; docs/sim.md).
     """
 
     friction: float = 1.0
     restitution: float = 0.1
     stiffness_n_m: float | None = 1e4
     damping_n_s_m: float | None = 100.0
-    solver_iterations: int = 50
+    solver_iterations: int = 20
 
     @classmethod
     def rigid(cls, **kw) -> Contact:
@@ -135,19 +139,22 @@ class World:
     ----------
     model : SimModel
     dt_s : float
-        Fixed time step, s.
+        Fixed physics time step, s.
+    substeps : int
+        Physics steps per ``stepSimulation`` call (pybullet sub-stepping); :meth:`advance` moves in multiples.
     contact : Contact
 
     Examples
     --------
     >>> from sim.model import sim_model
     >>> with World(sim_model(), dt_s=1e-3) as w:  # doctest: +SKIP
-    ...     w.step()
+    ...     w.advance(1)
     """
 
-    def __init__(self, model: SimModel, *, dt_s: float, contact: Contact | None = None):
+    def __init__(self, model: SimModel, *, dt_s: float, substeps: int = 1, contact: Contact | None = None):
         self.model = model
         self.dt_s = float(dt_s)
+        self.substeps = int(substeps)
         self.contact = contact or Contact()
         self.cid: int | None = None
         self._gains: dict = {}
@@ -178,8 +185,10 @@ class World:
     def _build(self, urdf: Path) -> None:
         cid, c = self.cid, self.contact
         pb.setGravity(0.0, 0.0, -G_M_S2, physicsClientId=cid)
-        pb.setPhysicsEngineParameter(fixedTimeStep=self.dt_s, numSubSteps=0, numSolverIterations=c.solver_iterations,
-                                     deterministicOverlappingPairs=1, physicsClientId=cid)
+        pb.setPhysicsEngineParameter(fixedTimeStep=self.dt_s * self.substeps,
+                                     numSubSteps=self.substeps if self.substeps > 1 else 0,
+                                     numSolverIterations=c.solver_iterations, deterministicOverlappingPairs=1,
+                                     physicsClientId=cid)
         plane = pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=cid)
         self.ground = pb.createMultiBody(0.0, plane, physicsClientId=cid)
         self.body = pb.loadURDF(str(urdf), basePosition=[0.0, 0.0, 0.5], flags=pb.URDF_USE_INERTIA_FROM_FILE,
@@ -195,6 +204,12 @@ class World:
         self.links = [-1, *range(self.n_joints)]
         self.link_mass_kg = np.array([pb.getDynamicsInfo(self.body, k, physicsClientId=cid)[0] for k in self.links])
         self.mass_kg = float(self.link_mass_kg.sum())
+        # pybullet's base pose is the base's inertial frame; the body frame is the base link's URDF frame
+        info = pb.getDynamicsInfo(self.body, -1, physicsClientId=cid)
+        r = np.array(pb.getMatrixFromQuaternion(info[4], physicsClientId=cid)).reshape(3, 3)
+        self._inertial_rot = None if np.allclose(r, np.eye(3), rtol=0.0, atol=1e-12) else r
+        offset = self._inertial_rot is not None or not np.allclose(info[3], 0.0, rtol=0.0, atol=1e-12)
+        self._base_inertial = (tuple(info[3]), tuple(info[4])) if offset else None
         soft = {} if c.stiffness_n_m is None else {"contactStiffness": c.stiffness_n_m,
                                                     "contactDamping": c.damping_n_s_m}
         pb.changeDynamics(self.ground, -1, lateralFriction=c.friction, restitution=1.0,
@@ -214,12 +229,15 @@ class World:
         """Put the robot at rest at (pitch, roll), joints at ``joints_rad``, its lowest point ``clearance_m`` above
         the ground (by pybullet's own bounding boxes, which include the collision margin)."""
         cid = self.cid
-        q = pb.getQuaternionFromEuler([roll_rad, pitch_rad, 0.0], physicsClientId=cid)
+        pos, q = [0.0, 0.0, 0.5], pb.getQuaternionFromEuler([roll_rad, pitch_rad, 0.0], physicsClientId=cid)
+        if self._base_inertial is not None:  # place the base link's frame, not its inertial frame
+            pos, q = pb.multiplyTransforms(pos, q, *self._base_inertial, physicsClientId=cid)
         for j, v in zip(self.driven, joints_rad, strict=True):
             pb.resetJointState(self.body, j, float(v), 0.0, physicsClientId=cid)
-        pb.resetBasePositionAndOrientation(self.body, [0.0, 0.0, 0.5], q, physicsClientId=cid)
+        pb.resetBasePositionAndOrientation(self.body, pos, q, physicsClientId=cid)
         zmin = min(pb.getAABB(self.body, k, physicsClientId=cid)[0][2] for k in self.links)
-        pb.resetBasePositionAndOrientation(self.body, [0.0, 0.0, 0.5 - zmin + clearance_m], q, physicsClientId=cid)
+        pos = [pos[0], pos[1], pos[2] - zmin + clearance_m]
+        pb.resetBasePositionAndOrientation(self.body, pos, q, physicsClientId=cid)
         pb.resetBaseVelocity(self.body, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], physicsClientId=cid)
 
     def drive(self, target_rad, speed_rad_s, *, kp: float, kd: float) -> None:
@@ -227,16 +245,20 @@ class World:
         gains = self._gains.get((kp, kd))
         if gains is None:
             n = len(self.driven)
-            gains = self._gains[(kp, kd)] = ([kp] * n, [kd] * n, self.max_force_n_m.tolist())
+            # pybullet caps the motor impulse per substep at force * fixedTimeStep (the whole substepped step)
+            gains = self._gains[(kp, kd)] = ([kp] * n, [kd] * n, (self.max_force_n_m / self.substeps).tolist())
         pb.setJointMotorControlArray(self.body, self.driven, pb.POSITION_CONTROL, targetPositions=target_rad,
                                      targetVelocities=speed_rad_s, forces=gains[2], positionGains=gains[0],
                                      velocityGains=gains[1], physicsClientId=self.cid)
 
-    def step(self) -> None:
-        pb.stepSimulation(physicsClientId=self.cid)
+    def advance(self, n_steps: int) -> None:
+        """Advance ``n_steps`` physics steps of ``dt_s`` (a multiple of ``substeps``)."""
+        assert n_steps % self.substeps == 0, (n_steps, self.substeps)
+        for _ in range(n_steps // self.substeps):
+            pb.stepSimulation(physicsClientId=self.cid)
 
     def base_pose(self) -> tuple[tuple[float, float, float], tuple[float, float, float, float]]:
-        """Base position (m) and orientation quaternion (x, y, z, w)."""
+        """Position (m) and orientation quaternion (x, y, z, w) of the base's inertial frame (its CoM)."""
         return pb.getBasePositionAndOrientation(self.body, physicsClientId=self.cid)
 
     def base_velocity(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
@@ -244,10 +266,11 @@ class World:
         return pb.getBaseVelocity(self.body, physicsClientId=self.cid)
 
     def up_in_body(self) -> NDArray[np.float64]:
-        """World-up expressed in the base frame, ``R.T @ e_z`` (the third row of R)."""
+        """World-up expressed in the base link's frame, ``R.T @ e_z`` (the third row of R)."""
         _, q = self.base_pose()
         m = pb.getMatrixFromQuaternion(q, physicsClientId=self.cid)
-        return np.array([m[6], m[7], m[8]])
+        u = np.array([m[6], m[7], m[8]])  # in the base's inertial frame
+        return u if self._inertial_rot is None else self._inertial_rot @ u
 
     def joint_positions_rad(self) -> NDArray[np.float64]:
         """Positions of the driven joints, rad."""

@@ -130,3 +130,75 @@ def test_rigid_contact_option_runs():
 
 def test_trial_input_error_is_value_error():
     assert issubclass(TrialInputError, ValueError) and issubclass(SimulationDiverged, RuntimeError)
+
+
+def _mass_properties_in_base_frame(world: World):
+    """Total mass (kg), CoM (m) and inertia about the CoM (kg m^2) from pybullet, in the base link's frame."""
+    import pybullet as pb
+
+    cid, body = world.cid, world.body
+    pos, orn = pb.getBasePositionAndOrientation(body, physicsClientId=cid)
+    info = pb.getDynamicsInfo(body, -1, physicsClientId=cid)
+    link_pos, link_orn = pb.multiplyTransforms(pos, orn, *pb.invertTransform(info[3], info[4]), physicsClientId=cid)
+    inv = pb.invertTransform(link_pos, link_orn)
+    frames = [(pos, orn)] + [pb.getLinkState(body, j, physicsClientId=cid)[:2] for j in range(world.n_joints)]
+    masses, coms, inertias = [], [], []
+    for k, frame in zip(world.links, frames, strict=True):
+        p, o = pb.multiplyTransforms(*inv, *frame, physicsClientId=cid)
+        r = np.array(pb.getMatrixFromQuaternion(o, physicsClientId=cid)).reshape(3, 3)
+        d = pb.getDynamicsInfo(body, k, physicsClientId=cid)
+        masses.append(d[0])
+        coms.append(np.array(p))
+        inertias.append(r @ np.diag(d[2]) @ r.T)
+    m = np.array(masses)
+    com = (m[:, None] * np.array(coms)).sum(axis=0) / m.sum()
+    inertia = sum(i + mk * ((c - com) @ (c - com) * np.eye(3) - np.outer(c - com, c - com))
+                  for mk, c, i in zip(m, coms, inertias, strict=True))
+    return m.sum(), com, inertia
+
+
+def test_merged_fixed_links_keep_mass_properties_shapes_and_joints():
+    from geometry import Robot
+
+    theta_w, theta_l = 40.0, 25.0
+    pose = Robot.from_urdf(LAB_URDF).pose(theta_w, theta_l)
+    out = {}
+    for merge in (False, True):
+        m = sim_model(LAB_URDF, merge_fixed=merge)
+        with World(m, dt_s=FAST_DT) as w:
+            import pybullet as pb
+
+            q = np.deg2rad([theta_w] * len(m.joint_map.wing) + [theta_l] * len(m.joint_map.leg))
+            w.place(0.3, -0.2, joints_rad=q)
+            names = [pb.getJointInfo(w.body, j, physicsClientId=w.cid)[1].decode() for j in w.driven]
+            shapes = sum(len(pb.getCollisionShapeData(w.body, k, physicsClientId=w.cid)) for k in w.links)
+            out[merge] = (len(w.links), shapes, names, w.up_in_body(), *_mass_properties_in_base_frame(w))
+    (n0, s0, names0, up0, m0, c0, i0), (n1, s1, names1, up1, m1, c1, i1) = out[False], out[True]
+    assert (n0, n1) == (9, 6)  # head, motor3 and motor4 hang on fixed joints
+    assert s0 == s1 == 10  # every collision shape survives the merge
+    assert names0 == names1 == [*sim_model(LAB_URDF).joint_map.wing, *sim_model(LAB_URDF).joint_map.leg]
+    assert up1 == pytest.approx(up0, abs=1e-6)  # the body frame is the base link's, not its inertial frame
+    assert m0 == m1 == pytest.approx(pose.mass_kg, rel=1e-12) == pytest.approx(0.26)
+    assert c0 == pytest.approx(pose.com_m, abs=1e-7) and c1 == pytest.approx(pose.com_m, abs=1e-7)  # 0.1 um
+    assert np.abs(i1 - i0).max() < 1e-5 * np.abs(i0).max()  # pybullet parses the URDF with ~1e-7 rounding
+
+
+def test_engine_substeps_equal_single_steps():
+    """Sub-stepping inside pybullet (one call per 1 ms servo period) is the same physics as one call per step:
+    the motor force limit is rescaled, because pybullet caps the impulse at force x the whole call's time."""
+    kw = dict(phase=0.45, cv=0.2, rng=11, robot=LAB_URDF, dt_s=5e-4, duration_s=1.5, trace=True)
+    a = run_trial(74.0, 40.0, engine_substeps=True, **kw)
+    b = run_trial(74.0, 40.0, engine_substeps=False, **kw)
+    assert _strip(a) == _strip(b)
+    np.testing.assert_array_equal(a.trace.as_array(), b.trace.as_array())
+    assert len(a.trace.t_s) == 150 and a.trace.t_s[-1] == pytest.approx(1.5)
+
+
+def test_servo_commanded_per_step_when_asked():
+    kw = dict(phase=0.2, cv=0.0, rng=2, robot=LAB_URDF, dt_s=5e-4, duration_s=2.0, trace=True)
+    per_step = run_trial(76.0, 50.0, control_period_s=None, **kw)
+    per_ms = run_trial(76.0, 50.0, **kw)
+    for r in (per_step, per_ms):  # both servo schedules track the profile
+        assert r.max_tracking_error_deg < 4.0
+        assert np.abs(r.trace.wing_deg - r.trace.wing_cmd_deg).mean() < 0.5
+    assert _strip(per_step) != _strip(per_ms)
