@@ -1,17 +1,21 @@
-"""Convergence of the self-righting simulation with the time step (a benchmark, not a unit test).
+"""Convergence of the self-righting simulation with the time step and the solver (a benchmark, not a unit test).
 
-For each time step dt in {1e-3, 5e-4, 2e-4, 1e-4} it compares against dt = 5e-5:
+The reference is the most accurate setting: dt = 5e-5 s with pybullet's default 50 solver iterations (soft
+contact, servos commanded every 1 ms as in every run). Against it:
 
 1. body orientation: the largest angle between world-up in the body frame of the run and of the reference,
    sampled every 10 ms, over the first 1 s and the first 2 s of actuation (three settings of theta_w,
-   theta_l, phi_1, no noise), for the soft contact model (default) and pybullet's rigid contact;
-2. outcomes (success, succeeding attempt, time to right) over a small grid of 12 trials (soft contact);
-3. the same at the chosen dt with the full, unsimplified collision hulls instead of the simplified ones.
+   theta_l, phi_1, no noise), for dt in {1e-3, 5e-4, 2e-4, 1e-4}: soft contact with the default solver
+   iterations, soft contact with 50, and pybullet's rigid contact (against a rigid reference);
+2. outcomes (success, succeeding attempt, time to right) over a small grid of 12 trials (soft contact, default
+   solver iterations);
+3. at the chosen dt: 50, 20 and 10 solver iterations, and fixed links merged into their parents;
+4. at the chosen dt: the full, unsimplified collision hulls against the simplified ones.
 
 The chosen dt is the largest with < 0.5 deg orientation difference over the first second and the same success
 flags as the reference. Prints markdown tables.
 
-Run:  /work/venv/bin/python benchmarks/sim_convergence.py [--quick]
+Run:  /work/venv/bin/python benchmarks/sim_convergence.py [--robot URDF] [--quick]
 """
 
 from __future__ import annotations
@@ -19,6 +23,8 @@ from __future__ import annotations
 import argparse
 import itertools
 import time
+from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
@@ -26,7 +32,9 @@ from geometry import up_vector
 from sim.trial import run_trial
 from sim.world import Contact
 
+LAB_URDF = Path(__file__).resolve().parents[1].parent / "shared" / "ref" / "lab_robot" / "lab_robot.urdf"
 REF_DT = 5e-5
+REF_ITERATIONS = 50
 DTS = (1e-3, 5e-4, 2e-4, 1e-4)
 ORIENT_CASES = ((76.0, 40.0, 0.7), (80.0, 30.0, 0.2), (72.0, 50.0, 0.45))
 GRID = list(itertools.product((72.0, 76.0, 80.0), (30.0, 50.0), (0.2, 0.7)))
@@ -37,26 +45,24 @@ def _up(trace) -> np.ndarray:
     return up_vector(np.deg2rad(trace.pitch_deg), np.deg2rad(trace.roll_deg))
 
 
-def orientation_diff_deg(contact: Contact, dt: float, refs: dict) -> tuple[float, float]:
-    worst1 = worst2 = 0.0
+def traces(dt: float, **kw) -> dict:
+    out = {}
     for case in ORIENT_CASES:
-        r = run_trial(case[0], case[1], phase=case[2], cv=0.0, rng=SEED, duration_s=2.0, dt_s=dt,
-                      contact=contact, trace=True)
-        ref_t, ref_u = refs[case]
-        n = min(len(ref_u), len(r.trace.t_s))
-        ang = np.rad2deg(np.arccos(np.clip((_up(r.trace)[:n] * ref_u[:n]).sum(axis=1), -1.0, 1.0)))
+        r = run_trial(case[0], case[1], phase=case[2], cv=0.0, rng=SEED, duration_s=2.0, dt_s=dt, trace=True, **kw)
+        out[case] = (r.trace.t_s, _up(r.trace))
+    return out
+
+
+def orientation_diff_deg(run: dict, ref: dict) -> tuple[float, float]:
+    """Largest world-up angle between two sets of traces over the first 1 s and 2 s, degrees."""
+    worst1 = worst2 = 0.0
+    for case, (ref_t, ref_u) in ref.items():
+        u = run[case][1]
+        n = min(len(ref_u), len(u))
+        ang = np.rad2deg(np.arccos(np.clip((u[:n] * ref_u[:n]).sum(axis=1), -1.0, 1.0)))
         k1 = int(np.searchsorted(ref_t[:n], 1.0 + 1e-9))
         worst1, worst2 = max(worst1, float(ang[:k1].max())), max(worst2, float(ang.max()))
     return worst1, worst2
-
-
-def reference_traces(contact: Contact) -> dict:
-    out = {}
-    for case in ORIENT_CASES:
-        r = run_trial(case[0], case[1], phase=case[2], cv=0.0, rng=SEED, duration_s=2.0, dt_s=REF_DT,
-                      contact=contact, trace=True)
-        out[case] = (r.trace.t_s, _up(r.trace))
-    return out
 
 
 def outcomes(dt: float, **kw) -> list:
@@ -75,56 +81,78 @@ def compare(res, ref) -> tuple[str, str, str]:
             f"{max(dts) * 1e3:.0f}" if dts else "-")
 
 
+def _rate(res) -> float:
+    return sum(r[3] for r in res) / sum(r[4] for r in res)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--robot", type=Path, default=LAB_URDF, help="URDF (default: the lab robot)")
     ap.add_argument("--quick", action="store_true", help="orientation only, no outcome grid")
     args = ap.parse_args()
     t0 = time.perf_counter()
+    robot = dict(robot=args.robot)
     soft, rigid = Contact(), Contact.rigid()
+    ref_soft = replace(soft, solver_iterations=REF_ITERATIONS)
+    ref_rigid = replace(rigid, solver_iterations=REF_ITERATIONS)
+    print(f"robot: {args.robot}; reference dt = {REF_DT:g} s with {REF_ITERATIONS} solver iterations; default "
+          f"solver iterations {soft.solver_iterations}\n")
 
-    print("## Orientation vs time step (max angle of world-up vs dt = 5e-5, three cases)\n")
-    print("| dt (s) | soft: first 1 s (deg) | soft: first 2 s (deg) | rigid: first 1 s (deg) | rigid: first 2 s (deg) |")
-    print("|---:|---:|---:|---:|---:|")
-    refs_soft, refs_rigid = reference_traces(soft), reference_traces(rigid)
+    print("## Orientation vs time step (max angle of world-up vs the reference, three cases)\n")
+    print(f"| dt (s) | soft, {soft.solver_iterations} iterations: first 1 s (deg) | first 2 s (deg) | "
+          f"soft, {REF_ITERATIONS} iterations: first 1 s (deg) | rigid: first 1 s (deg) | rigid: first 2 s (deg) |")
+    print("|---:|---:|---:|---:|---:|---:|")
+    refs_soft, refs_rigid = traces(REF_DT, contact=ref_soft, **robot), traces(REF_DT, contact=ref_rigid, **robot)
     orient = {}
     for dt in DTS:
-        s1, s2 = orientation_diff_deg(soft, dt, refs_soft)
-        r1, r2 = orientation_diff_deg(rigid, dt, refs_rigid)
+        s1, s2 = orientation_diff_deg(traces(dt, contact=soft, **robot), refs_soft)
+        f1, _ = orientation_diff_deg(traces(dt, contact=ref_soft, **robot), refs_soft)
+        r1, r2 = orientation_diff_deg(traces(dt, contact=rigid, **robot), refs_rigid)
         orient[dt] = s1
-        print(f"| {dt:g} | {s1:.3f} | {s2:.3f} | {r1:.3f} | {r2:.3f} |", flush=True)
+        print(f"| {dt:g} | {s1:.3f} | {s2:.3f} | {f1:.3f} | {r1:.3f} | {r2:.3f} |", flush=True)
     if args.quick:
         return
 
-    print(f"\n## Outcomes vs time step (soft contact; {len(GRID)} trials: theta_w 72/76/80, theta_l 30/50, "
-          f"phi_1 0.2/0.7, Cv {CV}, seed {SEED})\n")
-    ref = outcomes(REF_DT)
-    print(f"reference dt = {REF_DT:g}: successes {sum(r[0] for r in ref)}/{len(ref)}, "
-          f"attempts {[r[1] for r in ref]}\n")
+    print(f"\n## Outcomes vs time step (soft contact, {soft.solver_iterations} solver iterations; {len(GRID)} trials: "
+          f"theta_w 72/76/80, theta_l 30/50, phi_1 0.2/0.7, Cv {CV}, seed {SEED})\n")
+    ref = outcomes(REF_DT, contact=ref_soft, **robot)
+    print(f"reference: successes {sum(r[0] for r in ref)}/{len(ref)}, attempts {[r[1] for r in ref]}\n")
     print("| dt (s) | same success | same success and attempt | max diff time to right (ms) | "
           "core-s per simulated s |")
     print("|---:|---:|---:|---:|---:|")
     same = {}
     for dt in DTS:
-        res = outcomes(dt)
+        res = outcomes(dt, **robot)
         a, b, c = compare(res, ref)
         same[dt] = a == f"{len(ref)}/{len(ref)}"
-        rate = sum(r[3] for r in res) / sum(r[4] for r in res)
-        print(f"| {dt:g} | {a} | {b} | {c} | {rate:.3f} |", flush=True)
+        print(f"| {dt:g} | {a} | {b} | {c} | {_rate(res):.3f} |", flush=True)
     ok = [dt for dt in DTS if orient[dt] < 0.5 and same[dt]]
     chosen = max(ok) if ok else min(DTS)
     print(f"\nchosen dt = {chosen:g} s (largest with < 0.5 deg over the first second and the same outcomes)\n")
 
-    print("## Collision hull simplification at the chosen dt\n")
-    simp = outcomes(chosen)
-    full = outcomes(chosen, hull_tol_m=0.0)
+    print(f"## Solver iterations and merged links at dt = {chosen:g} s (against the same reference)\n")
+    print("| setting | first 1 s (deg) | first 2 s (deg) | same success | same success and attempt | "
+          "max diff time to right (ms) | core-s per simulated s |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
+    settings = [(f"{n} iterations", dict(contact=replace(soft, solver_iterations=n))) for n in (50, 20, 10)]
+    settings.append((f"{soft.solver_iterations} iterations, fixed links merged",
+                     dict(contact=soft, merge_fixed_links=True)))
+    for name, kw in settings:
+        o1, o2 = orientation_diff_deg(traces(chosen, **kw, **robot), refs_soft)
+        res = outcomes(chosen, **kw, **robot)
+        a, b, c = compare(res, ref)
+        print(f"| {name} | {o1:.3f} | {o2:.3f} | {a} | {b} | {c} | {_rate(res):.3f} |", flush=True)
+
+    print(f"\n## Collision hull simplification at dt = {chosen:g} s\n")
+    simp = outcomes(chosen, **robot)
+    full = outcomes(chosen, hull_tol_m=0.0, **robot)
     a, b, c = compare(full, simp)
     print("| hulls | successes | same success as simplified | same attempt | max diff time to right (ms) | "
           "core-s per simulated s |")
     print("|---|---:|---:|---:|---:|---:|")
     for name, res in (("simplified (<= 96 vertices, tol 0.1 mm)", simp), ("full", full)):
-        rate = sum(r[3] for r in res) / sum(r[4] for r in res)
         row = (a, b, c) if name == "full" else ("-", "-", "-")
-        print(f"| {name} | {sum(r[0] for r in res)}/{len(res)} | {row[0]} | {row[1]} | {row[2]} | {rate:.3f} |")
+        print(f"| {name} | {sum(r[0] for r in res)}/{len(res)} | {row[0]} | {row[1]} | {row[2]} | {_rate(res):.3f} |")
     print(f"\ntotal wall time {time.perf_counter() - t0:.0f} s")
 
 
