@@ -193,17 +193,9 @@ def barrier_map(theta_w, theta_l, step, method, out, **kw):
                 b = c.barrier
                 r = b.righting
                 grid[i, j] = np.nan if r is None else r.barrier_j * MJ
-                rows.append({
-                    "theta_w_deg": w, "theta_l_deg": leg, "min_pitch_deg": c.minimum.pitch_deg,
-                    "min_roll_deg": c.minimum.roll_deg, "min_energy_j": c.minimum.energy_j,
-                    "righting_j": None if r is None else r.barrier_j,
-                    "direction": None if r is None else r.direction,
-                    "saddle_pitch_deg": None if r is None else r.saddle_pitch_deg,
-                    "saddle_roll_deg": None if r is None else r.saddle_roll_deg,
-                    "pitch_wise_j": None if b.pitch_wise is None else b.pitch_wise.barrier_j,
-                    "roll_wise_j": None if b.roll_wise is None else b.roll_wise.barrier_j,
-                    "escape_j": None if b.escape is None else b.escape.barrier_j,
-                })
+                rows.append({"theta_w_deg": w, "theta_l_deg": leg, "min_pitch_deg": c.minimum.pitch_deg,
+                             "min_roll_deg": c.minimum.roll_deg, "min_energy_j": c.minimum.energy_j,
+                             **io.barrier_fields(b)})
                 bar.update()
     outd = Path(out)
     csv_path = io.write_rows_csv(rows, outd / "barrier_map.csv")

@@ -21,10 +21,26 @@ def _exit_dict(x: Exit | None) -> dict | None:
             "direction": x.direction, "path_deg": np.round(x.path_deg, 6).tolist()}
 
 
+def barrier_fields(b) -> dict:
+    """Flat barrier fields (J, degrees) of a GridBarrier, as the JSON summary and the barrier-map CSV report them."""
+    r = b.righting
+    return {
+        "righting_j": None if r is None else r.barrier_j,
+        "escape_j": None if b.escape is None else b.escape.barrier_j,
+        "saddle_pitch_deg": None if r is None else r.saddle_pitch_deg,
+        "saddle_roll_deg": None if r is None else r.saddle_roll_deg,
+        "direction": None if r is None else r.direction,
+        "pitch_wise_j": None if b.pitch_wise is None else b.pitch_wise.barrier_j,
+        "roll_wise_j": None if b.roll_wise is None else b.roll_wise.barrier_j,
+        "escape_saddle_pitch_deg": None if b.escape is None else b.escape.saddle_pitch_deg,
+        "escape_saddle_roll_deg": None if b.escape is None else b.escape.saddle_roll_deg,
+        "escape_direction": None if b.escape is None else b.escape.direction,
+    }
+
+
 def summary(c: Computation, *, robot_name: str, robot_source: str | None, robot_hash: str) -> dict:
     """The JSON summary of one computation (energies in J, angles in degrees, lengths in m)."""
     b = c.barrier
-    r = b.righting
     return {
         "robot": {"name": robot_name, "source": robot_source, "description_hash": robot_hash},
         "theta_w_deg": c.theta_w_deg,
@@ -36,18 +52,7 @@ def summary(c: Computation, *, robot_name: str, robot_source: str | None, robot_
         "start_deg": {"pitch_deg": c.start_deg[0], "roll_deg": c.start_deg[1]},
         "minimum": {"pitch_deg": c.minimum.pitch_deg, "roll_deg": c.minimum.roll_deg,
                     "energy_j": c.minimum.energy_j, "height_m": c.minimum.height_m},
-        "barrier": {
-            "righting_j": None if r is None else r.barrier_j,
-            "escape_j": None if b.escape is None else b.escape.barrier_j,
-            "saddle_pitch_deg": None if r is None else r.saddle_pitch_deg,
-            "saddle_roll_deg": None if r is None else r.saddle_roll_deg,
-            "direction": None if r is None else r.direction,
-            "pitch_wise_j": None if b.pitch_wise is None else b.pitch_wise.barrier_j,
-            "roll_wise_j": None if b.roll_wise is None else b.roll_wise.barrier_j,
-            "escape_saddle_pitch_deg": None if b.escape is None else b.escape.saddle_pitch_deg,
-            "escape_saddle_roll_deg": None if b.escape is None else b.escape.saddle_roll_deg,
-            "escape_direction": None if b.escape is None else b.escape.direction,
-        },
+        "barrier": barrier_fields(b),
         "paths": {k: _exit_dict(getattr(b, k)) for k in ("righting", "pitch_wise", "roll_wise", "escape")},
         "timing_s": {k: round(v, 6) for k, v in c.timing_s.items()},
     }
