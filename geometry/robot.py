@@ -362,6 +362,15 @@ class Robot:
         hull_pts = np.concatenate([_apply(T[p.link], p.hull_link_m) for p in self.parts if len(p.hull_link_m)])
         return Pose(theta_w_deg, theta_l_deg, total.mass_kg, total.com_m, hull_pts, T, self.parts)
 
+    @property
+    def com_source(self) -> str:
+        """How the CoM was obtained: "urdf <inertial>", "solid volume centroid", "thin-shell area centroid" or
+        "given"."""
+        if self.urdf is not None:
+            return "urdf <inertial>"
+        model = self.parts[0].mass.model
+        return {"solid": "solid volume centroid", "shell": "thin-shell area centroid"}.get(model, "given")
+
     @cached_property
     def total_mass_kg(self) -> float:
         return float(sum(p.mass.mass_kg for p in self.parts))

@@ -101,7 +101,7 @@ def human_summary(c, robot: Robot) -> str:
         f"robot        {robot.name}  ({robot.source or 'in memory'})",
         f"pose         theta_w {tw}  theta_l {tl}   grid step {c.step_deg:g}°   method {c.method}",
         f"mass         {c.mass_kg * 1e3:.1f} g",
-        "CoM          ({:.2f}, {:.2f}, {:.2f}) mm".format(*(c.com_m * MM)),
+        "CoM          ({:.2f}, {:.2f}, {:.2f}) mm  ({})".format(*(c.com_m * MM), robot.com_source),
         f"minimum      pitch {c.minimum.pitch_deg:.2f}°  roll {c.minimum.roll_deg:.2f}°  "
         f"E {c.minimum.energy_j * MJ:.3f} mJ  h {c.minimum.height_m * MM:.3f} mm",
         "barriers     (pitch, roll) of the saddle in degrees",
@@ -140,7 +140,7 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
     c = run(robot, theta_w_deg=theta_w, theta_l_deg=theta_l, step_deg=step, start_pitch_deg=start_pitch,
             start_roll_deg=start_roll, connectivity=int(connectivity), method=method)
     s = io.summary(c, robot_name=robot.name, robot_source=str(robot.source) if robot.source else None,
-                   robot_hash=robot.description_hash)
+                   robot_hash=robot.description_hash, com_source=robot.com_source)
     if out:
         io.write_computation(c, s, Path(out))
     if as_json:

@@ -38,7 +38,8 @@ def barrier_fields(b) -> dict:
     }
 
 
-def summary(c: Computation, *, robot_name: str, robot_source: str | None, robot_hash: str) -> dict:
+def summary(c: Computation, *, robot_name: str, robot_source: str | None, robot_hash: str,
+            com_source: str = "") -> dict:
     """The JSON summary of one computation (energies in J, angles in degrees, lengths in m)."""
     b = c.barrier
     return {
@@ -49,6 +50,7 @@ def summary(c: Computation, *, robot_name: str, robot_source: str | None, robot_
         "method": c.method,
         "mass_kg": c.mass_kg,
         "com_m": [float(x) for x in c.com_m],
+        "com_source": com_source,
         "start_deg": {"pitch_deg": c.start_deg[0], "roll_deg": c.start_deg[1]},
         "minimum": {"pitch_deg": c.minimum.pitch_deg, "roll_deg": c.minimum.roll_deg,
                     "energy_j": c.minimum.energy_j, "height_m": c.minimum.height_m},

@@ -26,6 +26,7 @@ def test_compute_mesh_json(capsys, box_stl):
     s = json.loads(out)
     assert s["theta_w_deg"] is None and s["theta_l_deg"] is None
     assert s["mass_kg"] == 2.0 and s["com_m"] == pytest.approx([0, 0, 0], abs=1e-12)
+    assert s["com_source"] == "solid volume centroid"
     assert s["minimum"]["energy_j"] == pytest.approx(2 * 9.81 * 0.005, rel=1e-12)
     roll = 2 * 9.81 * (np.hypot(0.01, 0.005) - 0.005)
     assert s["barrier"]["righting_j"] == pytest.approx(roll, rel=1e-3)
@@ -99,6 +100,7 @@ def test_open_mesh_solid_refused(capsys, tmp_path):
     assert code == 2 and "watertight=False" in err
     code, out, err = run(capsys, "compute", "--mesh", str(f), "--json", "--step", "10")
     assert code == 0, err
+    assert json.loads(out)["com_source"] == "thin-shell area centroid"
 
 
 def test_barrier_map_lab(capsys, lab_robot, tmp_path):
