@@ -134,3 +134,21 @@ def test_real_process_clean_streams(box_stl):
                          capture_output=True, text=True)
     assert bad.returncode == 2 and bad.stdout == ""
     assert bad.stderr.count("\n") == 1 and bad.stderr.startswith("landscape: error:")
+
+
+def test_robot_export_round_trip(capsys, tmp_path):
+    """The exported built-in robot is the same robot: same files, same barrier as the default."""
+    from geometry.builtin import builtin_description
+
+    code, out, err = run(capsys, "robot", "export", "--out", str(tmp_path))
+    assert code == 0, err
+    files = builtin_description()
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(files)
+    assert (tmp_path / "robot.urdf").read_bytes() == files["robot.urdf"]
+    code, out, err = run(capsys, "compute", "--robot", str(tmp_path / "robot.urdf"), "--theta-w", "74", "--json",
+                         "--step", "4")
+    exported = json.loads(out)
+    code, out, err = run(capsys, "compute", "--theta-w", "74", "--json", "--step", "4")
+    default = json.loads(out)
+    assert exported["barrier"]["righting_j"] == default["barrier"]["righting_j"]
+    assert exported["minimum"] == default["minimum"]
