@@ -36,14 +36,14 @@ from __future__ import annotations
 import hashlib
 import io
 import os
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
-from .mass import MassProperties, shell_mass_properties, solid_mass_properties
+from .mass import MassProperties, combine, shell_mass_properties, solid_mass_properties
 
 URDF_NAME = "robot.urdf"
 GENERATOR_VERSION = "1"
@@ -177,12 +177,6 @@ def _moved(mp: MassProperties, com_m) -> MassProperties:
     return MassProperties(mp.mass_kg, np.asarray(com_m, float), inertia, mp.model)
 
 
-def _combined(parts: list[MassProperties]) -> MassProperties:
-    from .mass import combine
-
-    return combine(parts)
-
-
 # ---------------------------------------------------------------------------------------------- the description
 @dataclass(frozen=True)
 class _Link:
@@ -227,7 +221,7 @@ def _links(p: BuiltinParameters) -> list[_Link]:
     ball_mp = MassProperties(p.leg_mass_kg, np.asarray(p.sphere_center_m, float),
                              0.4 * p.leg_mass_kg * r * r * np.eye(3), "solid")
     links.append(_Link("pendulum", {"pendulum_rod.obj": rod, "pendulum_sphere.obj": ball},
-                       _combined([solid_mass_properties(rod, mass_kg=p.rod_kg, name="leg rod"), ball_mp])))
+                       combine([solid_mass_properties(rod, mass_kg=p.rod_kg, name="leg rod"), ball_mp])))
     return links
 
 
@@ -339,7 +333,3 @@ def load_builtin_robot():
 
     return Robot.from_urdf(builtin_urdf_path())
 
-
-def parameters_dict() -> dict:
-    """Parameters as a plain dict (for reports)."""
-    return asdict(builtin_parameters())

@@ -15,7 +15,15 @@ from .barrier import GridBarrier, grid_barrier
 from .energy import G_M_S2, Landscape, energy_landscape
 from .exact import exact_barrier
 from .grid import cells_per_turn, wrap_deg
-from .minima import Minimum, as_minimum, follow_minimum, grid_minimum, local_descent, metastable_orientation
+from .minima import (
+    Minimum,
+    as_minimum,
+    follow_minimum,
+    grid_minimum,
+    local_descent,
+    metastable_orientation,
+    ramp_deg,
+)
 from .sphere import sphere_barrier, subdivisions_for_step
 
 METHODS = ("exact", "grid", "sphere")
@@ -205,7 +213,7 @@ def sweep_starts(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float
         at = 0.0
         p, r = follow_minimum(robot, [(0.0, 0.0)])[-1]
         for w in sign_ws:
-            path = [(x, 0.0) for x in _between(at, w)]
+            path = [(x, 0.0) for x in ramp_deg(at, w)]
             if path:
                 p, r = follow_minimum(robot, path, pitch_deg=p, roll_deg=r)[-1]
             at = w
@@ -213,11 +221,7 @@ def sweep_starts(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float
                 if tl == 0.0:
                     out[(w, tl)] = (p, r)
                     continue
-                lpath = [(w, x) for x in _between(0.0, tl)]
+                lpath = [(w, x) for x in ramp_deg(0.0, tl)]
                 out[(w, tl)] = follow_minimum(robot, lpath, pitch_deg=p, roll_deg=r)[-1]
     return out
 
-
-def _between(a: float, b: float) -> list[float]:
-    n = int(np.ceil(abs(b - a) / 1.0))
-    return list(np.linspace(a, b, n + 1)[1:]) if n else []

@@ -69,16 +69,23 @@ def follow_minimum(robot: Robot, path_deg: list[tuple[float, float]], *, pitch_d
     return out
 
 
-def _ramp(a: float, b: float) -> list[float]:
-    n = max(1, int(np.ceil(abs(b - a) / CONTINUATION_STEP_DEG)))
-    return list(np.linspace(a, b, n + 1)[1:])
+def ramp_deg(a: float, b: float) -> list[float]:
+    """Angles from a (excluded) to b (included) in steps of at most CONTINUATION_STEP_DEG; [] when a == b.
+
+    Examples
+    --------
+    >>> ramp_deg(0.0, 2.5), ramp_deg(3.0, 3.0)
+    ([0.8333333333333334, 1.6666666666666667, 2.5], [])
+    """
+    n = int(np.ceil(abs(b - a) / CONTINUATION_STEP_DEG))
+    return [float(x) for x in np.linspace(a, b, n + 1)[1:]] if n else []
 
 
 def opening_path(theta_w_deg: float, theta_l_deg: float) -> list[tuple[float, float]]:
     """Joint path of a slow opening from rest: theta_w from 0, then theta_l from 0, in <= 1 deg steps."""
     path = [(0.0, 0.0)]
-    path += [(w, 0.0) for w in _ramp(0.0, theta_w_deg)]
-    path += [(theta_w_deg, l_) for l_ in _ramp(0.0, theta_l_deg)]
+    path += [(w, 0.0) for w in ramp_deg(0.0, theta_w_deg)]
+    path += [(theta_w_deg, l_) for l_ in ramp_deg(0.0, theta_l_deg)]
     return path
 
 
