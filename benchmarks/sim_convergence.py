@@ -10,12 +10,16 @@ contact, servos commanded every 1 ms as in every run). Against it:
 2. outcomes (success, succeeding attempt, time to right) over a small grid of 12 trials (soft contact, default
    solver iterations);
 3. at the chosen dt: 50, 20 and 10 solver iterations, and fixed links merged into their parents;
-4. at the chosen dt: the full, unsimplified collision hulls against the simplified ones.
+4. at the chosen dt: the full, unsimplified collision hulls against the simplified ones;
+5. success *rates* near the success boundary over many seeds (``--rate-seeds``, Cv 0.1) at the chosen dt and at
+   the next smaller dt, with Wilson 95 % intervals and Fisher's exact test: near the boundary single outcomes are
+   chaotic, so this is the comparison that says whether the time step changes the answer.
 
 The chosen dt is the largest with < 0.5 deg orientation difference over the first second and the same success
 flags as the reference. Prints markdown tables.
 
-Run:  /work/venv/bin/python benchmarks/sim_convergence.py [--robot URDF] [--quick]
+Run:  /work/venv/bin/python benchmarks/sim_convergence.py [--robot builtin|lab|URDF] [--quick]
+      [--grid-theta-w 70,74,76] [--grid-theta-l 20,30] [--rate-seeds 40]
 """
 
 from __future__ import annotations
@@ -29,7 +33,8 @@ from pathlib import Path
 import numpy as np
 
 from geometry import up_vector
-from sim.trial import run_trial
+from sim.model import default_robot_urdf
+from sim.trial import DEFAULT_DT_S, run_trial
 from sim.world import Contact
 
 LAB_URDF = Path(__file__).resolve().parents[1].parent / "shared" / "ref" / "lab_robot" / "lab_robot.urdf"
@@ -37,8 +42,12 @@ REF_DT = 5e-5
 REF_ITERATIONS = 50
 DTS = (1e-3, 5e-4, 2e-4, 1e-4)
 ORIENT_CASES = ((76.0, 40.0, 0.7), (80.0, 30.0, 0.2), (72.0, 50.0, 0.45))
-GRID = list(itertools.product((72.0, 76.0, 80.0), (30.0, 50.0), (0.2, 0.7)))
+GRID_DEFAULTS = {"lab": ("72,76,80", "30,50"), "builtin": ("70,74,76", "20,30")}
+"""Outcome grids that straddle each robot's success boundary (docs/sim.md)."""
+PHASES = (0.2, 0.7)
 CV, SEED = 0.1, 1
+RATE_SETTINGS = {"lab": ((74.0, 30.0), (76.0, 30.0), (72.0, 40.0), (70.0, 40.0)),
+                 "builtin": ((70.0, 30.0), (72.0, 25.0), (74.0, 25.0), (76.0, 25.0))}
 
 
 def _up(trace) -> np.ndarray:
@@ -65,6 +74,9 @@ def orientation_diff_deg(run: dict, ref: dict) -> tuple[float, float]:
     return worst1, worst2
 
 
+GRID: list = []
+
+
 def outcomes(dt: float, **kw) -> list:
     res = []
     for tw, tl, ph in GRID:
@@ -87,15 +99,29 @@ def _rate(res) -> float:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--robot", type=Path, default=LAB_URDF, help="URDF (default: the lab robot)")
+    ap.add_argument("--robot", default="builtin", help="builtin (default), lab, or a URDF path")
     ap.add_argument("--quick", action="store_true", help="orientation only, no outcome grid")
+    ap.add_argument("--grid-theta-w", default=None, help="outcome grid wing angles (default: per robot)")
+    ap.add_argument("--grid-theta-l", default=None, help="outcome grid leg amplitudes (default: per robot)")
+    ap.add_argument("--rate-seeds", type=int, default=40, help="seeds per setting in the success-rate comparison")
+    ap.add_argument("--only-rates", action="store_true",
+                    help="run section 5 only, at the default dt against the next smaller one")
     args = ap.parse_args()
     t0 = time.perf_counter()
-    robot = dict(robot=args.robot)
+    kind = args.robot if args.robot in ("builtin", "lab") else "lab"
+    path = {"builtin": default_robot_urdf(), "lab": LAB_URDF}.get(args.robot, Path(args.robot))
+    gw, gl = GRID_DEFAULTS[kind]
+    GRID[:] = list(itertools.product([float(x) for x in (args.grid_theta_w or gw).split(",")],
+                                     [float(x) for x in (args.grid_theta_l or gl).split(",")], PHASES))
+    robot = dict(robot=path)
+    if args.only_rates:
+        rates(DEFAULT_DT_S, RATE_SETTINGS[kind], args.rate_seeds, robot,
+              other=max(dt for dt in DTS if dt < DEFAULT_DT_S))
+        return
     soft, rigid = Contact(), Contact.rigid()
     ref_soft = replace(soft, solver_iterations=REF_ITERATIONS)
     ref_rigid = replace(rigid, solver_iterations=REF_ITERATIONS)
-    print(f"robot: {args.robot}; reference dt = {REF_DT:g} s with {REF_ITERATIONS} solver iterations; default "
+    print(f"robot: {path}; reference dt = {REF_DT:g} s with {REF_ITERATIONS} solver iterations; default "
           f"solver iterations {soft.solver_iterations}\n")
 
     print("## Orientation vs time step (max angle of world-up vs the reference, three cases)\n")
@@ -113,8 +139,10 @@ def main() -> None:
     if args.quick:
         return
 
+    tws = "/".join(f"{x:g}" for x in sorted({g[0] for g in GRID}))
+    tls = "/".join(f"{x:g}" for x in sorted({g[1] for g in GRID}))
     print(f"\n## Outcomes vs time step (soft contact, {soft.solver_iterations} solver iterations; {len(GRID)} trials: "
-          f"theta_w 72/76/80, theta_l 30/50, phi_1 0.2/0.7, Cv {CV}, seed {SEED})\n")
+          f"theta_w {tws}, theta_l {tls}, phi_1 0.2/0.7, Cv {CV}, seed {SEED})\n")
     ref = outcomes(REF_DT, contact=ref_soft, **robot)
     print(f"reference: successes {sum(r[0] for r in ref)}/{len(ref)}, attempts {[r[1] for r in ref]}\n")
     print("| dt (s) | same success | same success and attempt | max diff time to right (ms) | "
@@ -153,7 +181,43 @@ def main() -> None:
     for name, res in (("simplified (<= 96 vertices, tol 0.1 mm)", simp), ("full", full)):
         row = (a, b, c) if name == "full" else ("-", "-", "-")
         print(f"| {name} | {sum(r[0] for r in res)}/{len(res)} | {row[0]} | {row[1]} | {row[2]} | {_rate(res):.3f} |")
+    smaller = max([dt for dt in DTS if dt < chosen], default=None)
+    rates(chosen, RATE_SETTINGS[kind], args.rate_seeds, robot, other=smaller)
     print(f"\ntotal wall time {time.perf_counter() - t0:.0f} s")
+
+
+def rates(dt: float, settings, seeds: int, robot: dict, other: float | None = None) -> None:
+    """Section 5: success rates over ``seeds`` trials per setting at ``dt`` (and ``other``), Wilson intervals,
+    Fisher's exact test between the two."""
+    from scipy.stats import fisher_exact
+
+    from sim.sweep import trial_seed
+
+    dts = [dt] + ([other] if other else [])
+    print(f"\n## Success rates near the boundary ({seeds} seeds per setting, Cv {CV}, phi_1 0.7)\n")
+    head = " | ".join(f"dt {d:g}: successes (95 % CI)" for d in dts)
+    print(f"| theta_w | theta_l | {head} |" + (" Fisher p |" if other else ""))
+    print("|---:|---:|" + "---:|" * len(dts) + ("---:|" if other else ""))
+    for tw, tl in settings:
+        ks = []
+        for d in dts:
+            k = sum(run_trial(tw, tl, phase=0.7, cv=CV, rng=trial_seed(tw, tl, CV, 0.7, i), dt_s=d, **robot).success
+                    for i in range(seeds))
+            ks.append(k)
+        cells = []
+        for k in ks:
+            lo, hi = wilson(k, seeds)
+            cells.append(f"{k}/{seeds} ({lo:.2f}–{hi:.2f})")
+        p = f" {fisher_exact([[ks[0], seeds - ks[0]], [ks[1], seeds - ks[1]]])[1]:.2f} |" if other else ""
+        print(f"| {tw:g} | {tl:g} | " + " | ".join(cells) + " |" + p, flush=True)
+
+
+def wilson(k: int, n: int, z: float = 1.959963984540054) -> tuple[float, float]:
+    """Wilson score interval of a binomial proportion."""
+    p = k / n
+    c = (p + z * z / (2 * n)) / (1 + z * z / n)
+    h = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return max(0.0, c - h), min(1.0, c + h)
 
 
 if __name__ == "__main__":

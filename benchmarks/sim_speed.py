@@ -1,16 +1,15 @@
 """Speed of the self-righting simulation (a benchmark, not a unit test).
 
-1. Core-seconds (process CPU time) per simulated 10 s trial: the old configuration (the baseline: servos
-   commanded every physics step, one ``stepSimulation`` call per step, 50 solver iterations) and the new default
-   (servos commanded every 1 ms with pybullet sub-stepping, 20 solver iterations), both at the default dt and
-   measured in the same run, with the steps in between and the options that are not the default. The trial
-   (theta_w 70, theta_l 20, phi_1 0.7, no noise) does not right, so it runs the full 10 s, plus 0.5 s of
-   settling. The rows run interleaved, ``--repeat`` rounds, and each number is the best of its rounds, so load
-   from other jobs affects all rows alike; the ratio to the baseline is the number to read.
+1. Core-seconds (process CPU time) per simulated 10 s trial, against the first version's configuration measured
+   in the same run (the baseline: servos commanded every physics step, one ``stepSimulation`` call per step,
+   50 solver iterations, dt 2e-4 s). The trial (theta_w 70, theta_l 20, phi_1 0.7, no noise) does not right, so
+   it runs the full 10 s, plus 0.5 s of settling. The rows run interleaved, ``--repeat`` rounds, and each number
+   is the best of its rounds, so load from other jobs affects all rows alike; the ratio to the baseline is the
+   number to read.
 2. Trials per second of a small sweep on all cores (a local process pool; includes worker start-up), and the
-   mean core-seconds per trial of that sweep.
+   mean core-seconds per trial of that sweep, on the default robot at its default dt.
 
-Run:  /work/venv/bin/python benchmarks/sim_speed.py [--robot URDF] [--repeat 3] [--sweep-trials 8] [--workers N]
+Run:  /work/venv/bin/python benchmarks/sim_speed.py [--lab] [--repeat 3] [--sweep-trials 8] [--workers N]
 """
 
 from __future__ import annotations
@@ -20,28 +19,36 @@ import os
 import tempfile
 from pathlib import Path
 
+from sim.model import default_robot_urdf
 from sim.sweep import run_sweep, sweep_specs
-from sim.trial import DEFAULT_DT_S, run_trial
+from sim.trial import DEFAULT_DT_S, OTHER_ROBOT_DT_S, run_trial
 from sim.world import Contact
 
 LAB_URDF = Path(__file__).resolve().parents[1].parent / "shared" / "ref" / "lab_robot" / "lab_robot.urdf"
 CASE = dict(theta_w_deg=70.0, theta_l_deg=20.0, phase=0.7, cv=0.0, rng=1, duration_s=10.0)
-OLD = dict(control_period_s=None, contact=Contact(solver_iterations=50))
-ROWS = (
-    ("old configuration (baseline): servo every step, 50 iterations", OLD),
-    ("servo every 1 ms + pybullet sub-steps, 50 iterations", dict(contact=Contact(solver_iterations=50))),
-    ("new default: servo every 1 ms + sub-steps, 20 iterations", {}),
-    ("servo every 1 ms + sub-steps, 10 iterations", dict(contact=Contact(solver_iterations=10))),
-    ("new default + fixed links merged (fails the convergence criterion)", dict(merge_fixed_links=True)),
-    ("new default, full hulls", dict(hull_tol_m=0.0)),
-    ("new default at dt = 5e-4 (fails the convergence criterion)", dict(dt_s=5e-4)),
-)
+BASELINE = ("first version (baseline): servo every step, 50 iterations, dt 2e-4",
+            dict(control_period_s=None, contact=Contact(solver_iterations=50), dt_s=2e-4))
+ROWS = {
+    "built-in": (
+        BASELINE,
+        ("servo every 1 ms + sub-steps, 20 iterations, dt 2e-4 (the previous default)", dict(dt_s=2e-4)),
+        (f"**new default: dt {DEFAULT_DT_S:g}** (passes the convergence criterion on this robot)",
+         dict(dt_s=DEFAULT_DT_S)),
+        (f"dt {DEFAULT_DT_S:g}, fixed links merged (fails the criterion)",
+         dict(dt_s=DEFAULT_DT_S, merge_fixed_links=True)),
+        (f"dt {DEFAULT_DT_S:g}, full hulls", dict(dt_s=DEFAULT_DT_S, hull_tol_m=0.0)),
+    ),
+    "lab": (
+        BASELINE,
+        (f"default for other robots: dt {OTHER_ROBOT_DT_S:g}", dict(dt_s=OTHER_ROBOT_DT_S)),
+        (f"dt {DEFAULT_DT_S:g} (fails the convergence criterion on this robot)", dict(dt_s=DEFAULT_DT_S)),
+    ),
+}
 
 
 def core_s_table(robots: dict[str, Path], repeat: int) -> list[tuple[str, str, float]]:
     """Best core-s per 10 s trial of every (robot, row), the rows interleaved over ``repeat`` rounds."""
-    jobs = [(rname, name, {"robot": path, "dt_s": DEFAULT_DT_S, **kw}) for rname, path in robots.items()
-            for name, kw in (ROWS if rname == "lab" else (ROWS[0], ROWS[2]))]
+    jobs = [(rname, name, {"robot": path, **kw}) for rname, path in robots.items() for name, kw in ROWS[rname]]
     for _, _, kw in jobs:
         run_trial(**{**CASE, "duration_s": 0.2}, **kw)  # build and cache the model first
     best = [float("inf")] * len(jobs)
@@ -54,31 +61,27 @@ def core_s_table(robots: dict[str, Path], repeat: int) -> list[tuple[str, str, f
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--robot", type=Path, default=LAB_URDF, help="URDF (default: the lab robot)")
-    ap.add_argument("--builtin", action="store_true", help="also time the built-in robot (geometry.builtin)")
+    ap.add_argument("--lab", action="store_true", help="also time the lab robot (../shared/ref/lab_robot)")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--sweep-trials", type=int, default=8)
     ap.add_argument("--workers", type=int, default=os.cpu_count())
     args = ap.parse_args()
 
-    robots = {"lab": args.robot}
-    if args.builtin:
-        from geometry.builtin import builtin_urdf_path  # type: ignore[import-not-found]
-
-        robots["built-in"] = Path(builtin_urdf_path())
-    print(f"## Core-seconds per simulated 10 s trial (dt = {DEFAULT_DT_S:g} s unless stated, best of {args.repeat} "
-          "interleaved rounds)\n")
-    print("| robot | configuration | core-s per 10 s trial | ratio to old |")
+    robots = {"built-in": default_robot_urdf()}
+    if args.lab and LAB_URDF.is_file():
+        robots["lab"] = LAB_URDF
+    print(f"## Core-seconds per simulated 10 s trial (best of {args.repeat} interleaved rounds)\n")
+    print("| robot | configuration | core-s per 10 s trial | ratio to baseline |")
     print("|---|---|---:|---:|")
     table = core_s_table(robots, args.repeat)
-    base = {rname: c for rname, name, c in table if name == ROWS[0][0]}
+    base = {rname: c for rname, name, c in table if name == BASELINE[0]}
     for rname, name, c in table:
         print(f"| {rname} | {name} | {c:.2f} | {c / base[rname]:.2f} |", flush=True)
 
     print(f"\n## Sweep on {args.workers} worker processes ({args.sweep_trials} trials, theta_w 70/76, theta_l 20/50, "
-          f"Cv 0.1, dt {DEFAULT_DT_S:g} s, 10 s, new default)\n")
+          f"Cv 0.1, built-in robot, dt {DEFAULT_DT_S:g} s, 10 s)\n")
     n_per = max(1, args.sweep_trials // 4)
-    specs = sweep_specs((70.0, 76.0), (20.0, 50.0), (0.1,), trials=n_per, robot=args.robot)
+    specs = sweep_specs((70.0, 76.0), (20.0, 50.0), (0.1,), trials=n_per)
     with tempfile.TemporaryDirectory() as d:
         s = run_sweep(specs, db=Path(d) / "speed.sqlite", workers=args.workers, progress=False)
     print("| trials | wall s | trials/s | mean core-s per trial |")

@@ -37,6 +37,7 @@ import hashlib
 import io
 import os
 from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -290,11 +291,16 @@ def builtin_description(params: BuiltinParameters | None = None) -> dict[str, by
     >>> sorted(files)[:3], files == builtin_description()
     (['base_link.obj', 'head_left.obj', 'head_right.obj'], True)
     """
-    p = params or builtin_parameters()
+    return dict(_description(params or builtin_parameters()))
+
+
+@lru_cache(maxsize=4)
+def _description(p: BuiltinParameters) -> tuple[tuple[str, bytes], ...]:
+    """Cached body of :func:`builtin_description` (every simulated trial asks for the built-in URDF's path)."""
     links = _links(p)
     files = {name: _obj_text(mesh).encode() for link in links for name, mesh in link.meshes.items()}
     files[URDF_NAME] = _urdf_text(p, links).encode()
-    return dict(sorted(files.items()))
+    return tuple(sorted(files.items()))
 
 
 def _cache_root() -> Path:

@@ -251,6 +251,9 @@ def _register_optional():
         cmd = getattr(cli_sim, name, None)
         if cmd is not None:
             cli.add_command(cmd)
+    from . import cli_analyze
+
+    cli_analyze.register(cli)
 
 
 _register_optional()

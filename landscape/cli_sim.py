@@ -15,7 +15,7 @@ import click
 
 from geometry import JointMap
 from landscape.options import InputError, parse_values
-from sim.trial import DEFAULT_DT_S, DEFAULT_DURATION_S, Trace, run_trial
+from sim.trial import DEFAULT_DT_S, DEFAULT_DURATION_S, OTHER_ROBOT_DT_S, Trace, run_trial
 from sim.world import SimulationDiverged
 
 
@@ -75,20 +75,29 @@ def _human(r, robot: str) -> str:
 @click.option("--cv", type=float, default=0.0, show_default=True, help="Noise Cv = sigma / Tl (>= 0).")
 @click.option("--seed", type=click.IntRange(min=0), default=None, help="Random seed (default: fresh; reported).")
 @click.option("--duration", type=float, default=DEFAULT_DURATION_S, show_default=True, help="Trial length, s.")
-@click.option("--dt", type=float, default=DEFAULT_DT_S, show_default=True, help="Time step, s.")
+@click.option("--dt", type=float, default=None,
+              help=f"Time step, s [default: {DEFAULT_DT_S:g} for the built-in robot, {OTHER_ROBOT_DT_S:g} for others].")
 @click.option("--trace", "trace_path", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Write the pitch/roll/energy trace to this CSV file.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of a summary.")
 @click.option("--robot", type=str, default=None, help="URDF file (default: the built-in robot).")
 @click.option("--joints", type=str, default=None, help="Joint map 'wing=J1,J2,...;leg=J'.")
-def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_json, robot, joints):
+@click.option("--wing-period", type=float, default=2.0, show_default=True, help="Tw, time between wing openings, s.")
+@click.option("--leg-period", type=float, default=0.8, show_default=True, help="Tl, leg oscillation period, s.")
+@click.option("--attempts", type=click.IntRange(min=0), default=0, show_default=True,
+              help="At most this many wing openings (1: a single attempt, ending one Tw after it); 0: no limit.")
+def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_json, robot, joints, wing_period,
+             leg_period, attempts):
     """Run one self-righting trial in pybullet and report its outcome."""
+    from sim.actuation import Actuation
     from sim.model import default_robot_urdf
 
     robot_path = str(robot) if robot else str(default_robot_urdf())
     try:
+        act = Actuation(theta_w, theta_l, wing_period_s=wing_period, leg_period_s=leg_period)
         r = run_trial(theta_w, theta_l, phase=phase, cv=cv, rng=seed, duration_s=duration, dt_s=dt,
-                      robot=robot_path, joint_map=_joint_map(joints), trace=trace_path is not None)
+                      robot=robot_path, joint_map=_joint_map(joints), trace=trace_path is not None,
+                      actuation=act, attempts=attempts or None)
     except SimulationDiverged as exc:
         raise click.ClickException(str(exc).splitlines()[0]) from None
     except ValueError as exc:
@@ -111,9 +120,15 @@ def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_jso
 @click.option("--cv", default="0,0.05,0.1,0.15,0.2,0.25", show_default=True, help="Noise levels Cv = sigma / Tl.")
 @click.option("--phase", default="0.7", show_default=True, help="First-attempt phases phi_1 in [0, 1).")
 @click.option("--trials", type=int, default=40, show_default=True, help="Trials per parameter combination.")
+@click.option("--wing-period", default="2", show_default=True, help="Tw values, s (time between wing openings).")
+@click.option("--leg-period", default="0.8", show_default=True, help="Tl values, s (leg oscillation period).")
+@click.option("--attempts", type=click.IntRange(min=0), default=0, show_default=True,
+              help="At most this many wing openings per trial (1: single-attempt trials for the phase map); 0: no "
+                   "limit.")
 @click.option("--db", type=click.Path(dir_okay=False, path_type=Path), required=True, help="SQLite results file.")
 @click.option("--duration", type=float, default=DEFAULT_DURATION_S, show_default=True, help="Trial length, s.")
-@click.option("--dt", type=float, default=DEFAULT_DT_S, show_default=True, help="Time step, s.")
+@click.option("--dt", type=float, default=None,
+              help=f"Time step, s [default: {DEFAULT_DT_S:g} for the built-in robot, {OTHER_ROBOT_DT_S:g} for others].")
 @click.option("--seed", "base_seed", type=click.IntRange(min=0), default=0, show_default=True,
               help="Base seed mixed into every trial's seed.")
 @click.option("--workers", type=click.IntRange(min=1), default=None, help="Local worker processes (default: all cores).")
@@ -121,8 +136,8 @@ def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_jso
 @click.option("--robot", type=str, default=None, help="URDF file (default: the built-in robot).")
 @click.option("--no-progress", is_flag=True, help="No progress bar.")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object.")
-def sweep(theta_w, theta_l, cv, phase, trials, db, duration, dt, base_seed, workers, scheduler, robot,
-          no_progress, as_json):
+def sweep(theta_w, theta_l, cv, phase, trials, wing_period, leg_period, attempts, db, duration, dt, base_seed,
+          workers, scheduler, robot, no_progress, as_json):
     """Run (or resume) a sweep of self-righting trials into an SQLite database."""
     from dataclasses import asdict
 
@@ -133,8 +148,10 @@ def sweep(theta_w, theta_l, cv, phase, trials, db, duration, dt, base_seed, work
         raise SimUsageError("give either --workers N (local processes) or --scheduler ADDRESS (Dask), not both")
     tw, tl, cvs, phs = (_values(theta_w, "theta-w"), _values(theta_l, "theta-l"), _values(cv, "cv"),
                         _values(phase, "phase"))
+    wps, lps = _values(wing_period, "wing-period"), _values(leg_period, "leg-period")
     try:
-        specs = sweep_specs(tw, tl, cvs, phase=phs, trials=trials, duration_s=duration, dt_s=dt, robot=robot)
+        specs = sweep_specs(tw, tl, cvs, phase=phs, trials=trials, duration_s=duration, dt_s=dt, robot=robot,
+                            base_seed=base_seed, wing_period_s=wps, leg_period_s=lps, attempts=attempts)
         summary = run_sweep(specs, db=db, workers=workers, scheduler=scheduler, progress=not no_progress)
     except (ValueError, OSError) as exc:
         raise SimUsageError(str(exc).splitlines()[0]) from None

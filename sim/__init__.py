@@ -6,12 +6,12 @@ Imports point down only: ``sim -> geometry``. pybullet is imported by :mod:`sim.
 
 from .actuation import Actuation, attempt_phases, attempt_starts_s, leg_profile_deg, wing_profile_deg
 from .model import SimModel, default_robot_urdf, sim_model
-from .trial import DEFAULT_DT_S, Trace, TrialInputError, TrialResult, run_trial
+from .trial import DEFAULT_DT_S, OTHER_ROBOT_DT_S, Trace, TrialInputError, TrialResult, run_trial
 from .world import Contact, SimulationDiverged
 
 __all__ = [
     "Actuation", "attempt_phases", "attempt_starts_s", "leg_profile_deg", "wing_profile_deg",
     "SimModel", "default_robot_urdf", "sim_model",
-    "DEFAULT_DT_S", "Trace", "TrialInputError", "TrialResult", "run_trial",
+    "DEFAULT_DT_S", "OTHER_ROBOT_DT_S", "Trace", "TrialInputError", "TrialResult", "run_trial",
     "Contact", "SimulationDiverged",
 ]

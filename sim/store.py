@@ -12,14 +12,17 @@ import json
 import sqlite3
 from pathlib import Path
 
-KEY_COLUMNS = ("robot_hash", "theta_w_deg", "theta_l_deg", "cv", "phase", "trial", "duration_s", "dt_s", "seed")
+KEY_COLUMNS = ("robot_hash", "theta_w_deg", "theta_l_deg", "cv", "phase", "trial", "duration_s", "dt_s",
+               "wing_period_s", "leg_period_s", "attempts", "seed")
+"""Every parameter of a trial; ``attempts`` 0 means "as many as fit in ``duration_s``"."""
 COLUMNS = KEY_COLUMNS + (
     "status", "success", "time_to_right_s", "attempt", "mode", "phases", "attempt_starts_s", "sim_s", "wall_s",
     "cpu_s", "max_tracking_error_deg", "model_hash", "robot", "version", "error", "created_utc",
 )
 _TYPES = {"robot_hash": "TEXT NOT NULL", "theta_w_deg": "REAL NOT NULL", "theta_l_deg": "REAL NOT NULL",
           "cv": "REAL NOT NULL", "phase": "REAL NOT NULL", "trial": "INTEGER NOT NULL",
-          "duration_s": "REAL NOT NULL", "dt_s": "REAL NOT NULL", "seed": "INTEGER NOT NULL",
+          "duration_s": "REAL NOT NULL", "dt_s": "REAL NOT NULL", "wing_period_s": "REAL NOT NULL",
+          "leg_period_s": "REAL NOT NULL", "attempts": "INTEGER NOT NULL", "seed": "INTEGER NOT NULL",
           "status": "TEXT NOT NULL", "success": "INTEGER", "time_to_right_s": "REAL", "attempt": "INTEGER",
           "mode": "TEXT", "phases": "TEXT", "attempt_starts_s": "TEXT", "sim_s": "REAL", "wall_s": "REAL",
           "cpu_s": "REAL", "max_tracking_error_deg": "REAL", "model_hash": "TEXT", "robot": "TEXT",
@@ -56,8 +59,14 @@ class TrialStore:
             self.con.execute("PRAGMA journal_mode = WAL")
             self.con.execute("PRAGMA synchronous = NORMAL")
             self.con.execute(SCHEMA)
+            have = {r[1] for r in self.con.execute("PRAGMA table_info(trials)")}
         except sqlite3.DatabaseError as exc:
             raise StoreError(f"'{self.path}' is not a usable SQLite trial database: {exc}") from None
+        lacking = [c for c in COLUMNS if c not in have]
+        if lacking:
+            self.con.close()
+            raise StoreError(f"'{self.path}' was written by an older version (no column {lacking[0]}); export it "
+                             "with that version or start a new database")
 
     def __enter__(self) -> TrialStore:
         return self

@@ -29,9 +29,10 @@ from pathlib import Path
 
 import numpy as np
 
+from .actuation import Actuation
 from .model import default_robot_urdf, sim_model
 from .store import KEY_COLUMNS, TrialStore
-from .trial import DEFAULT_DT_S, DEFAULT_DURATION_S, TrialInputError, run_trial
+from .trial import DEFAULT_DURATION_S, TrialInputError, default_dt_s, run_trial
 from .world import SimulationDiverged
 
 log = logging.getLogger(__name__)
@@ -50,8 +51,11 @@ def package_version() -> str:
 
 
 def trial_seed(theta_w_deg: float, theta_l_deg: float, cv: float, phase: float, trial: int, *,
-               base_seed: int = 0) -> int:
+               base_seed: int = 0, wing_period_s: float = 2.0, leg_period_s: float = 0.8, attempts: int = 0) -> int:
     """Deterministic seed in [0, 2**63) of one trial, from its parameters.
+
+    The periods and the attempt limit enter only when they differ from the paper's protocol (Tw 2 s, Tl 0.8 s,
+    unlimited), so the paper sweep's seeds do not depend on them.
 
     Examples
     --------
@@ -61,6 +65,8 @@ def trial_seed(theta_w_deg: float, theta_l_deg: float, cv: float, phase: float, 
     True
     """
     text = f"{float(theta_w_deg)!r}|{float(theta_l_deg)!r}|{float(cv)!r}|{float(phase)!r}|{int(trial)}|{int(base_seed)}"
+    if (float(wing_period_s), float(leg_period_s), int(attempts)) != (2.0, 0.8, 0):
+        text += f"|{float(wing_period_s)!r}|{float(leg_period_s)!r}|{int(attempts)}"
     return int.from_bytes(hashlib.sha256(text.encode()).digest()[:8], "big") >> 1
 
 
@@ -78,6 +84,9 @@ class TrialSpec:
     dt_s: float
     robot: str
     robot_hash: str
+    wing_period_s: float = 2.0
+    leg_period_s: float = 0.8
+    attempts: int = 0
 
     def key(self) -> tuple:
         """Primary key in ``sim.store.KEY_COLUMNS`` order."""
@@ -86,9 +95,14 @@ class TrialSpec:
 
 def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: Iterable[float], *,
                 phase: Iterable[float] = (0.7,), trials: int = PAPER_TRIALS,
-                duration_s: float = DEFAULT_DURATION_S, dt_s: float = DEFAULT_DT_S,
-                robot: str | Path | None = None, base_seed: int = 0) -> list[TrialSpec]:
+                duration_s: float = DEFAULT_DURATION_S, dt_s: float | None = None,
+                robot: str | Path | None = None, base_seed: int = 0, wing_period_s: Iterable[float] = (2.0,),
+                leg_period_s: Iterable[float] = (0.8,), attempts: int = 0) -> list[TrialSpec]:
     """Every trial of a full-factorial sweep, in a fixed order.
+
+    ``dt_s`` None takes the robot's default (:func:`sim.trial.default_dt_s`). ``wing_period_s`` (Tw) and
+    ``leg_period_s`` (Tl) are swept too; ``attempts`` > 0 limits every trial to that
+    many wing openings (1: single-attempt trials for the phase map).
 
     Raises
     ------
@@ -96,7 +110,8 @@ def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: 
         If a parameter list is empty, ``trials`` < 1 or a value is out of range.
     """
     grids = {"theta-w": [float(x) for x in theta_w_deg], "theta-l": [float(x) for x in theta_l_deg],
-             "cv": [float(x) for x in cv], "phase": [float(x) for x in phase]}
+             "cv": [float(x) for x in cv], "phase": [float(x) for x in phase],
+             "wing-period": [float(x) for x in wing_period_s], "leg-period": [float(x) for x in leg_period_s]}
     for name, vals in grids.items():
         if not vals:
             raise TrialInputError(f"--{name} is empty; the sweep needs at least one value")
@@ -108,6 +123,14 @@ def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: 
         raise TrialInputError(f"--phase values must be in [0, 1); got {grids['phase']}")
     if trials < 1:
         raise TrialInputError(f"--trials must be >= 1; got {trials}")
+    if int(attempts) != attempts or attempts < 0:
+        raise TrialInputError(f"--attempts must be a whole number >= 0 (0: no limit); got {attempts}")
+    for tw_s, tl_s in itertools.product(grids["wing-period"], grids["leg-period"]):
+        for tw_deg in grids["theta-w"]:
+            try:
+                Actuation(tw_deg, 0.0, wing_period_s=tw_s, leg_period_s=tl_s)
+            except ValueError as exc:
+                raise TrialInputError(f"--wing-period {tw_s:g} / --leg-period {tl_s:g}: {exc}") from None
     path = Path(robot) if robot is not None else default_robot_urdf()
     model = sim_model(path)
     for name, key in (("theta-w", "theta_w"), ("theta-l", "theta_l")):
@@ -117,10 +140,14 @@ def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: 
             raise TrialInputError(f"--{name} {bad[0]:g} is outside [{max(lo, 0.0):g}, {hi:g}] deg allowed by "
                                   f"the robot's joints")
     robot_str = str(path.resolve())
-    return [TrialSpec(tw, tl, c, ph, k, trial_seed(tw, tl, c, ph, k, base_seed=base_seed), float(duration_s),
-                      float(dt_s), robot_str, model.description_hash)
-            for tw, tl, c, ph, k in itertools.product(grids["theta-w"], grids["theta-l"], grids["cv"],
-                                                      grids["phase"], range(trials))]
+    n_att = int(attempts)
+    dt_s = default_dt_s(path) if dt_s is None else dt_s
+    return [TrialSpec(tw, tl, c, ph, k, trial_seed(tw, tl, c, ph, k, base_seed=base_seed, wing_period_s=wp,
+                                                   leg_period_s=lp, attempts=n_att),
+                      float(duration_s), float(dt_s), robot_str, model.description_hash, wp, lp, n_att)
+            for wp, lp, tw, tl, c, ph, k in itertools.product(grids["wing-period"], grids["leg-period"],
+                                                              grids["theta-w"], grids["theta-l"], grids["cv"],
+                                                              grids["phase"], range(trials))]
 
 
 def run_spec(spec: TrialSpec) -> dict:
@@ -130,8 +157,11 @@ def run_spec(spec: TrialSpec) -> dict:
     row.update(robot=spec.robot, version=package_version(), error=None,
                created_utc=datetime.now(timezone.utc).isoformat(timespec="seconds"))
     try:
+        act = Actuation(spec.theta_w_deg, spec.theta_l_deg, wing_period_s=spec.wing_period_s,
+                        leg_period_s=spec.leg_period_s)
         r = run_trial(spec.theta_w_deg, spec.theta_l_deg, phase=spec.phase, cv=spec.cv, rng=spec.seed,
-                      duration_s=spec.duration_s, dt_s=spec.dt_s, robot=spec.robot)
+                      duration_s=spec.duration_s, dt_s=spec.dt_s, robot=spec.robot, actuation=act,
+                      attempts=spec.attempts or None)
     except SimulationDiverged as exc:
         row.update(status="diverged", error=str(exc))
         return row
@@ -267,7 +297,8 @@ def run_sweep(specs: Sequence[TrialSpec], *, db: str | Path, workers: int | None
 
 
 def success_table(rows: Iterable[dict]) -> dict[tuple[float, float, float], tuple[int, int]]:
-    """(theta_w, theta_l, Cv) -> (successes, trials) over stored rows with status ``ok``."""
+    """(theta_w, theta_l, Cv) -> (successes, trials) over stored rows with status ``ok`` (pooled over every other
+    parameter: pass the rows of one protocol)."""
     out: dict[tuple[float, float, float], list[int]] = {}
     for r in rows:
         if r["status"] != "ok":

@@ -42,9 +42,13 @@ from .world import G_M_S2, Contact, SimulationDiverged, World
 
 log = logging.getLogger(__name__)
 
-DEFAULT_DT_S = 2e-4
-"""Default physics time step, s: the largest with < 0.5 deg orientation difference over the first second and the
-same outcomes as dt = 5e-5 with 50 solver iterations (``benchmarks/sim_convergence.py``; see docs/sim.md)."""
+DEFAULT_DT_S = 5e-4
+"""Default physics time step of the built-in robot, s: the largest with < 0.5 deg orientation difference over the
+first second and the same outcomes as dt = 5e-5 with 50 solver iterations (``benchmarks/sim_convergence.py``;
+see docs/sim.md)."""
+OTHER_ROBOT_DT_S = 2e-4
+"""Default time step of any other robot, s: the lab URDF needs it (at 5e-4 it is 0.75 deg off in the first
+second); run the convergence benchmark on a new robot before trusting a larger one."""
 DEFAULT_DURATION_S = 10.0
 UPRIGHT_HOLD_S = 0.3
 SETTLE_S = 0.5
@@ -56,7 +60,7 @@ CONTROL_PERIOD_S = 1e-3
 """Servo command period, s: the commands are held for this many physics steps, which pybullet sub-steps in one
 ``stepSimulation`` call. The same at every ``dt`` that divides it, so it is part of the model, not the numerics."""
 
-__all__ = ["DEFAULT_DT_S", "SimulationDiverged", "Trace", "TrialResult", "run_trial", "resolve_seed"]
+__all__ = ["DEFAULT_DT_S", "OTHER_ROBOT_DT_S", "default_dt_s", "SimulationDiverged", "Trace", "TrialResult", "run_trial", "resolve_seed"]
 
 
 class TrialInputError(GeometryError):
@@ -177,6 +181,23 @@ def resolve_seed(rng: np.random.Generator | int | None) -> tuple[int, np.random.
     return seed, np.random.default_rng(seed)
 
 
+def default_dt_s(robot: str | Path | None = None) -> float:
+    """Default time step for a robot: ``DEFAULT_DT_S`` for the built-in robot (also an exported copy of it, by its
+    description hash), ``OTHER_ROBOT_DT_S`` for any other URDF.
+
+    Examples
+    --------
+    >>> default_dt_s()
+    0.0005
+    """
+    from .model import default_robot_urdf
+
+    default = sim_model(None)
+    if robot is None or Path(robot).resolve() == default_robot_urdf().resolve():
+        return DEFAULT_DT_S
+    return DEFAULT_DT_S if sim_model(robot).description_hash == default.description_hash else OTHER_ROBOT_DT_S
+
+
 def _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, limits) -> None:
     for name, v in (("theta_w_deg", theta_w_deg), ("theta_l_deg", theta_l_deg), ("phase", phase), ("cv", cv),
                     ("duration_s", duration_s), ("dt_s", dt_s)):
@@ -200,11 +221,11 @@ def _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, limits)
 
 def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float,
               rng: np.random.Generator | int | None = None, duration_s: float = DEFAULT_DURATION_S,
-              dt_s: float = DEFAULT_DT_S, robot: str | Path | None = None, joint_map: JointMap | None = None,
+              dt_s: float | None = None, robot: str | Path | None = None, joint_map: JointMap | None = None,
               actuation: Actuation | None = None, contact: Contact | None = None, hull_tol_m: float = HULL_TOL_M,
               hull_max_vertices: int = HULL_MAX_VERTICES, trace: bool = False,
               control_period_s: float | None = CONTROL_PERIOD_S, engine_substeps: bool = True,
-              merge_fixed_links: bool = False) -> TrialResult:
+              merge_fixed_links: bool = False, attempts: int | None = None) -> TrialResult:
     """Run one self-righting trial in a fresh pybullet DIRECT client.
 
     Parameters
@@ -218,7 +239,7 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
     rng : numpy.random.Generator, int or None
         Seed or generator of the noise; the seed used is kept in the result.
     duration_s, dt_s : float
-        Trial length and time step, s.
+        Trial length and time step, s; dt None: :func:`default_dt_s` of the robot.
     robot : path, optional
         URDF file (default :func:`sim.model.default_robot_urdf`).
     joint_map : JointMap, optional
@@ -238,6 +259,12 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
     merge_fixed_links : bool
         Merge links on fixed joints into their parents (:func:`sim.model.merge_fixed_links`). Off by default:
         about 15 % faster, but it fails the convergence criterion at the default dt (docs/sim.md).
+    attempts : int, optional
+        Make at most this many wing openings; the wings then stay closed, and the trial ends one wing period
+        ``Tw`` after the last opening (or at ``duration_s`` if earlier). ``attempts=1`` is a single-attempt
+        trial (the phase map). None: attempts until ``duration_s``.
+
+    Returns
     -------
     TrialResult
 
@@ -254,13 +281,19 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
     model = sim_model(robot, tol_m=hull_tol_m, max_vertices=hull_max_vertices, joint_map=joint_map,
                       merge_fixed=merge_fixed_links)
     theta_w_deg, theta_l_deg, phase, cv = float(theta_w_deg), float(theta_l_deg), float(phase), float(cv)
-    duration_s, dt_s = float(duration_s), float(dt_s)
+    duration_s, dt_s = float(duration_s), float(default_dt_s(robot) if dt_s is None else dt_s)
     _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, model.theta_limits_deg)
     seed, gen = resolve_seed(rng)
     base = actuation or Actuation(theta_w_deg, theta_l_deg)
     act = Actuation(theta_w_deg, theta_l_deg, base.wing_period_s, base.wing_open_deg_s, base.wing_close_deg_s,
                     base.wing_close_start_s, base.leg_period_s, base.leg_cross_s)
     starts = attempt_starts_s(act, phase=phase, cv=cv, rng=gen, duration_s=duration_s)
+    if attempts is not None:
+        if int(attempts) != attempts or attempts < 1:
+            raise TrialInputError(f"attempts must be a whole number >= 1 (or None); got {attempts!r}")
+        starts = starts[: int(attempts)]
+        if len(starts) == int(attempts):
+            duration_s = min(duration_s, float(starts[-1]) + act.wing_period_s)
 
     # the servos are commanded once per control period (CONTROL_PERIOD_S, a whole number of physics steps)
     sub = max(1, int(round(control_period_s / dt_s))) if control_period_s else 1

@@ -221,3 +221,35 @@ def test_reduced_paper_sweep_success_rises_with_leg_and_wing(tmp_path):
     assert all(r["mode"] == "roll" for r in rows if r["success"])
     wing = {tw: np.mean([r["success"] for r in rows if r["theta_w_deg"] == tw]) for tw in (70.0, 76.0)}
     assert wing[70.0] <= wing[76.0]
+
+
+def test_trial_seed_keeps_the_paper_protocol_seeds_and_separates_other_protocols():
+    base = trial_seed(74.0, 30.0, 0.1, 0.7, 3)
+    assert trial_seed(74.0, 30.0, 0.1, 0.7, 3, wing_period_s=2.0, leg_period_s=0.8, attempts=0) == base
+    others = {trial_seed(74.0, 30.0, 0.1, 0.7, 3, wing_period_s=2.5),
+              trial_seed(74.0, 30.0, 0.1, 0.7, 3, leg_period_s=1.0),
+              trial_seed(74.0, 30.0, 0.1, 0.7, 3, attempts=1)}
+    assert base not in others and len(others) == 3
+
+
+def test_sweep_specs_cover_periods_and_attempts_and_refuse_impossible_cycles():
+    specs = sweep_specs((74,), (30,), (0,), phase=(0.0, 0.5), trials=1, wing_period_s=(2, 2.5),
+                        leg_period_s=(0.6, 1.0), attempts=1, robot=LAB_URDF)
+    assert len(specs) == 8 and {s.attempts for s in specs} == {1}
+    assert {(s.wing_period_s, s.leg_period_s) for s in specs} == {(2.0, 0.6), (2.0, 1.0), (2.5, 0.6), (2.5, 1.0)}
+    assert len({s.key() for s in specs}) == 8 and len({s.seed for s in specs}) == 8
+    with pytest.raises(TrialInputError, match="wing-period 1"):
+        sweep_specs((74,), (30,), (0,), wing_period_s=(1.0,), robot=LAB_URDF)  # open+hold+close > 1 s
+    with pytest.raises(TrialInputError, match="attempts"):
+        sweep_specs((74,), (30,), (0,), attempts=-1, robot=LAB_URDF)
+
+
+def test_store_refuses_a_database_of_the_older_layout(tmp_path):
+    db = tmp_path / "old.sqlite"
+    con = sqlite3.connect(db)
+    con.execute("CREATE TABLE trials (robot_hash TEXT, theta_w_deg REAL, status TEXT)")
+    con.close()
+    from sim.store import StoreError
+
+    with pytest.raises(StoreError, match="older version"):
+        TrialStore(db)

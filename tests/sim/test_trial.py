@@ -202,3 +202,29 @@ def test_servo_commanded_per_step_when_asked():
         assert r.max_tracking_error_deg < 4.0
         assert np.abs(r.trace.wing_deg - r.trace.wing_cmd_deg).mean() < 0.5
     assert _strip(per_step) != _strip(per_ms)
+
+
+def test_single_attempt_trial_ends_one_wing_period_after_its_opening():
+    from sim.actuation import Actuation
+
+    act = Actuation(74.0, 30.0, wing_period_s=2.5, leg_period_s=1.0)
+    r = run_trial(74.0, 30.0, phase=0.5, cv=0.2, rng=3, duration_s=10.0, dt_s=1e-3, robot=LAB_URDF, actuation=act,
+                  attempts=1)
+    assert r.attempt_starts_s == (0.5,) and r.phases == (0.5,)
+    assert r.duration_s == pytest.approx(3.0) and r.sim_s <= 3.0 + 1e-9
+    with pytest.raises(TrialInputError, match="attempts"):
+        run_trial(74.0, 30.0, phase=0.5, cv=0.0, rng=3, duration_s=1.0, dt_s=1e-3, robot=LAB_URDF, attempts=0)
+
+
+def test_default_time_step_is_the_builtin_robots_and_smaller_for_other_robots():
+    from sim.trial import DEFAULT_DT_S, OTHER_ROBOT_DT_S, default_dt_s
+
+    assert default_dt_s() == DEFAULT_DT_S == 5e-4
+    assert default_dt_s(LAB_URDF) == OTHER_ROBOT_DT_S == 2e-4
+
+
+def test_a_copy_of_the_builtin_robot_gets_the_builtin_time_step(tmp_path):
+    from geometry.builtin import builtin_urdf_path
+    from sim.trial import DEFAULT_DT_S, default_dt_s
+
+    assert default_dt_s(builtin_urdf_path(cache_dir=tmp_path)) == DEFAULT_DT_S

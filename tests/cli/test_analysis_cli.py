@@ -1,0 +1,95 @@
+"""`landscape analyze …` and `landscape report` end to end, on a small real database of simulated trials."""
+
+import csv
+
+import pytest
+
+pytest.importorskip("pybullet")
+
+from landscape.cli import main  # noqa: E402
+from sim.sweep import run_sweep, sweep_specs  # noqa: E402
+
+FAST = dict(dt_s=1e-3, trials=1)
+
+
+def _csv(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def run(capsys, *argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.fixture(scope="module")
+def db(tmp_path_factory):
+    """Single-attempt map, a multi-attempt prediction study over (Tw, Tl) and noisy paper-protocol trials,
+    all on the built-in robot at a coarse time step (about 30 short trials)."""
+    path = tmp_path_factory.mktemp("analysis") / "t.sqlite"
+    phases = (0.0, 0.25, 0.5, 0.75)
+    specs = sweep_specs((74.0,), (20.0, 30.0), (0.0,), phase=phases, attempts=1, duration_s=10.0, **FAST)
+    specs += sweep_specs((74.0,), (30.0,), (0.0,), phase=phases, wing_period_s=(2.0, 2.5), duration_s=5.0, **FAST)
+    specs += sweep_specs((74.0,), (20.0, 30.0), (0.1,), phase=(0.7,), duration_s=4.0, dt_s=1e-3, trials=3)
+    run_sweep(specs, db=path, workers=1, progress=False)
+    return path
+
+
+def test_report_builds_every_analysis_from_a_real_database(capsys, db, tmp_path):
+    out = tmp_path / "report"
+    code, stdout, err = run(capsys, "report", "--db", db, "--out", out)
+    assert code == 0, err
+    assert "5/5 analyses" in stdout
+    html = (out / "index.html").read_text()
+    for title in ("Self-righting probability", "Single-attempt phase map", "Phase-based prediction",
+                  "Phase evolution", "Barrier against outcome"):
+        assert title in html
+    assert "Not enough data" not in html
+    for stem in ("probability", "phase_map", "prediction", "evolution", "barrier_outcome"):
+        assert (out / f"{stem}.png").stat().st_size > 1000 and (out / f"{stem}.svg").is_file()
+    rows = _csv(out / "probability.csv")
+    assert {(r["theta_l_deg"], r["n"]) for r in rows} == {("20", "3"), ("30", "3")}
+    acc = _csv(out / "prediction_accuracy.csv")
+    assert {(r["wing_period_s"], r["n"]) for r in acc if r["cv"] == "0"} == {("2", "4"), ("2.5", "4")}
+    stats = _csv(out / "barrier_stats.csv")
+    assert len(stats) == 1 and stats[0]["cv"] == "0.1"
+    bo = _csv(out / "barrier_outcome.csv")
+    assert all(float(r["exact_barrier_mj"]) > 0 and float(r["grid_barrier_mj"]) > 0 for r in bo)
+
+
+def test_report_says_which_command_produces_missing_trials(capsys, tmp_path):
+    only_map = tmp_path / "map.sqlite"
+    specs = sweep_specs((74.0,), (30.0,), (0.0,), phase=(0.0, 0.5), attempts=1, duration_s=10.0, **FAST)
+    run_sweep(specs, db=only_map, workers=1, progress=False)
+    code, stdout, err = run(capsys, "report", "--db", only_map, "--out", tmp_path / "r")
+    assert code == 0, err
+    assert "missing data for" in stdout
+    html = (tmp_path / "r" / "index.html").read_text()
+    assert f"landscape sweep --db {only_map}" in html  # the paper sweep, for probability and barrier
+
+
+def test_analyze_commands_write_their_files_and_refuse_bad_input(capsys, db, tmp_path):
+    code, out, err = run(capsys, "analyze", "phase-map", "--db", db, "--out", tmp_path)
+    assert code == 0, err
+    assert (tmp_path / "phase_map.csv").is_file() and "θl 30°" in out
+    code, out, err = run(capsys, "analyze", "evolution", "--db", db, "--out", tmp_path, "--cv", "0.2")
+    assert code == 0, err
+    assert (tmp_path / "evolution.csv").is_file()
+    code, out, err = run(capsys, "analyze", "probability", "--db", tmp_path / "absent.sqlite")
+    assert code == 2 and "not found" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    code, out, err = run(capsys, "analyze", "evolution", "--db", db, "--phase", "1.5")
+    assert code == 2 and "--phase" in err
+    code, out, err = run(capsys, "analyze", "evolution", "--db", db, "--theta-w", "60", "--out", tmp_path)
+    assert code == 2 and "landscape sweep" in err
+
+
+def test_report_page_passes_a_headless_browser_check(capsys, db, tmp_path):
+    from landscape.report import find_chromium
+
+    if find_chromium() is None:
+        pytest.skip("chromium is not installed (apt-get install chromium)")
+    out = tmp_path / "report"
+    code, stdout, err = run(capsys, "report", "--db", db, "--out", out, "--check")
+    assert code == 0, err
+    assert "console errors 0" in stdout and (out / "screenshot.png").stat().st_size > 0
