@@ -50,16 +50,21 @@ def _write_csv(path: Path, rows: list[dict]) -> Path:
 
 
 def load_rows(db: Path) -> list[dict]:
-    """Every trial of a database (one-line errors for a missing or foreign file)."""
+    """Every trial of a database of one robot (one-line errors for a missing or foreign file, or mixed robots)."""
     from sim.store import StoreError, TrialStore
 
     if not Path(db).is_file():
         raise AnalysisUsageError(f"database '{db}' not found; run `landscape sweep --db {db}` first")
     try:
         with TrialStore(db) as store:
-            return store.rows()
+            rows = store.rows()
     except StoreError as exc:
         raise AnalysisUsageError(str(exc)) from None
+    hashes = sorted({r["robot_hash"] for r in rows})
+    if len(hashes) > 1:
+        raise AnalysisUsageError(f"'{db}' holds trials of {len(hashes)} robots ({', '.join(hashes)}); the analyses "
+                                 "compare settings of one robot: sweep each robot into its own database")
+    return rows
 
 
 def _paper_cells(rows: list[dict], phase: float | None) -> tuple[list[an.ProbabilityCell], float | None]:
@@ -180,11 +185,25 @@ def section_prediction(rows: list[dict], out: Path, db: Path) -> Section:
              "phase that leaves time to right before the trial ends is the predicted attempt. Correct = same first "
              "righting attempt as the simulation, or both never."]
     if clean:
+        study_pred = [p for p in pred if p.cv == 0.0 and (p.theta_w_deg, p.theta_l_deg) == study
+                      and any((c.wing_period_s, c.leg_period_s) == (p.wing_period_s, p.leg_period_s) for c in clean)]
+        miss = {"the simulation rights later than predicted": 0, "earlier than predicted": 0,
+                "predicted to right, never does": 0, "predicted never, rights": 0}
+        for p in study_pred:
+            s_, p_ = p.simulated_attempt, p.predicted_attempt
+            if s_ == p_:
+                continue
+            key = ("predicted to right, never does" if s_ is None else "predicted never, rights" if p_ is None
+                   else "the simulation rights later than predicted" if s_ > p_ else "earlier than predicted")
+            miss[key] += 1
         a = np.array([c.accuracy for c in clean])
         sd = a.std(ddof=1) if len(a) > 1 else 0.0
         paras.append(f"Without noise, θw {study[0]:g}°, θl {study[1]:g}°, {len(clean)} (Tw, Tl) pairs × "
                      f"{clean[0].n} phases φ1: accuracy {a.mean() * 100:.0f} ± {sd * 100:.0f} % (mean ± s.d. over the "
                      f"pairs; the paper: 91 ± 6 %). Range {a.min() * 100:.0f}–{a.max() * 100:.0f} %.")
+        paras.append("Misses: " + "; ".join(f"{k} {v}" for k, v in miss.items()) + ". The map assumes every attempt "
+                     "starts from rest; a failed attempt can leave the robot rocking, so a later attempt may right "
+                     "at a phase that fails from rest, or fail at one that rights from rest.")
     if noisy:
         n_tr = sum(c.n for c in noisy)
         k_tr = sum(c.correct for c in noisy)
@@ -278,7 +297,9 @@ def section_barrier(rows: list[dict], out: Path, db: Path, *, robot=None, step_d
         return Section("barrier", title, missing="no multi-attempt trials of the paper's protocol; run "
                        f"`{PAPER_SWEEP.format(db=db)}`")
     if robot is None:
-        robot = _robot_of(rows)
+        robot = _robot_of([r for r in rows if r["attempts"] == 0
+                           and (r["wing_period_s"], r["leg_period_s"]) == (2.0, 0.8)])
+
     barriers = an.landscape_barriers(robot, {(c.theta_w_deg, c.theta_l_deg) for c in cells}, step_deg=step_deg,
                                      progress=True)
     res = an.barrier_outcome(cells, barriers)

@@ -228,3 +228,17 @@ def test_a_copy_of_the_builtin_robot_gets_the_builtin_time_step(tmp_path):
     from sim.trial import DEFAULT_DT_S, default_dt_s
 
     assert default_dt_s(builtin_urdf_path(cache_dir=tmp_path)) == DEFAULT_DT_S
+
+
+def test_wing_and_leg_periods_change_the_simulated_motion():
+    from sim.actuation import Actuation
+
+    act = Actuation(74.0, 30.0, wing_period_s=2.5, leg_period_s=1.0)
+    r = run_trial(74.0, 30.0, phase=0.0, cv=0.0, rng=1, duration_s=2.6, dt_s=1e-3, robot=LAB_URDF, actuation=act,
+                  trace=True)
+    tr = r.trace
+    k = int(round(1.0 / 0.01))  # trace every 10 ms; leg period 1 s
+    assert np.allclose(tr.leg_cmd_deg[k:], tr.leg_cmd_deg[:-k], atol=1e-9)
+    assert not np.allclose(tr.leg_cmd_deg[80:], tr.leg_cmd_deg[:-80], atol=1.0)  # not the default 0.8 s
+    assert np.abs(tr.leg_deg - tr.leg_cmd_deg).mean() < 2.0  # the joint follows the 1 s profile
+    assert r.attempt_starts_s[:2] == (0.0, 2.5) or r.success

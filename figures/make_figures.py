@@ -1,0 +1,72 @@
+"""Regenerate the analysis figures the README shows (the source paper's Figs. 6-9 analogues and barrier against
+outcome) from a fresh clone: run the three sweeps into one database (they resume, so an interrupted run loses
+nothing), then `landscape report`, and copy the figures and tables into figures/analysis/.
+
+    python figures/make_figures.py [--db figures/results.sqlite] [--workers N] [--check]
+
+Every step is a `landscape` command, printed before it runs; the table at the end gives each step's wall time.
+The database is not committed (it is output); the figures and CSV tables are.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shlex
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "figures" / "analysis"
+STEPS = (
+    ("single-attempt phase map (320 trials)",
+     "sweep --theta-w 70,72,74,76 --theta-l 20,30,40,50 --cv 0 --phase 0:0.95:0.05 --trials 1 --attempts 1"),
+    ("phase maps at other leg periods (80 trials)",
+     "sweep --theta-w 72 --theta-l 30 --cv 0 --phase 0:0.95:0.05 --trials 1 --attempts 1 "
+     "--leg-period 0.6,1,1.2,1.4"),
+    ("multi-attempt prediction study (300 trials)",
+     "sweep --theta-w 72 --theta-l 30 --cv 0 --phase 0:0.95:0.05 --trials 1 --wing-period 2,2.5,3 "
+     "--leg-period 0.6,0.8,1,1.2,1.4"),
+    ("the paper's sweep (3840 trials)", "sweep"),
+)
+FIGURES = ("probability", "phase_map", "prediction", "evolution", "barrier_outcome")
+TABLES = ("probability", "phase_map", "prediction_accuracy", "evolution", "barrier_outcome", "barrier_stats")
+
+
+def landscape(args: str) -> float:
+    cmd = [sys.executable, "-m", "landscape", *shlex.split(args)]
+    print("$ landscape " + args, flush=True)
+    t0 = time.perf_counter()
+    subprocess.run(cmd, check=True)
+    return time.perf_counter() - t0
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--db", type=Path, default=ROOT / "figures" / "results.sqlite")
+    ap.add_argument("--workers", type=int, default=None)
+    ap.add_argument("--check", action="store_true", help="also open the report in headless Chromium")
+    args = ap.parse_args()
+    workers = f" --workers {args.workers}" if args.workers else ""
+    times = []
+    for name, step in STEPS:
+        times.append((name, landscape(f"{step} --db {args.db}{workers} --no-progress")))
+    report = ROOT / "figures" / "report"
+    times.append(("report (barriers, statistics, figures)",
+                  landscape(f"report --db {args.db} --out {report}" + (" --check" if args.check else ""))))
+    OUT.mkdir(parents=True, exist_ok=True)
+    for stem in FIGURES:
+        shutil.copy2(report / f"{stem}.png", OUT / f"{stem}.png")
+    for stem in TABLES:
+        shutil.copy2(report / f"{stem}.csv", OUT / f"{stem}.csv")
+    print("\n| step | wall time (s) |\n|---|---:|")
+    for name, t in times:
+        print(f"| {name} | {t:.0f} |")
+    print(f"| total | {sum(t for _, t in times):.0f} |")
+    print(f"\nfigures and tables in {OUT.relative_to(ROOT)}; the page is {(report / 'index.html').relative_to(ROOT)}")
+
+
+if __name__ == "__main__":
+    main()
