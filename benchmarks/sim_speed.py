@@ -6,10 +6,13 @@
    it runs the full 10 s, plus 0.5 s of settling. The rows run interleaved, ``--repeat`` rounds, and each number
    is the best of its rounds, so load from other jobs affects all rows alike; the ratio to the baseline is the
    number to read.
-2. Trials per second of a small sweep on all cores (a local process pool; includes worker start-up), and the
+2. Where the time of one such trial goes at the default dt: CPU time inside pybullet's ``stepSimulation`` (timed
+   by wrapping it) and everything else (Python, model and world set-up), best of ``--repeat``.
+3. Trials per second of a small sweep on all cores (a local process pool; includes worker start-up), and the
    mean core-seconds per trial of that sweep, on the default robot at its default dt.
 
 Run:  /work/venv/bin/python benchmarks/sim_speed.py [--lab] [--repeat 3] [--sweep-trials 8] [--workers N]
+      [--split-only]
 """
 
 from __future__ import annotations
@@ -17,8 +20,10 @@ from __future__ import annotations
 import argparse
 import os
 import tempfile
+import time
 from pathlib import Path
 
+import sim.world as world
 from sim.model import default_robot_urdf
 from sim.sweep import run_sweep, sweep_specs
 from sim.trial import DEFAULT_DT_S, OTHER_ROBOT_DT_S, run_trial
@@ -59,13 +64,43 @@ def core_s_table(robots: dict[str, Path], repeat: int) -> list[tuple[str, str, f
     return [(rname, name, b) for (rname, name, _), b in zip(jobs, best, strict=True)]
 
 
+def step_split(repeat: int) -> tuple[float, float, int]:
+    """(CPU s inside stepSimulation, CPU s elsewhere, physics steps) of one trial, best of ``repeat``."""
+    original = world.pb.stepSimulation
+    inside = [0.0]
+
+    def timed(*a, **k):
+        t = time.process_time()
+        try:
+            return original(*a, **k)
+        finally:
+            inside[0] += time.process_time() - t
+
+    run_trial(**{**CASE, "duration_s": 0.2})
+    best = None
+    try:
+        world.pb.stepSimulation = timed
+        for _ in range(repeat):
+            inside[0] = 0.0
+            r = run_trial(**CASE)
+            if best is None or r.cpu_s < best[0] + best[1]:
+                best = (inside[0], r.cpu_s - inside[0], int(round((r.sim_s + 0.5) / r.dt_s)))
+    finally:
+        world.pb.stepSimulation = original
+    return best
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--lab", action="store_true", help="also time the lab robot (../shared/ref/lab_robot)")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--sweep-trials", type=int, default=8)
     ap.add_argument("--workers", type=int, default=os.cpu_count())
+    ap.add_argument("--split-only", action="store_true", help="only section 2")
     args = ap.parse_args()
+    if args.split_only:
+        _print_split(args.repeat)
+        return
 
     robots = {"built-in": default_robot_urdf()}
     if args.lab and LAB_URDF.is_file():
@@ -78,6 +113,7 @@ def main() -> None:
     for rname, name, c in table:
         print(f"| {rname} | {name} | {c:.2f} | {c / base[rname]:.2f} |", flush=True)
 
+    _print_split(args.repeat)
     print(f"\n## Sweep on {args.workers} worker processes ({args.sweep_trials} trials, theta_w 70/76, theta_l 20/50, "
           f"Cv 0.1, built-in robot, dt {DEFAULT_DT_S:g} s, 10 s)\n")
     n_per = max(1, args.sweep_trials // 4)
@@ -87,6 +123,14 @@ def main() -> None:
     print("| trials | wall s | trials/s | mean core-s per trial |")
     print("|---:|---:|---:|---:|")
     print(f"| {s.ran} | {s.wall_s:.1f} | {s.trials_per_s:.3f} | {s.cpu_s / s.ran:.2f} |")
+
+
+def _print_split(repeat: int) -> None:
+    inside, other, steps = step_split(repeat)
+    print(f"\n## Where one 10 s trial's time goes (built-in robot, dt {DEFAULT_DT_S:g} s, best of {repeat})\n")
+    print("| inside stepSimulation (core-s) | elsewhere (core-s) | physics steps | µs per step |")
+    print("|---:|---:|---:|---:|")
+    print(f"| {inside:.3f} | {other:.3f} | {steps} | {inside / steps * 1e6:.1f} |", flush=True)
 
 
 if __name__ == "__main__":
