@@ -286,7 +286,7 @@ def section_evolution(rows: list[dict], out: Path, db: Path, *, theta_w_deg: flo
                    (Table("Phases per attempt", csv_path),))
 
 
-def section_barrier(rows: list[dict], out: Path, db: Path, *, robot=None, step_deg: float = 1.0,
+def section_barrier(rows: list[dict], out: Path, db: Path, *, robot: str | Path | None = None, step_deg: float = 1.0,
                     phase: float | None = None) -> Section:
     """Barrier against outcome: Spearman rho with bootstrap intervals and a logistic fit, per Cv."""
     from .analysis_plots import plot_barrier_outcome
@@ -296,10 +296,8 @@ def section_barrier(rows: list[dict], out: Path, db: Path, *, robot=None, step_d
     if not cells:
         return Section("barrier", title, missing="no multi-attempt trials of the paper's protocol; run "
                        f"`{PAPER_SWEEP.format(db=db)}`")
-    if robot is None:
-        robot = _robot_of([r for r in rows if r["attempts"] == 0
-                           and (r["wing_period_s"], r["leg_period_s"]) == (2.0, 0.8)])
-
+    robot = _robot_of([r for r in rows if r["attempts"] == 0
+                       and (r["wing_period_s"], r["leg_period_s"]) == (2.0, 0.8)], robot)
     barriers = an.landscape_barriers(robot, {(c.theta_w_deg, c.theta_l_deg) for c in cells}, step_deg=step_deg,
                                      progress=True)
     res = an.barrier_outcome(cells, barriers)
@@ -330,18 +328,29 @@ def section_barrier(rows: list[dict], out: Path, db: Path, *, robot=None, step_d
                    (Table("Barrier and outcome per setting", table), Table("Statistics per Cv", stats_csv)))
 
 
-def _robot_of(rows: list[dict]):
-    """The robot the trials ran on (the stored URDF path, if it still hashes the same), else the built-in."""
+def _robot_of(rows: list[dict], robot: str | Path | None = None):
+    """The robot the trials ran on, for its landscapes: ``robot`` (a URDF) if given, else the stored URDF path if
+    it still hashes the same, else the built-in robot if the trials ran on it; the hash must match either way."""
     from geometry import Robot
     from geometry.builtin import load_builtin_robot
 
-    paths = {(r["robot"], r["robot_hash"]) for r in rows if r.get("robot")}
-    for path, h in paths:
+    hashes = {r["robot_hash"] for r in rows}
+    if robot is not None:
+        cand = Robot.from_urdf(Path(robot))
+        if hashes and cand.description_hash not in hashes:
+            raise AnalysisUsageError(f"--robot {robot} (hash {cand.description_hash}) is not the robot of the trials "
+                                     f"({', '.join(sorted(hashes))}); give the URDF the sweep ran on")
+        return cand
+    for path, h in sorted({(r["robot"], r["robot_hash"]) for r in rows if r.get("robot")}):
         if Path(path).is_file():
-            robot = Robot.from_urdf(Path(path))
-            if robot.description_hash == h:
-                return robot
-    return load_builtin_robot()
+            cand = Robot.from_urdf(Path(path))
+            if cand.description_hash == h:
+                return cand
+    builtin = load_builtin_robot()
+    if not hashes or builtin.description_hash in hashes:
+        return builtin
+    raise AnalysisUsageError(f"the trials' robot file ({sorted({r['robot'] for r in rows})[0]}) is missing or "
+                             "changed; give the URDF the sweep ran on with --robot FILE.urdf")
 
 
 # ---------------------------------------------------------------------------------------------- commands
@@ -426,9 +435,11 @@ def evolution_cmd(db, out, theta_w, theta_l, phase, cv, seed, wing_period, leg_p
 @OUT_OPT
 @click.option("--step", type=float, default=1.0, show_default=True, help="Grid step of the grid barrier, degrees.")
 @click.option("--phase", type=float, default=None, help="phi_1 of the trials to use (default: the most common).")
-def barrier_cmd(db, out, step, phase):
+@click.option("--robot", type=click.Path(dir_okay=False), default=None,
+              help="URDF the trials ran on, if its stored path moved (default: the stored path or the built-in).")
+def barrier_cmd(db, out, step, phase, robot):
     """Minimal barrier against self-righting probability and time to right: Spearman rho, logistic fit."""
-    _echo_section(section_barrier(load_rows(db), _out(out), db, step_deg=step, phase=phase))
+    _echo_section(section_barrier(load_rows(db), _out(out), db, step_deg=step, phase=phase, robot=robot))
 
 
 @click.command("report")
@@ -436,7 +447,9 @@ def barrier_cmd(db, out, step, phase):
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path), default="report", show_default=True)
 @click.option("--check/--no-check", default=False, show_default=True,
               help="Open the page in headless Chromium: no console errors, every image loaded, a screenshot.")
-def report_cmd(db, out, check):
+@click.option("--robot", type=click.Path(dir_okay=False), default=None,
+              help="URDF the trials ran on, if its stored path moved (default: the stored path or the built-in).")
+def report_cmd(db, out, check, robot):
     """One self-contained HTML page with every analysis, its figures (PNG, SVG) and tables (CSV)."""
     from importlib.metadata import version
 
@@ -450,7 +463,7 @@ def report_cmd(db, out, check):
                      ("prediction", section_prediction), ("phase evolution", section_evolution),
                      ("barrier vs outcome", section_barrier)):
         t0 = time.perf_counter()
-        sections.append(fn(rows, out, db))
+        sections.append(fn(rows, out, db, robot=robot) if fn is section_barrier else fn(rows, out, db))
         timings[name] = time.perf_counter() - t0
     ok = [r for r in rows if r["status"] == "ok"]
     inputs = {"database": str(Path(db).resolve()), "trials": str(len(rows)),

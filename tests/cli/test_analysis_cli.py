@@ -93,3 +93,29 @@ def test_report_page_passes_a_headless_browser_check(capsys, db, tmp_path):
     code, stdout, err = run(capsys, "report", "--db", db, "--out", out, "--check")
     assert code == 0, err
     assert "console errors 0" in stdout and (out / "screenshot.png").stat().st_size > 0
+
+
+def test_barrier_analysis_needs_the_trials_own_robot(capsys, tmp_path):
+    import sqlite3
+    from pathlib import Path
+
+    from geometry.builtin import builtin_urdf_path
+
+    lab = Path(__file__).resolve().parents[2].parent / "shared" / "ref" / "lab_robot" / "lab_robot.urdf"
+    if not lab.is_file():
+        pytest.skip("../shared/ref/lab_robot is absent")
+    path = tmp_path / "lab.sqlite"
+    specs = sweep_specs((80.0,), (30.0,), (0.1,), phase=(0.7,), duration_s=1.0, dt_s=1e-3, trials=2, robot=lab)
+    run_sweep(specs, db=path, workers=1, progress=False)
+    code, out, err = run(capsys, "analyze", "barrier", "--db", path, "--out", tmp_path / "a",
+                         "--robot", builtin_urdf_path())
+    assert code == 2 and "is not the robot of the trials" in err
+    con = sqlite3.connect(path)
+    con.execute("UPDATE trials SET robot = ?", (str(tmp_path / "moved.urdf"),))
+    con.commit()
+    con.close()
+    code, out, err = run(capsys, "analyze", "barrier", "--db", path, "--out", tmp_path / "a")
+    assert code == 2 and "--robot FILE.urdf" in err and len(err.strip().splitlines()) == 1
+    code, out, err = run(capsys, "analyze", "barrier", "--db", path, "--out", tmp_path / "a", "--robot", lab)
+    assert code == 0, err
+    assert (tmp_path / "a" / "barrier_outcome.csv").is_file()
