@@ -33,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from geometry import up_vector
+from landscape.analysis import wilson_interval
 from sim.model import default_robot_urdf
 from sim.trial import DEFAULT_DT_S, run_trial
 from sim.world import Contact
@@ -74,12 +75,9 @@ def orientation_diff_deg(run: dict, ref: dict) -> tuple[float, float]:
     return worst1, worst2
 
 
-GRID: list = []
-
-
-def outcomes(dt: float, **kw) -> list:
+def outcomes(dt: float, grid: list, **kw) -> list:
     res = []
-    for tw, tl, ph in GRID:
+    for tw, tl, ph in grid:
         r = run_trial(tw, tl, phase=ph, cv=CV, rng=SEED, dt_s=dt, **kw)
         res.append((r.success, r.attempt, r.time_to_right_s, r.cpu_s, r.sim_s))
     return res
@@ -111,7 +109,7 @@ def main() -> None:
     kind = args.robot if args.robot in ("builtin", "lab") else "lab"
     path = {"builtin": default_robot_urdf(), "lab": LAB_URDF}.get(args.robot, Path(args.robot))
     gw, gl = GRID_DEFAULTS[kind]
-    GRID[:] = list(itertools.product([float(x) for x in (args.grid_theta_w or gw).split(",")],
+    grid = list(itertools.product([float(x) for x in (args.grid_theta_w or gw).split(",")],
                                      [float(x) for x in (args.grid_theta_l or gl).split(",")], PHASES))
     robot = dict(robot=path)
     if args.only_rates:
@@ -139,18 +137,18 @@ def main() -> None:
     if args.quick:
         return
 
-    tws = "/".join(f"{x:g}" for x in sorted({g[0] for g in GRID}))
-    tls = "/".join(f"{x:g}" for x in sorted({g[1] for g in GRID}))
-    print(f"\n## Outcomes vs time step (soft contact, {soft.solver_iterations} solver iterations; {len(GRID)} trials: "
+    tws = "/".join(f"{x:g}" for x in sorted({g[0] for g in grid}))
+    tls = "/".join(f"{x:g}" for x in sorted({g[1] for g in grid}))
+    print(f"\n## Outcomes vs time step (soft contact, {soft.solver_iterations} solver iterations; {len(grid)} trials: "
           f"theta_w {tws}, theta_l {tls}, phi_1 0.2/0.7, Cv {CV}, seed {SEED})\n")
-    ref = outcomes(REF_DT, contact=ref_soft, **robot)
+    ref = outcomes(REF_DT, grid, contact=ref_soft, **robot)
     print(f"reference: successes {sum(r[0] for r in ref)}/{len(ref)}, attempts {[r[1] for r in ref]}\n")
     print("| dt (s) | same success | same success and attempt | max diff time to right (ms) | "
           "core-s per simulated s |")
     print("|---:|---:|---:|---:|---:|")
     same = {}
     for dt in DTS:
-        res = outcomes(dt, **robot)
+        res = outcomes(dt, grid, **robot)
         a, b, c = compare(res, ref)
         same[dt] = a == f"{len(ref)}/{len(ref)}"
         print(f"| {dt:g} | {a} | {b} | {c} | {_rate(res):.3f} |", flush=True)
@@ -167,13 +165,13 @@ def main() -> None:
                      dict(contact=soft, merge_fixed_links=True)))
     for name, kw in settings:
         o1, o2 = orientation_diff_deg(traces(chosen, **kw, **robot), refs_soft)
-        res = outcomes(chosen, **kw, **robot)
+        res = outcomes(chosen, grid, **kw, **robot)
         a, b, c = compare(res, ref)
         print(f"| {name} | {o1:.3f} | {o2:.3f} | {a} | {b} | {c} | {_rate(res):.3f} |", flush=True)
 
     print(f"\n## Collision hull simplification at dt = {chosen:g} s\n")
-    simp = outcomes(chosen, **robot)
-    full = outcomes(chosen, hull_tol_m=0.0, **robot)
+    simp = outcomes(chosen, grid, **robot)
+    full = outcomes(chosen, grid, hull_tol_m=0.0, **robot)
     a, b, c = compare(full, simp)
     print("| hulls | successes | same success as simplified | same attempt | max diff time to right (ms) | "
           "core-s per simulated s |")
@@ -206,18 +204,11 @@ def rates(dt: float, settings, seeds: int, robot: dict, other: float | None = No
             ks.append(k)
         cells = []
         for k in ks:
-            lo, hi = wilson(k, seeds)
+            lo, hi = wilson_interval(k, seeds)
             cells.append(f"{k}/{seeds} ({lo:.2f}–{hi:.2f})")
         p = f" {fisher_exact([[ks[0], seeds - ks[0]], [ks[1], seeds - ks[1]]])[1]:.2f} |" if other else ""
         print(f"| {tw:g} | {tl:g} | " + " | ".join(cells) + " |" + p, flush=True)
 
-
-def wilson(k: int, n: int, z: float = 1.959963984540054) -> tuple[float, float]:
-    """Wilson score interval of a binomial proportion."""
-    p = k / n
-    c = (p + z * z / (2 * n)) / (1 + z * z / n)
-    h = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return max(0.0, c - h), min(1.0, c + h)
 
 
 if __name__ == "__main__":

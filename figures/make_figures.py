@@ -19,18 +19,22 @@ import sys
 import time
 from pathlib import Path
 
+from landscape.cli_analyze import PAPER_SWEEP, PHASE_MAP_SWEEP, PHASE_MAP_TL_SWEEP, PREDICTION_SWEEP
+
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "figures" / "analysis"
+
+
+def _args(command: str) -> str:
+    """A `landscape sweep … --db {db}` command of landscape.cli_analyze as arguments without the program and --db."""
+    return command.removeprefix("landscape ").replace(" --db {db}", "")
+
+
 STEPS = (
-    ("single-attempt phase map (320 trials)",
-     "sweep --theta-w 70,72,74,76 --theta-l 20,30,40,50 --cv 0 --phase 0:0.95:0.05 --trials 1 --attempts 1"),
-    ("phase maps at other leg periods (80 trials)",
-     "sweep --theta-w 72 --theta-l 30 --cv 0 --phase 0:0.95:0.05 --trials 1 --attempts 1 "
-     "--leg-period 0.6,1,1.2,1.4"),
-    ("multi-attempt prediction study (300 trials)",
-     "sweep --theta-w 72 --theta-l 30 --cv 0 --phase 0:0.95:0.05 --trials 1 --wing-period 2,2.5,3 "
-     "--leg-period 0.6,0.8,1,1.2,1.4"),
-    ("the paper's sweep (3840 trials)", "sweep"),
+    ("single-attempt phase map (320 trials)", _args(PHASE_MAP_SWEEP)),
+    ("phase maps at other leg periods (80 trials)", _args(PHASE_MAP_TL_SWEEP)),
+    ("multi-attempt prediction study (300 trials)", _args(PREDICTION_SWEEP)),
+    ("the paper's sweep (3840 trials)", _args(PAPER_SWEEP)),
 )
 FIGURES = ("probability", "phase_map", "prediction", "evolution", "barrier_outcome")
 TABLES = ("probability", "phase_map", "prediction_accuracy", "evolution", "barrier_outcome", "barrier_stats")

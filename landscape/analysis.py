@@ -33,12 +33,9 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import optimize, stats
 
-from sim.actuation import Actuation, attempt_phases, attempt_starts_s
+from sim.actuation import PAPER_LEG_PERIOD_S, PAPER_WING_PERIOD_S, Actuation, attempt_phases, attempt_starts_s
+from sim.trial import UPRIGHT_HOLD_S
 
-PAPER_WING_PERIOD_S = 2.0
-PAPER_LEG_PERIOD_S = 0.8
-UPRIGHT_HOLD_S = 0.3
-"""The outcome rule's upright hold (``sim.trial.UPRIGHT_HOLD_S``; a test checks they agree)."""
 Z95 = 1.959963984540054
 
 

@@ -195,9 +195,8 @@ def plot_barrier_outcome(results: Sequence[BarrierOutcome], png: Path, *, title:
         c.plot(r0.exact_mj, r0.grid_mj, "o", ms=4)
         lim = [np.nanmin([r0.exact_mj, r0.grid_mj]), np.nanmax([r0.exact_mj, r0.grid_mj])]
         c.plot(lim, lim, "k--", lw=0.8)
-        for x in r0.cells:
-            c.annotate(f"{x.theta_w_deg:g}/{x.theta_l_deg:g}", (r0.exact_mj[r0.cells.index(x)],
-                                                                r0.grid_mj[r0.cells.index(x)]), fontsize=6)
+        for x, e, g in zip(r0.cells, r0.exact_mj, r0.grid_mj, strict=True):
+            c.annotate(f"{x.theta_w_deg:g}/{x.theta_l_deg:g}", (e, g), fontsize=6)
     c.set_xlabel("exact barrier (mJ)")
     c.set_ylabel("1° grid barrier (mJ)")
     c.set_title("labels: θw/θl (°)", fontsize=9)

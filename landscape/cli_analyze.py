@@ -28,6 +28,7 @@ PHASE_MAP_SWEEP = ("landscape sweep --theta-w 70,72,74,76 --theta-l 20,30,40,50 
 PHASE_MAP_TL_SWEEP = ("landscape sweep --theta-w 72 --theta-l 30 --cv 0 --phase 0:0.95:0.05 --trials 1 "
                       "--attempts 1 --leg-period 0.6,1,1.2,1.4 --db {db}")
 PAPER_SWEEP = "landscape sweep --db {db}"
+PAPER_PERIODS = (an.PAPER_WING_PERIOD_S, an.PAPER_LEG_PERIOD_S)
 
 
 class AnalysisUsageError(click.ClickException):
@@ -70,8 +71,7 @@ def load_rows(db: Path) -> list[dict]:
 def _paper_cells(rows: list[dict], phase: float | None) -> tuple[list[an.ProbabilityCell], float | None]:
     """Probability cells of the paper protocol (Tw 2 s, Tl 0.8 s) at one phi_1 (default: the one with most
     trials)."""
-    cells = [c for c in an.probability_table(rows)
-             if (c.wing_period_s, c.leg_period_s) == (an.PAPER_WING_PERIOD_S, an.PAPER_LEG_PERIOD_S)]
+    cells = [c for c in an.probability_table(rows) if (c.wing_period_s, c.leg_period_s) == PAPER_PERIODS]
     if not cells:
         return [], None
     if phase is None:
@@ -171,7 +171,7 @@ def section_prediction(rows: list[dict], out: Path, db: Path) -> Section:
             counts[(c.theta_w_deg, c.theta_l_deg)] = counts.get((c.theta_w_deg, c.theta_l_deg), 0) + 1
         study = max(counts, key=counts.get)
         clean = [c for c in clean if (c.theta_w_deg, c.theta_l_deg) == study]
-    noisy = [c for c in acc if c.cv > 0.0 and (c.wing_period_s, c.leg_period_s) == (2.0, 0.8)]
+    noisy = [c for c in acc if c.cv > 0.0 and (c.wing_period_s, c.leg_period_s) == PAPER_PERIODS]
     if not clean and not noisy:
         return Section("prediction", title, missing="no multi-attempt trials with a matching single-attempt phase map; "
                        f"run `{PHASE_MAP_TL_SWEEP.format(db=db)}` and `{PREDICTION_SWEEP.format(db=db)}` (and "
@@ -297,7 +297,7 @@ def section_barrier(rows: list[dict], out: Path, db: Path, *, robot: str | Path 
         return Section("barrier", title, missing="no multi-attempt trials of the paper's protocol; run "
                        f"`{PAPER_SWEEP.format(db=db)}`")
     robot = _robot_of([r for r in rows if r["attempts"] == 0
-                       and (r["wing_period_s"], r["leg_period_s"]) == (2.0, 0.8)], robot)
+                       and (r["wing_period_s"], r["leg_period_s"]) == PAPER_PERIODS], robot)
     barriers = an.landscape_barriers(robot, {(c.theta_w_deg, c.theta_l_deg) for c in cells}, step_deg=step_deg,
                                      progress=True)
     res = an.barrier_outcome(cells, barriers)
@@ -435,7 +435,7 @@ def evolution_cmd(db, out, theta_w, theta_l, phase, cv, seed, wing_period, leg_p
 @OUT_OPT
 @click.option("--step", type=float, default=1.0, show_default=True, help="Grid step of the grid barrier, degrees.")
 @click.option("--phase", type=float, default=None, help="phi_1 of the trials to use (default: the most common).")
-@click.option("--robot", type=click.Path(dir_okay=False), default=None,
+@click.option("--robot", type=click.Path(exists=True, dir_okay=False), default=None,
               help="URDF the trials ran on, if its stored path moved (default: the stored path or the built-in).")
 def barrier_cmd(db, out, step, phase, robot):
     """Minimal barrier against self-righting probability and time to right: Spearman rho, logistic fit."""
@@ -447,7 +447,7 @@ def barrier_cmd(db, out, step, phase, robot):
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path), default="report", show_default=True)
 @click.option("--check/--no-check", default=False, show_default=True,
               help="Open the page in headless Chromium: no console errors, every image loaded, a screenshot.")
-@click.option("--robot", type=click.Path(dir_okay=False), default=None,
+@click.option("--robot", type=click.Path(exists=True, dir_okay=False), default=None,
               help="URDF the trials ran on, if its stored path moved (default: the stored path or the built-in).")
 def report_cmd(db, out, check, robot):
     """One self-contained HTML page with every analysis, its figures (PNG, SVG) and tables (CSV)."""

@@ -28,6 +28,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+PAPER_WING_PERIOD_S = 2.0
+"""Tw of the source paper's protocol, s (the default of :class:`Actuation`)."""
+PAPER_LEG_PERIOD_S = 0.8
+"""Tl of the source paper's protocol, s (the default of :class:`Actuation`)."""
+
 
 @dataclass(frozen=True)
 class Actuation:
@@ -51,11 +56,11 @@ class Actuation:
 
     theta_w_deg: float
     theta_l_deg: float
-    wing_period_s: float = 2.0
+    wing_period_s: float = PAPER_WING_PERIOD_S
     wing_open_deg_s: float = 300.0
     wing_close_deg_s: float = 250.0
     wing_close_start_s: float = 1.05
-    leg_period_s: float = 0.8
+    leg_period_s: float = PAPER_LEG_PERIOD_S
     leg_cross_s: float = 0.15
 
     def __post_init__(self) -> None:

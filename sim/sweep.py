@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .actuation import Actuation
+from .actuation import PAPER_LEG_PERIOD_S, PAPER_WING_PERIOD_S, Actuation
 from .model import default_robot_urdf, sim_model
 from .store import KEY_COLUMNS, TrialStore
 from .trial import DEFAULT_DURATION_S, TrialInputError, default_dt_s, run_trial
@@ -51,7 +51,8 @@ def package_version() -> str:
 
 
 def trial_seed(theta_w_deg: float, theta_l_deg: float, cv: float, phase: float, trial: int, *,
-               base_seed: int = 0, wing_period_s: float = 2.0, leg_period_s: float = 0.8, attempts: int = 0) -> int:
+               base_seed: int = 0, wing_period_s: float = PAPER_WING_PERIOD_S,
+               leg_period_s: float = PAPER_LEG_PERIOD_S, attempts: int = 0) -> int:
     """Deterministic seed in [0, 2**63) of one trial, from its parameters.
 
     The periods and the attempt limit enter only when they differ from the paper's protocol (Tw 2 s, Tl 0.8 s,
@@ -65,7 +66,7 @@ def trial_seed(theta_w_deg: float, theta_l_deg: float, cv: float, phase: float, 
     True
     """
     text = f"{float(theta_w_deg)!r}|{float(theta_l_deg)!r}|{float(cv)!r}|{float(phase)!r}|{int(trial)}|{int(base_seed)}"
-    if (float(wing_period_s), float(leg_period_s), int(attempts)) != (2.0, 0.8, 0):
+    if (float(wing_period_s), float(leg_period_s), int(attempts)) != (PAPER_WING_PERIOD_S, PAPER_LEG_PERIOD_S, 0):
         text += f"|{float(wing_period_s)!r}|{float(leg_period_s)!r}|{int(attempts)}"
     return int.from_bytes(hashlib.sha256(text.encode()).digest()[:8], "big") >> 1
 
@@ -84,8 +85,8 @@ class TrialSpec:
     dt_s: float
     robot: str
     robot_hash: str
-    wing_period_s: float = 2.0
-    leg_period_s: float = 0.8
+    wing_period_s: float = PAPER_WING_PERIOD_S
+    leg_period_s: float = PAPER_LEG_PERIOD_S
     attempts: int = 0
 
     def key(self) -> tuple:
@@ -96,8 +97,8 @@ class TrialSpec:
 def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: Iterable[float], *,
                 phase: Iterable[float] = (0.7,), trials: int = PAPER_TRIALS,
                 duration_s: float = DEFAULT_DURATION_S, dt_s: float | None = None,
-                robot: str | Path | None = None, base_seed: int = 0, wing_period_s: Iterable[float] = (2.0,),
-                leg_period_s: Iterable[float] = (0.8,), attempts: int = 0) -> list[TrialSpec]:
+                robot: str | Path | None = None, base_seed: int = 0, wing_period_s: Iterable[float] = (PAPER_WING_PERIOD_S,),
+                leg_period_s: Iterable[float] = (PAPER_LEG_PERIOD_S,), attempts: int = 0) -> list[TrialSpec]:
     """Every trial of a full-factorial sweep, in a fixed order.
 
     ``dt_s`` None takes the robot's default (:func:`sim.trial.default_dt_s`). ``wing_period_s`` (Tw) and
