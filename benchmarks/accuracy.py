@@ -18,12 +18,12 @@ import numpy as np
 import trimesh
 
 from geometry import Robot
-from landscape.barrier import grid_barrier
-from landscape.compute import start_orientation, warm_up
+from landscape.barriers.exact import exact_barrier
+from landscape.barriers.grid import grid_barrier
+from landscape.barriers.sphere import sphere_barrier, sphere_graph
+from landscape.computation import start_orientation, warm_up
 from landscape.energy import energy_landscape
-from landscape.exact import exact_barrier
 from landscape.minima import grid_minimum
-from landscape.sphere import sphere_barrier, sphere_graph
 
 LAB_URDF = Path(__file__).resolve().parents[2] / "shared" / "ref" / "lab_robot" / "lab_robot.urdf"
 

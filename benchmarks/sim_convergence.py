@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from geometry import up_vector
-from landscape.analysis import wilson_interval
+from landscape.analysis.trials import wilson_interval
 from sim.model import default_robot_urdf
 from sim.trial import DEFAULT_DT_S, run_trial
 from sim.world import Contact

@@ -19,14 +19,14 @@ import sys
 import time
 from pathlib import Path
 
-from landscape.cli_analyze import PAPER_SWEEP, PHASE_MAP_SWEEP, PHASE_MAP_TL_SWEEP, PREDICTION_SWEEP
+from landscape.cli.analyze import PAPER_SWEEP, PHASE_MAP_SWEEP, PHASE_MAP_TL_SWEEP, PREDICTION_SWEEP
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "figures" / "analysis"
 
 
 def _args(command: str) -> str:
-    """A `landscape sweep … --db {db}` command of landscape.cli_analyze as arguments without the program and --db."""
+    """A `landscape sweep … --db {db}` command of landscape.cli.analyze as arguments without the program and --db."""
     return command.removeprefix("landscape ").replace(" --db {db}", "")
 
 

@@ -1,13 +1,20 @@
 """Errors raised for bad robot descriptions and bad input.
 
-All subclass :class:`ValueError` (rasterio's ``CRSError(ValueError)`` pattern) so callers can catch either.
-The command line turns any of them into one line on stderr and exit status 2.
+Every bad-input error of the project derives from :class:`UsageError`, itself a :class:`ValueError`
+(rasterio's ``CRSError(ValueError)`` pattern), so callers can catch either. The command line and the service
+turn a :class:`UsageError` into one line (exit status 2, HTTP 4xx); any other exception is a bug and is
+reported as one.
 """
 
 from __future__ import annotations
 
 
-class GeometryError(ValueError):
+class UsageError(ValueError):
+    """Bad input from the user: the message says what is wrong and how to fix it (the one family the command
+    line reports as a one-line error with exit status 2)."""
+
+
+class GeometryError(UsageError):
     """Base class for every bad-input error of the geometry layer."""
 
 

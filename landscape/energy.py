@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from geometry import Pose
+from geometry.errors import UsageError
 from geometry.frames import cos_sin, up_vector
 
 from . import _kernels
@@ -109,7 +110,7 @@ def height_at(pose: Pose, pitch_deg: ArrayLike, roll_deg: ArrayLike) -> NDArray[
     p = np.asarray(pitch_deg, dtype=np.float64)
     r = np.asarray(roll_deg, dtype=np.float64)
     if not (np.isfinite(p).all() and np.isfinite(r).all()):
-        raise ValueError("pitch and roll must be finite degrees")
+        raise UsageError("pitch and roll must be finite degrees")
     u = up_vector(np.deg2rad(p), np.deg2rad(r))
     if "hull" in pose.__dict__:  # hull already built: walk it
         d, ptr, idx = _support_inputs(pose)

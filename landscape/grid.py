@@ -5,11 +5,13 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from geometry.errors import UsageError
+
 STEP_MIN_DEG = 0.05
 STEP_NOT_DIVIDING = "step {got:g} deg does not divide 360; use e.g. 0.1, 0.25, 0.5, 1, 2, 3, 4, 5"
 
 
-class GridError(ValueError):
+class GridError(UsageError):
     """A grid step that cannot tile the pitch-roll torus."""
 
 

@@ -1,17 +1,35 @@
 """Self-righting trials in pybullet: model (URDF with simplified hulls), world (one DIRECT client per trial),
 actuation profiles, trials and sweeps. See docs/sim.md.
 
-Imports point down only: ``sim -> geometry``. pybullet is imported by :mod:`sim.world` alone.
+Imports point down only: ``sim -> geometry``. pybullet is imported by :mod:`sim.world` alone, and names below
+load on first use (PEP 562), so ``sim.protocol`` and ``sim.actuation`` are cheap to import.
 """
 
-from .actuation import Actuation, attempt_phases, attempt_starts_s, leg_profile_deg, wing_profile_deg
-from .model import SimModel, default_robot_urdf, sim_model
-from .trial import DEFAULT_DT_S, OTHER_ROBOT_DT_S, Trace, TrialInputError, TrialResult, run_trial
-from .world import Contact, SimulationDiverged
+from __future__ import annotations
 
-__all__ = [
-    "Actuation", "attempt_phases", "attempt_starts_s", "leg_profile_deg", "wing_profile_deg",
-    "SimModel", "default_robot_urdf", "sim_model",
-    "DEFAULT_DT_S", "OTHER_ROBOT_DT_S", "Trace", "TrialInputError", "TrialResult", "run_trial",
-    "Contact", "SimulationDiverged",
-]
+import importlib
+
+_EXPORTS = {
+    **dict.fromkeys(("Actuation", "attempt_phases", "attempt_starts_s", "leg_profile_deg", "wing_profile_deg"),
+                    "sim.actuation"),
+    **dict.fromkeys(("SimModel", "default_robot_urdf", "sim_model"), "sim.model"),
+    **dict.fromkeys(("DEFAULT_DT_S", "OTHER_ROBOT_DT_S"), "sim.protocol"),
+    **dict.fromkeys(("Trace", "TrialInputError", "TrialResult", "run_trial"), "sim.trial"),
+    **dict.fromkeys(("Contact", "SimulationDiverged"), "sim.world"),
+    **dict.fromkeys(("TrialSpec", "run_sweep", "sweep_specs"), "sim.sweep"),
+    **dict.fromkeys(("TrialStore", "StoreError"), "sim.store"),
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str):
+    if name in _EXPORTS:
+        value = getattr(importlib.import_module(_EXPORTS[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'sim' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_EXPORTS))

@@ -28,10 +28,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-PAPER_WING_PERIOD_S = 2.0
-"""Tw of the source paper's protocol, s (the default of :class:`Actuation`)."""
-PAPER_LEG_PERIOD_S = 0.8
-"""Tl of the source paper's protocol, s (the default of :class:`Actuation`)."""
+from geometry.errors import UsageError
+
+from .protocol import PAPER_LEG_PERIOD_S, PAPER_WING_PERIOD_S
 
 
 @dataclass(frozen=True)
@@ -67,17 +66,17 @@ class Actuation:
         for name in ("theta_w_deg", "theta_l_deg"):
             v = getattr(self, name)
             if not (np.isfinite(v) and v >= 0):
-                raise ValueError(f"{name} must be a finite angle >= 0 degrees; got {v!r}")
+                raise UsageError(f"{name} must be a finite angle >= 0 degrees; got {v!r}")
         for name in ("wing_period_s", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s",
                      "leg_period_s", "leg_cross_s"):
             v = getattr(self, name)
             if not (np.isfinite(v) and v > 0):
-                raise ValueError(f"{name} must be a finite number > 0; got {v!r}")
+                raise UsageError(f"{name} must be a finite number > 0; got {v!r}")
         if self.leg_cross_s > self.leg_period_s / 2:
-            raise ValueError(f"leg_cross_s = {self.leg_cross_s:g} s must be at most half the leg period "
+            raise UsageError(f"leg_cross_s = {self.leg_cross_s:g} s must be at most half the leg period "
                              f"({self.leg_period_s / 2:g} s)")
         if self.wing_closed_s > self.wing_period_s:
-            raise ValueError(f"the wing cycle (open, hold, close) lasts {self.wing_closed_s:g} s, longer than "
+            raise UsageError(f"the wing cycle (open, hold, close) lasts {self.wing_closed_s:g} s, longer than "
                              f"wing_period_s = {self.wing_period_s:g} s; open or close faster")
 
     @property

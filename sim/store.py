@@ -12,6 +12,8 @@ import json
 import sqlite3
 from pathlib import Path
 
+from geometry.errors import UsageError
+
 KEY_COLUMNS = ("robot_hash", "theta_w_deg", "theta_l_deg", "cv", "phase", "trial", "duration_s", "dt_s",
                "wing_period_s", "leg_period_s", "attempts", "seed")
 """Every parameter of a trial; ``attempts`` 0 means "as many as fit in ``duration_s``"."""
@@ -34,7 +36,7 @@ SCHEMA = (
 )
 
 
-class StoreError(ValueError):
+class StoreError(UsageError):
     """The file is not a trial database of this layout."""
 
 

@@ -29,18 +29,19 @@ from pathlib import Path
 
 import numpy as np
 
-from .actuation import PAPER_LEG_PERIOD_S, PAPER_WING_PERIOD_S, Actuation
+from .actuation import Actuation
 from .model import default_robot_urdf, sim_model
+from .protocol import (
+    PAPER_LEG_PERIOD_S,
+    PAPER_TRIALS,
+    PAPER_WING_PERIOD_S,
+)
 from .store import KEY_COLUMNS, TrialStore
 from .trial import DEFAULT_DURATION_S, TrialInputError, default_dt_s, run_trial
 from .world import SimulationDiverged
 
 log = logging.getLogger(__name__)
 
-PAPER_THETA_W_DEG = (70.0, 72.0, 74.0, 76.0)
-PAPER_THETA_L_DEG = (20.0, 30.0, 40.0, 50.0)
-PAPER_CV = (0.0, 0.05, 0.1, 0.15, 0.2, 0.25)
-PAPER_TRIALS = 40
 
 
 def package_version() -> str:

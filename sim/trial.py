@@ -38,18 +38,11 @@ from geometry.errors import GeometryError, JointLimitError
 
 from .actuation import Actuation, attempt_phases, attempt_starts_s, leg_profile_deg, wing_profile_deg
 from .model import HULL_MAX_VERTICES, HULL_TOL_M, sim_model
+from .protocol import DEFAULT_DT_S, DEFAULT_DURATION_S, OTHER_ROBOT_DT_S
 from .world import G_M_S2, Contact, SimulationDiverged, World
 
 log = logging.getLogger(__name__)
 
-DEFAULT_DT_S = 5e-4
-"""Default physics time step of the built-in robot, s: the largest with < 0.5 deg orientation difference over the
-first second and the same outcomes as dt = 5e-5 with 50 solver iterations (``benchmarks/sim_convergence.py``;
-see docs/sim.md)."""
-OTHER_ROBOT_DT_S = 2e-4
-"""Default time step of any other robot, s: the lab URDF needs it (at 5e-4 it is 0.75 deg off in the first
-second); run the convergence benchmark on a new robot before trusting a larger one."""
-DEFAULT_DURATION_S = 10.0
 UPRIGHT_HOLD_S = 0.3
 SETTLE_S = 0.5
 SERVO_TAU_S = 0.01

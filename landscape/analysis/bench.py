@@ -9,11 +9,10 @@ import tracemalloc
 import numpy as np
 
 from geometry import Robot
-
-from .barrier import grid_barrier
-from .energy import brute_force_landscape, energy_landscape
-from .exact import exact_barrier
-from .minima import grid_minimum, metastable_orientation
+from landscape.barriers.exact import exact_barrier
+from landscape.barriers.grid import grid_barrier
+from landscape.energy import brute_force_landscape, energy_landscape
+from landscape.minima import grid_minimum, metastable_orientation
 
 
 def _best_time(fn, repeat: int, *, warm: bool = True) -> tuple[float, object]:

@@ -3,7 +3,7 @@ phase-based prediction of multi-attempt outcomes, phase evolution, and barrier a
 
 Every function takes trial rows as :meth:`sim.store.TrialStore.rows` returns them (dicts keyed by
 ``sim.store.COLUMNS``) and returns plain arrays, dicts or frozen dataclasses; the figures are in
-:mod:`landscape.analysis_plots` and the commands in :mod:`landscape.cli_analyze`.
+:mod:`landscape.viz.analysis_plots` and the commands in :mod:`landscape.cli.analyze`.
 
 Protocols in one database are told apart by their parameters:
 
@@ -409,10 +409,10 @@ def landscape_barriers(robot, pairs: Iterable[tuple[float, float]], *, step_deg:
                        progress: bool = False) -> dict[tuple[float, float], tuple[float, float]]:
     """Minimal righting barrier (J) per (theta_w, theta_l): (exact, grid at ``step_deg``), nan where none.
 
-    The start minimum comes from one shared continuation (:func:`landscape.compute.sweep_starts`), as in
+    The start minimum comes from one shared continuation (:func:`landscape.computation.sweep_starts`), as in
     ``landscape barrier-map``.
     """
-    from .compute import compute, sweep_starts
+    from landscape.computation import compute, sweep_starts
 
     pairs = sorted(set(pairs))
     if not pairs:

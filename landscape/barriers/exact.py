@@ -57,12 +57,12 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError
 
 from geometry import Pose
+from geometry.errors import UsageError
 from geometry.frames import canonical_pitch_roll_deg, pitch_roll_from_up, up_vector
-
-from .barrier import Exit, GridBarrier
-from .energy import G_M_S2
-from .grid import wrap_deg
-from .minima import Minimum
+from landscape.barriers._base import Barrier, Exit
+from landscape.energy import G_M_S2
+from landscape.grid import wrap_deg
+from landscape.minima import Minimum
 
 log = logging.getLogger(__name__)
 
@@ -77,7 +77,7 @@ COM_OUTSIDE = ("the CoM {com} m lies {dist:.3g} m outside the convex hull; the e
                "(check the masses and <inertial> origins)")
 
 
-class ExactMethodError(ValueError):
+class ExactMethodError(UsageError):
     """A body the exact method cannot treat (flat hull, CoM outside the hull)."""
 
 
@@ -173,14 +173,14 @@ class ExactBarrier:
         The exact start minimum (canonical pitch, roll in degrees; energy, J; CoM height, m).
     start_face : int
         The face the body rests on there (index into ``landscape.face_up``).
-    barrier : landscape.barrier.GridBarrier
+    barrier : landscape.barrier.Barrier
         Righting, pitch-wise, roll-wise and escape exits, as the grid method reports them.
     landscape : ExactLandscape
     """
 
     start: Minimum
     start_face: int
-    barrier: GridBarrier
+    barrier: Barrier
     landscape: ExactLandscape = field(repr=False)
 
 
@@ -699,12 +699,12 @@ def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_rol
         Gravitational acceleration, m/s^2 (ignored when an ExactLandscape is given).
     sectors : bool
         Also search the pitch-wise and roll-wise sectors (upper bounds, see the module docstring); with False
-        those two exits are None (``landscape.compute`` fills them its own way and skips this cost).
+        those two exits are None (``landscape.computation`` fills them its own way and skips this cost).
 
     Returns
     -------
     ExactBarrier
-        The start minimum and a GridBarrier of exits, with the grid method's meaning (module docstring).
+        The start minimum and a Barrier of exits, with the grid method's meaning (module docstring).
 
     Raises
     ------
@@ -727,7 +727,7 @@ def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_rol
     (0.0, 0.0, 0.618034, 'roll')
     """
     if not (np.isfinite(start_pitch_deg) and np.isfinite(start_roll_deg)):
-        raise ValueError(f"start pitch and roll must be finite degrees; got ({start_pitch_deg!r}, {start_roll_deg!r})")
+        raise UsageError(f"start pitch and roll must be finite degrees; got ({start_pitch_deg!r}, {start_roll_deg!r})")
     ex = pose if isinstance(pose, ExactLandscape) else exact_landscape(pose, g_m_s2=g_m_s2)
     u = up_vector(np.deg2rad(start_pitch_deg), np.deg2rad(start_roll_deg))
     f0 = _descend_from(ex, u)
@@ -755,7 +755,7 @@ def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_rol
     upright = up_z <= UPRIGHT_Z_TOL
     if upright[f0]:
         zero = Exit(0.0, p0, r0, "roll", np.array([start_deg], dtype=np.float64))
-        return ExactBarrier(start, int(f0), GridBarrier(zero, zero, zero, escape), ex)
+        return ExactBarrier(start, int(f0), Barrier(zero, zero, zero, escape), ex)
     both_up = ~upright[fa] & ~upright[fb]
     leave = upright[fa] != upright[fb]
     arcs_in = np.flatnonzero(both_up)
@@ -789,7 +789,7 @@ def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_rol
         pieces = [edge_pieces(e, x) for e, x in _chain(par_s, eu, ev, t_node)]
         righting = _exit(ex, float(lev_s[t_node]), h0, start_deg, pieces, None)
     if not sectors:
-        return ExactBarrier(start, int(f0), GridBarrier(righting, None, None, escape), ex)
+        return ExactBarrier(start, int(f0), Barrier(righting, None, None, escape), ex)
     # pitch-wise and roll-wise: the same search on the arcs lying wholly inside the sector around the start
     lo = np.concatenate([np.zeros(n_in), [min(pc[1], pc[2]) for pc in pieces_out]])
     hi = np.concatenate([g.arc_theta[arcs_in], [max(pc[1], pc[2]) for pc in pieces_out]])
@@ -812,4 +812,14 @@ def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_rol
             continue
         pieces = [edge_pieces(int(keep[e]), x) for e, x in _chain(par_k, eu[keep], ev[keep], t_node)]
         sectors.append(_exit(ex, float(lev_k[t_node]), h0, start_deg, pieces, kind))
-    return ExactBarrier(start, int(f0), GridBarrier(righting, sectors[0], sectors[1], escape), ex)
+    return ExactBarrier(start, int(f0), Barrier(righting, sectors[0], sectors[1], escape), ex)
+
+
+SECTORS = False
+
+
+def solve(pose: Pose, landscape, start_deg: tuple[float, float], *, step_deg: float, connectivity: int,
+          g_m_s2: float):
+    """The registry's entry (:mod:`landscape.barriers`): exact start minimum, righting and escape exits."""
+    ex = exact_barrier(pose, *start_deg, g_m_s2=g_m_s2, sectors=False)
+    return ex.start, ex.barrier

@@ -19,56 +19,15 @@ results do not depend on heap order.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 from numpy.typing import NDArray
 
+from geometry.errors import UsageError
 from geometry.frames import canonical_pitch_roll_deg, up_vector
-
-from . import _kernels
-from .energy import Landscape
-from .grid import wrap_deg
-
-
-@dataclass(frozen=True)
-class Exit:
-    """The lowest way out to one kind of target.
-
-    Attributes
-    ----------
-    barrier_j : float
-        Bottleneck level minus the start energy, J (inf if unreachable).
-    saddle_pitch_deg, saddle_roll_deg : float
-        Highest point of the path, degrees (canonical branch).
-    direction : str
-        "pitch" (somersault) or "roll" (to one side), from where the path leaves.
-    path_deg : ndarray of shape (L, 2)
-        Grid path (pitch, roll) from the start, degrees, on the torus (not canonicalised, so it is continuous).
-    """
-
-    barrier_j: float
-    saddle_pitch_deg: float
-    saddle_roll_deg: float
-    direction: str
-    path_deg: NDArray[np.float64]
-
-
-@dataclass(frozen=True)
-class GridBarrier:
-    """Barriers out of a start cell.
-
-    Attributes
-    ----------
-    righting, pitch_wise, roll_wise, escape : Exit or None
-        Lowest exit to upright (either way), pitch-wise upright, roll-wise upright, and to another basin
-        (None where no such path exists, e.g. escape on a flat landscape).
-    """
-
-    righting: Exit | None
-    pitch_wise: Exit | None
-    roll_wise: Exit | None
-    escape: Exit | None
+from landscape import _kernels
+from landscape.barriers._base import Barrier, Exit
+from landscape.energy import Landscape
+from landscape.grid import wrap_deg
 
 
 def _path(parent: NDArray[np.int64], cell: int, n: int, angles: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -104,7 +63,7 @@ def _exit(landscape: Landscape, level: float, cell: int, parent, e_start: float,
     return Exit(float(level - e_start), sp, sr, direction, path)
 
 
-def grid_barrier(landscape: Landscape, start: tuple[int, int], *, connectivity: int = 8) -> GridBarrier:
+def grid_barrier(landscape: Landscape, start: tuple[int, int], *, connectivity: int = 8) -> Barrier:
     """Righting, pitch-wise, roll-wise and escape barriers from a start cell.
 
     Parameters
@@ -118,7 +77,7 @@ def grid_barrier(landscape: Landscape, start: tuple[int, int], *, connectivity: 
 
     Returns
     -------
-    GridBarrier
+    Barrier
 
     Examples
     --------
@@ -132,7 +91,7 @@ def grid_barrier(landscape: Landscape, start: tuple[int, int], *, connectivity: 
     (0.414214, 0.414214)
     """
     if connectivity not in (4, 8):
-        raise ValueError(f"connectivity must be 4 or 8; got {connectivity!r}")
+        raise UsageError(f"connectivity must be 4 or 8; got {connectivity!r}")
     n = len(landscape.angles_deg)
     e = np.ascontiguousarray(landscape.energy_j)
     i0, j0 = start[0] % n, start[1] % n
@@ -166,4 +125,17 @@ def grid_barrier(landscape: Landscape, start: tuple[int, int], *, connectivity: 
     levels, cells, parent = _kernels.flood(e, s, np.zeros(n * n, dtype=np.int8), none, is_min, same, tol,
                                            connectivity, True)
     escape = _exit(landscape, levels[2], int(cells[2]), parent, e_start, None)
-    return GridBarrier(righting, pitch, roll, escape)
+    return Barrier(righting, pitch, roll, escape)
+
+
+SECTORS = True
+
+
+def solve(pose, landscape: Landscape, start_deg: tuple[float, float], *, step_deg: float, connectivity: int,
+          g_m_s2: float):
+    """The registry's entry (:mod:`landscape.barriers`): the grid minimum nearest ``start_deg`` and its
+    barriers on ``landscape``."""
+    from landscape.minima import as_minimum, grid_minimum
+
+    cell = grid_minimum(landscape, *start_deg)
+    return as_minimum(landscape, *cell), grid_barrier(landscape, cell, connectivity=connectivity)

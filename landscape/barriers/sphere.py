@@ -2,10 +2,10 @@
 
 The pitch-roll torus covers the sphere twice and crowds its samples near the poles p = +-90 deg; an icosphere of
 subdivision level k has 10 4^k + 2 nearly evenly spaced up-directions (about 69 / 2^k deg apart). The same priority
-flood runs on its vertex graph, with the same target sets as :mod:`landscape.barrier`: upright (u_z < 0) for
+flood runs on its vertex graph, with the same target sets as :mod:`landscape.barriers.grid`: upright (u_z < 0) for
 righting and another local minimum (not within 2.5 spacings of the start) for escape. Pitch-wise and roll-wise
 barriers are sectors of the *torus* around the start, and a path over the pole changes sheet; a graph on the
-sphere does not know the sheet, so those two are left to :func:`landscape.compute.compute` (None here). ``benchmarks/accuracy.py`` compares it
+sphere does not know the sheet, so those two are left to :func:`landscape.computation.compute` (None here). ``benchmarks/accuracy.py`` compares it
 with the grid and the exact method.
 """
 
@@ -19,13 +19,13 @@ import trimesh
 from numpy.typing import NDArray
 
 from geometry import Pose
+from geometry.errors import UsageError
 from geometry.frames import canonical_pitch_roll_deg, pitch_roll_from_up, up_vector
-
-from . import _kernels
-from .barrier import Exit, GridBarrier
-from .energy import G_M_S2
-from .grid import wrap_deg
-from .minima import Minimum
+from landscape import _kernels
+from landscape.barriers._base import Barrier, Exit
+from landscape.energy import G_M_S2
+from landscape.grid import wrap_deg
+from landscape.minima import Minimum
 
 
 @dataclass(frozen=True)
@@ -85,7 +85,7 @@ class SphereBarrier:
     """Start minimum (a graph vertex) and exits, as the grid method reports them."""
 
     start: Minimum
-    barrier: GridBarrier
+    barrier: Barrier
     n_vertices: int
 
 
@@ -118,7 +118,7 @@ def sphere_barrier(pose: Pose, start_pitch_deg: float, start_roll_deg: float, *,
         Icosphere level (6: 40962 directions about 1.1 deg apart; 7: 163842, about 0.55 deg).
     """
     if not 1 <= subdivisions <= 8:
-        raise ValueError(f"subdivisions must be 1..8; got {subdivisions!r}")
+        raise UsageError(f"subdivisions must be 1..8; got {subdivisions!r}")
     g = sphere_graph(subdivisions)
     d = np.ascontiguousarray(pose.com_m[None, :] - pose.hull.vertices_m)
     energy = pose.mass_kg * g_m_s2 * _kernels.support_points(d, pose.hull.neighbor_ptr, pose.hull.neighbor_idx, g.u)
@@ -134,10 +134,20 @@ def sphere_barrier(pose: Pose, start_pitch_deg: float, start_roll_deg: float, *,
     start = Minimum(p0, r0, e_start, e_start / (pose.mass_kg * g_m_s2))
     if upright[s]:
         zero = Exit(0.0, p0, r0, "roll", np.array([[p0, r0]]))
-        return SphereBarrier(start, GridBarrier(zero, None, None, None), len(g.u))
+        return SphereBarrier(start, Barrier(zero, None, None, None), len(g.u))
     lv, cl, par = _kernels.flood_graph(energy, g.ptr, g.idx, s, upright, none, is_min, same, tol, False)
     righting = _exit(g, energy, lv[0], int(cl[0]), par, e_start, p0, r0, None)
     zeros = np.zeros(len(g.u), dtype=np.int8)
     lv, cl, par = _kernels.flood_graph(energy, g.ptr, g.idx, s, zeros, none, is_min, same, tol, True)
     escape = _exit(g, energy, lv[2], int(cl[2]), par, e_start, p0, r0, None)
-    return SphereBarrier(start, GridBarrier(righting, None, None, escape), len(g.u))
+    return SphereBarrier(start, Barrier(righting, None, None, escape), len(g.u))
+
+
+SECTORS = False
+
+
+def solve(pose: Pose, landscape, start_deg: tuple[float, float], *, step_deg: float, connectivity: int,
+          g_m_s2: float):
+    """The registry's entry (:mod:`landscape.barriers`): the search on an icosphere spaced about ``step_deg``."""
+    sb = sphere_barrier(pose, *start_deg, subdivisions=subdivisions_for_step(step_deg), g_m_s2=g_m_s2)
+    return sb.start, sb.barrier

@@ -1,12 +1,22 @@
-"""Option parsing shared by the command-line modules (edge layer)."""
+"""Option parsing shared by the command modules: value lists, finite numbers, the robot options.
+
+Bad input raises :class:`geometry.errors.UsageError` (re-exported here), which :func:`landscape.cli.main`
+turns into one line on stderr and exit status 2.
+"""
 
 from __future__ import annotations
 
-import numpy as np
+import math
 
+import click
 
-class InputError(ValueError):
-    """Bad command-line input."""
+from geometry.errors import UsageError
+
+MJ = 1e3
+MM = 1e3
+
+__all__ = ["MJ", "MM", "UsageError", "finite", "load_robot", "method_option", "parse_values", "robot_from",
+           "robot_options"]
 
 
 def parse_values(text: str, what: str) -> list[float]:
@@ -16,28 +26,96 @@ def parse_values(text: str, what: str) -> list[float]:
     --------
     >>> parse_values("70:76:2", "theta-w"), parse_values("20, 30", "theta-l")
     ([70.0, 72.0, 74.0, 76.0], [20.0, 30.0])
+    >>> parse_values("1:2", "theta-w")
+    Traceback (most recent call last):
+    ...
+    geometry.errors.UsageError: --theta-w range '1:2' must be START:STOP:STEP with STEP > 0
     """
     text = text.strip()
     if not text:
-        raise InputError(f"--{what} is empty; give values like 70,72,74 or a range START:STOP:STEP")
+        raise UsageError(f"--{what} is empty; give values like 70,72,74 or a range START:STOP:STEP")
     try:
         if ":" in text:
             parts = [float(x) for x in text.split(":")]
-            if len(parts) != 3 or not parts[2] > 0 or not np.isfinite(parts).all():
-                raise InputError(f"--{what} range {text!r} must be START:STOP:STEP with STEP > 0")
-            n = int(np.floor((parts[1] - parts[0]) / parts[2] + 1e-9)) + 1
+            if len(parts) != 3 or not parts[2] > 0 or not all(math.isfinite(x) for x in parts):
+                raise UsageError(f"--{what} range {text!r} must be START:STOP:STEP with STEP > 0")
+            n = math.floor((parts[1] - parts[0]) / parts[2] + 1e-9) + 1
             if n < 1:
-                raise InputError(f"--{what} range {text!r} is empty (STOP < START)")
+                raise UsageError(f"--{what} range {text!r} is empty (STOP < START)")
             vals = [round(parts[0] + k * parts[2], 10) for k in range(n)]
         else:
             vals = [float(x) for x in text.split(",") if x.strip()]
     except ValueError as exc:
-        if isinstance(exc, InputError):
+        if isinstance(exc, UsageError):
             raise
-        raise InputError(f"--{what} {text!r} is not a list of numbers (e.g. 70,72,74 or 70:76:2)") from None
+        raise UsageError(f"--{what} {text!r} is not a list of numbers (e.g. 70,72,74 or 70:76:2)") from None
     if not vals:
-        raise InputError(f"--{what} is empty; give at least one value")
-    bad = [v for v in vals if not np.isfinite(v)]
+        raise UsageError(f"--{what} is empty; give at least one value")
+    bad = [v for v in vals if not math.isfinite(v)]
     if bad:
-        raise InputError(f"--{what} must be finite numbers of degrees; got {bad[0]!r}")
+        raise UsageError(f"--{what} must be finite numbers; got {bad[0]!r}")
     return vals
+
+
+def finite(value: float | None, name: str) -> float | None:
+    """``value`` unchanged if it is None or finite, else a :class:`UsageError` naming the option ``--name``."""
+    if value is not None and not math.isfinite(value):
+        raise UsageError(f"--{name} must be a finite number; got {value!r}")
+    return value
+
+
+def load_robot(robot: str | None, mesh: str | None, *, com: str | None = None, mass: float = 1.0,
+               units: str = "m", com_model: str = "auto", joints: str | None = None):
+    """The robot the options describe: a URDF, a single mesh, or the built-in robot
+    (:func:`geometry.robot.load_robot`)."""
+    from geometry.robots import load_robot as _load
+
+    c = None
+    if com is not None:
+        try:
+            c = [float(x) for x in com.split(",")]
+        except ValueError:
+            raise UsageError(f"--com must be X,Y,Z in the mesh's units; got {com!r}") from None
+        if len(c) != 3:
+            raise UsageError(f"--com must be three numbers X,Y,Z; got {com!r}")
+    finite(mass, "mass")
+    return _load(robot, mesh=mesh, com=c, mass_kg=mass, units=units, com_model=com_model, joints=joints)
+
+
+METHOD_HELP = ("Barrier method (landscape.barriers): exact: no discretisation error (hull face-edge graph); grid: "
+               "the paper's grid search on the pitch-roll torus; sphere: the same search on an icosphere spaced "
+               "about --step apart.")
+
+
+def method_option(f):
+    """``--method``: a barrier method of the registry (:data:`landscape.barriers.METHODS`)."""
+    from landscape.barriers import DEFAULT_METHOD, METHODS
+
+    return click.option("--method", type=click.Choice(list(METHODS)), default=DEFAULT_METHOD, show_default=True,
+                        help=METHOD_HELP)(f)
+
+
+def robot_options(f):
+    """Options shared by every command that takes a robot."""
+    opts = [
+        click.option("--robot", type=str, default=None, help="URDF file (default: the built-in robot)."),
+        click.option("--mesh", type=str, default=None, help="A single rigid body: any mesh file trimesh reads."),
+        click.option("--com", type=str, default=None, help="With --mesh: CoM X,Y,Z in the mesh's units."),
+        click.option("--mass", type=float, default=1.0, show_default=True, help="With --mesh: mass, kg."),
+        click.option("--units", type=click.Choice(["mm", "cm", "m"]), default="m", show_default=True,
+                     help="With --mesh: units of the mesh file."),
+        click.option("--com-model", type=click.Choice(["auto", "solid", "shell"]), default="auto",
+                     show_default=True,
+                     help="With --mesh and no --com: solid (closed mesh), shell (thin surface) or auto."),
+        click.option("--joints", type=str, default=None,
+                     help="Joint map 'wing=J1,J2,...;leg=J' for a URDF whose joint names differ."),
+    ]
+    for o in reversed(opts):
+        f = o(f)
+    return f
+
+
+def robot_from(kw: dict):
+    """The robot of a command's :func:`robot_options` keywords."""
+    return load_robot(kw["robot"], kw["mesh"], com=kw["com"], mass=kw["mass"], units=kw["units"],
+                      com_model=kw["com_model"], joints=kw["joints"])

@@ -1,8 +1,7 @@
 """The ``landscape render`` command: 3-D and 2-D figures of one landscape and the robot at its minimum and saddle.
 
-Parses, validates, calls :func:`landscape.compute.compute`, lays the result out as plain arrays (a path broken
-where it wraps round the torus, its energies, the robot's part meshes in the world frame) and hands them to
-the renderers in :mod:`landscape.render`.
+Parses, validates, calls :func:`landscape.computation.compute`, lays the result out as plain arrays
+(:mod:`landscape.viz.scene`) and hands them to the renderers in :mod:`landscape.viz.render`.
 """
 
 from __future__ import annotations
@@ -10,94 +9,17 @@ from __future__ import annotations
 from pathlib import Path
 
 import click
-import numpy as np
-import trimesh
-from numpy.typing import NDArray
 
-from geometry import Pose
-from geometry.frames import body_to_world
-
-from .cli import MJ, _finite, _robot_from, cli, robot_options
+from landscape.cli.options import MJ, UsageError, finite, method_option, robot_from, robot_options
 
 EXITS = {"righting": "righting", "pitch-wise": "pitch_wise", "roll-wise": "roll_wise", "escape": "escape"}
 
 
-# ------------------------------------------------------------------------------------------------ layout helpers
-def wrapped_path_deg(path_deg: NDArray[np.float64]) -> NDArray[np.float64]:
-    """A continuous (unwrapped) torus path moved into [-180, 180), with a NaN row wherever it wraps.
-
-    Examples
-    --------
-    >>> wrapped_path_deg(np.array([[170.0, 0.0], [179.0, 0.0], [188.0, 0.0]])).tolist()
-    [[170.0, 0.0], [179.0, 0.0], [nan, nan], [-172.0, 0.0]]
-    """
-    w = (np.asarray(path_deg, dtype=np.float64).reshape(-1, 2) + 180.0) % 360.0 - 180.0
-    breaks = np.flatnonzero((np.abs(np.diff(w, axis=0)) > 180.0).any(axis=1)) + 1
-    return np.insert(w, breaks, np.nan, axis=0)
-
-
-def nearest_twin_deg(pitch_deg: float, roll_deg: float, near_deg: NDArray[np.float64]) -> tuple[float, float]:
-    """Of the two torus points of one orientation, (p, r) and (180 - p, r + 180), the one nearer ``near_deg``.
-
-    The landscape over the full pitch-roll square shows every orientation twice; a mark belongs on the copy
-    the drawn path passes.
-
-    Examples
-    --------
-    >>> nearest_twin_deg(70.0, 10.0, np.array([[100.0, -170.0]]))
-    (110.0, -170.0)
-    """
-    near = np.asarray(near_deg, dtype=np.float64).reshape(-1, 2)
-    near = near[np.isfinite(near).all(axis=1)]
-    twins = np.array([[pitch_deg, roll_deg], [180.0 - pitch_deg, roll_deg + 180.0]])
-    twins = (twins + 180.0) % 360.0 - 180.0
-    if not len(near):
-        return float(twins[0, 0]), float(twins[0, 1])
-    d = (np.abs(twins[:, None, :] - near[None, :, :]) + 180.0) % 360.0 - 180.0
-    k = int(np.argmin(np.linalg.norm(d, axis=-1).min(axis=1)))
-    return float(twins[k, 0]), float(twins[k, 1])
-
-
-def posed_meshes_world(pose: Pose, pitch_deg: float, roll_deg: float
-                       ) -> tuple[list[tuple[NDArray[np.float64], NDArray[np.int64]]], NDArray[np.float64]]:
-    """The posed robot's part meshes resting on the ground at body pitch and roll.
-
-    Each part is drawn as the convex hull of its geometry (the hull is what decides the contact). Parts are
-    placed by their link transforms, rotated by ``body_to_world(p, r)`` and shifted so the lowest point is
-    at z = 0 and the CoM above the origin.
-
-    Returns
-    -------
-    meshes : list of (vertices_m (V, 3), faces (F, 3))
-        World frame, m.
-    com_m : ndarray of shape (3,)
-        CoM in the world frame, m; ``com_m[2]`` is the CoM height above the ground.
-    """
-    rot = body_to_world(np.deg2rad(pitch_deg), np.deg2rad(roll_deg))
-    meshes = []
-    for part in pose.parts:
-        if len(part.hull_link_m) < 4:
-            continue
-        try:
-            hull = trimesh.convex.convex_hull(part.hull_link_m)
-        except Exception:  # flat or degenerate part: nothing to draw
-            continue
-        T = pose.link_transforms[part.link]
-        v = (np.asarray(hull.vertices) @ T[:3, :3].T + T[:3, 3]) @ rot.T
-        meshes.append((v, np.asarray(hull.faces, dtype=np.int64)))
-    com = rot @ pose.com_m
-    low = min(float(v[:, 2].min()) for v, _ in meshes)
-    shift = np.array([com[0], com[1], low])
-    return [(v - shift, f) for v, f in meshes], com - shift
-
-
-# ------------------------------------------------------------------------------------------------ command
 @click.command()
 @click.option("--theta-w", type=float, default=0.0, show_default=True, help="Wing angle, degrees.")
 @click.option("--theta-l", type=float, default=0.0, show_default=True, help="Leg angle, degrees.")
 @click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees; divides 360.")
-@click.option("--method", type=click.Choice(["exact", "grid"]), default="exact", show_default=True,
-              help="Barrier method (see `landscape compute`).")
+@method_option
 @click.option("--exit", "exit_kind", type=click.Choice(list(EXITS)), default="righting", show_default=True,
               help="Which barrier's saddle and path to mark.")
 @robot_options
@@ -105,13 +27,16 @@ def posed_meshes_world(pose: Pose, pitch_deg: float, roll_deg: float
               help="Directory for landscape.png/.vts/.html, contour.png/.svg, robot_start.png, robot_saddle.png.")
 def render(theta_w, theta_l, step, method, exit_kind, out, **kw):
     """3-D landscape (PNG, VTK, HTML), 2-D contour map (PNG, SVG) and the robot at its minimum and saddle."""
-    from . import render as rd
-    from .compute import compute as run
-    from .energy import height_at
+    import numpy as np
+
+    from landscape.computation import compute as run
+    from landscape.energy import height_at
+    from landscape.viz import render as rd
+    from landscape.viz.scene import nearest_twin_deg, posed_meshes_world, wrapped_path_deg
 
     for name, v in (("theta-w", theta_w), ("theta-l", theta_l), ("step", step)):
-        _finite(v, name)
-    robot = _robot_from(kw)
+        finite(v, name)
+    robot = robot_from(kw)
     c = run(robot, theta_w_deg=theta_w, theta_l_deg=theta_l, step_deg=step, method=method)
     angles_deg, energy_j = c.landscape.inclusive()
     ex = getattr(c.barrier, EXITS[exit_kind])
@@ -144,7 +69,7 @@ def render(theta_w, theta_l, step, method, exit_kind, out, **kw):
     except rd.MissingDependencyError as exc:
         problem = str(exc)
     if problem is not None:
-        raise click.ClickException(f"{problem} (wrote only {', '.join(p.name for p in written)} in {outd})")
+        raise UsageError(f"{problem} (wrote only {', '.join(p.name for p in written)} in {outd})")
     written.append(rd.render_landscape(energy_j, angles_deg, angles_deg, outd / "landscape.png", title=title,
                                        **marks))
     robots = [("start", "start minimum", c.minimum.pitch_deg, c.minimum.roll_deg)]
@@ -162,6 +87,3 @@ def render(theta_w, theta_l, step, method, exit_kind, out, **kw):
         click.echo(f"landscape: note: skipped landscape.html: {exc}", err=True)
     click.echo(f"wrote {', '.join(p.name for p in written)} in {outd}")
 
-
-# Register on import, whichever of landscape.cli and this module is imported first (they import each other).
-cli.add_command(render)

@@ -1,9 +1,5 @@
-"""Click commands for self-righting trials: ``simulate``, ``sweep``, ``export`` (registered on the ``landscape``
-group by ``landscape/cli.py``).
-
-Bad input exits with status 2 and one line on stderr, never a traceback: library ``ValueError``s are turned into
-:class:`SimUsageError` (a :class:`click.ClickException` with exit code 2).
-"""
+"""``landscape simulate``, ``sweep`` and ``export``: one pybullet trial, a resumable sweep into SQLite, and the
+stored trials as CSV. pybullet loads only when a command runs."""
 
 from __future__ import annotations
 
@@ -13,39 +9,16 @@ from pathlib import Path
 
 import click
 
-from geometry import JointMap
-from landscape.options import InputError, parse_values
-from sim.trial import DEFAULT_DT_S, DEFAULT_DURATION_S, OTHER_ROBOT_DT_S, Trace, run_trial
-from sim.world import SimulationDiverged
+from landscape.cli.options import UsageError, parse_values
+from sim.protocol import DEFAULT_DT_S, DEFAULT_DURATION_S, OTHER_ROBOT_DT_S
 
 
-class SimUsageError(click.ClickException):
-    """Bad command-line input: one line, exit status 2."""
-
-    exit_code = 2
-
-
-def _values(text: str, what: str) -> list[float]:
-    """'70,72,74' or '70:76:2' (inclusive) -> floats (landscape.options.parse_values); bad -> SimUsageError."""
-    try:
-        return parse_values(text, what)
-    except InputError as exc:
-        raise SimUsageError(str(exc)) from None
-
-
-def _joint_map(joints: str | None) -> JointMap | None:
-    try:
-        return JointMap.parse(joints) if joints else None
-    except ValueError as exc:
-        raise SimUsageError(str(exc)) from None
-
-
-def write_trace_csv(trace: Trace, path: Path) -> Path:
+def write_trace_csv(trace, path: Path) -> Path:
     """Write a trial trace as CSV with a header row (SI units and degrees, as the column names say)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(Trace.COLUMNS)
+        w.writerow(trace.COLUMNS)
         for row in trace.as_array():
             w.writerow([f"{x:.9g}" for x in row])
     return path
@@ -89,19 +62,20 @@ def _human(r, robot: str) -> str:
 def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_json, robot, joints, wing_period,
              leg_period, attempts):
     """Run one self-righting trial in pybullet and report its outcome."""
+    from geometry import JointMap
     from sim.actuation import Actuation
     from sim.model import default_robot_urdf
+    from sim.trial import run_trial
+    from sim.world import SimulationDiverged
 
     robot_path = str(robot) if robot else str(default_robot_urdf())
     try:
         act = Actuation(theta_w, theta_l, wing_period_s=wing_period, leg_period_s=leg_period)
         r = run_trial(theta_w, theta_l, phase=phase, cv=cv, rng=seed, duration_s=duration, dt_s=dt,
-                      robot=robot_path, joint_map=_joint_map(joints), trace=trace_path is not None,
+                      robot=robot_path, joint_map=JointMap.parse(joints) if joints else None, trace=trace_path is not None,
                       actuation=act, attempts=attempts or None)
     except SimulationDiverged as exc:
         raise click.ClickException(str(exc).splitlines()[0]) from None
-    except ValueError as exc:
-        raise SimUsageError(str(exc).splitlines()[0]) from None
     if trace_path is not None:
         write_trace_csv(r.trace, trace_path)
     if as_json:
@@ -145,16 +119,13 @@ def sweep(theta_w, theta_l, cv, phase, trials, wing_period, leg_period, attempts
     from sim.sweep import run_sweep, success_table, sweep_specs
 
     if workers is not None and scheduler is not None:
-        raise SimUsageError("give either --workers N (local processes) or --scheduler ADDRESS (Dask), not both")
-    tw, tl, cvs, phs = (_values(theta_w, "theta-w"), _values(theta_l, "theta-l"), _values(cv, "cv"),
-                        _values(phase, "phase"))
-    wps, lps = _values(wing_period, "wing-period"), _values(leg_period, "leg-period")
-    try:
-        specs = sweep_specs(tw, tl, cvs, phase=phs, trials=trials, duration_s=duration, dt_s=dt, robot=robot,
-                            base_seed=base_seed, wing_period_s=wps, leg_period_s=lps, attempts=attempts)
-        summary = run_sweep(specs, db=db, workers=workers, scheduler=scheduler, progress=not no_progress)
-    except (ValueError, OSError) as exc:
-        raise SimUsageError(str(exc).splitlines()[0]) from None
+        raise UsageError("give either --workers N (local processes) or --scheduler ADDRESS (Dask), not both")
+    tw, tl, cvs, phs = (parse_values(theta_w, "theta-w"), parse_values(theta_l, "theta-l"), parse_values(cv, "cv"),
+                        parse_values(phase, "phase"))
+    wps, lps = parse_values(wing_period, "wing-period"), parse_values(leg_period, "leg-period")
+    specs = sweep_specs(tw, tl, cvs, phase=phs, trials=trials, duration_s=duration, dt_s=dt, robot=robot,
+                        base_seed=base_seed, wing_period_s=wps, leg_period_s=lps, attempts=attempts)
+    summary = run_sweep(specs, db=db, workers=workers, scheduler=scheduler, progress=not no_progress)
     if as_json:
         click.echo(json.dumps(asdict(summary)))
         return
@@ -177,8 +148,5 @@ def export(db, csv_path):
     """Export every stored trial to CSV."""
     from sim.store import export_csv
 
-    try:
-        n = export_csv(db, csv_path)
-    except (ValueError, OSError) as exc:
-        raise SimUsageError(str(exc).splitlines()[0]) from None
+    n = export_csv(db, csv_path)
     click.echo(f"wrote {n} trials to {csv_path}")

@@ -1,4 +1,4 @@
-"""Figures of :mod:`landscape.analysis` (edge layer, matplotlib Agg): each writes a PNG and an SVG and returns the
+"""Figures of :mod:`landscape.analysis.trials` (edge layer, matplotlib Agg): each writes a PNG and an SVG and returns the
 PNG path."""
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.colors import ListedColormap  # noqa: E402
 
-from .analysis import AccuracyCell, BarrierOutcome, PhaseMap, ProbabilityCell  # noqa: E402
+from landscape.analysis.trials import AccuracyCell, BarrierOutcome, PhaseMap, ProbabilityCell  # noqa: E402
 
 OUTCOME_CMAP = ListedColormap(["#d7301f", "#1a9850"])
 

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .barrier import Exit
-from .compute import Computation
+from landscape.barriers import Exit
+from landscape.computation import BarrierMap, Computation
 
 MJ = 1e3
 
@@ -22,7 +22,7 @@ def _exit_dict(x: Exit | None) -> dict | None:
 
 
 def barrier_fields(b) -> dict:
-    """Flat barrier fields (J, degrees) of a GridBarrier, as the JSON summary and the barrier-map CSV report them."""
+    """Flat barrier fields (J, degrees) of a Barrier, as the JSON summary and the barrier-map CSV report them."""
     r = b.righting
     return {
         "righting_j": None if r is None else r.barrier_j,
@@ -36,6 +36,13 @@ def barrier_fields(b) -> dict:
         "escape_saddle_roll_deg": None if b.escape is None else b.escape.saddle_roll_deg,
         "escape_direction": None if b.escape is None else b.escape.direction,
     }
+
+
+def barrier_map_rows(bm: BarrierMap) -> list[dict]:
+    """One row per pose of a barrier map: the angles, the start minimum and :func:`barrier_fields`."""
+    return [{"theta_w_deg": c.theta_w_deg, "theta_l_deg": c.theta_l_deg, "min_pitch_deg": c.minimum.pitch_deg,
+             "min_roll_deg": c.minimum.roll_deg, "min_energy_j": c.minimum.energy_j, **barrier_fields(c.barrier)}
+            for c in bm.computations]
 
 
 def summary(c: Computation, *, robot_name: str, robot_source: str | None, robot_hash: str,

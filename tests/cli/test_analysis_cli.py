@@ -85,7 +85,7 @@ def test_analyze_commands_write_their_files_and_refuse_bad_input(capsys, db, tmp
 
 
 def test_report_page_passes_a_headless_browser_check(capsys, db, tmp_path):
-    from landscape.report import find_chromium
+    from landscape.viz.report import find_chromium
 
     if find_chromium() is None:
         pytest.skip("chromium is not installed (apt-get install chromium)")

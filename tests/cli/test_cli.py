@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from landscape.cli import main, parse_values
+from landscape.cli import main
+from landscape.cli.options import parse_values
 
 
 def run(capsys, *argv):

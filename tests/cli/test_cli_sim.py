@@ -3,7 +3,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
+import contextlib
+import io
+from types import SimpleNamespace
 
 SHARED = Path(__file__).resolve().parents[2].parent / "shared"
 LAB_URDF = SHARED / "ref" / "lab_robot" / "lab_robot.urdf"
@@ -11,11 +13,18 @@ pytestmark = pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/la
 
 pytest.importorskip("pybullet")
 
-from landscape.cli_sim import export, simulate, sweep  # noqa: E402
+from landscape.cli import main  # noqa: E402
+
+simulate, sweep, export = "simulate", "sweep", "export"
 
 
 def invoke(cmd, *args):
-    return CliRunner().invoke(cmd, [str(a) for a in args])
+    """Run ``landscape CMD ARGS`` through the real entry point (exit status and error mapping included)."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main([cmd, *(str(a) for a in args)])
+    return SimpleNamespace(exit_code=code, output=out.getvalue() + err.getvalue(), stdout=out.getvalue(),
+                           stderr=err.getvalue())
 
 
 def test_simulate_json_and_trace(tmp_path):
@@ -23,7 +32,7 @@ def test_simulate_json_and_trace(tmp_path):
     r = invoke(simulate, "--theta-w", 80, "--theta-l", 50, "--phase", 0.7, "--cv", 0.1, "--seed", 1,
                "--dt", 1e-3, "--duration", 4, "--robot", LAB_URDF, "--json", "--trace", trace)
     assert r.exit_code == 0, r.output
-    d = json.loads(r.output)
+    d = json.loads(r.stdout)
     assert d["success"] is True and d["attempt"] == 1 and d["mode"] == "roll"
     assert d["phases"] == pytest.approx([0.7]) and d["seed"] == 1 and d["theta_w_deg"] == 80.0 and d["dt_s"] == 1e-3
     assert set(d) >= {"time_to_right_s", "wall_s", "cv", "phase", "theta_l_deg", "robot"}
@@ -71,7 +80,7 @@ def test_sweep_and_export(tmp_path):
             "--duration", "1.5", "--dt", "1e-3", "--workers", "1", "--robot", LAB_URDF, "--no-progress"]
     r = invoke(sweep, *args, "--json")
     assert r.exit_code == 0, r.output
-    s = json.loads(r.output)
+    s = json.loads(r.stdout)
     assert (s["total"], s["ran"], s["skipped"]) == (2, 2, 0)
     r = invoke(sweep, *args)
     assert r.exit_code == 0 and "2 already in" in r.output and "ran 0" in r.output

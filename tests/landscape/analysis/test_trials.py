@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from landscape import analysis as an
+from landscape.analysis import trials as an
 
 
 def _row(**kw):

@@ -9,9 +9,9 @@ from scipy.spatial.transform import Rotation
 
 from geometry import Robot
 from geometry.frames import pitch_roll_from_up, up_vector
-from landscape.barrier import grid_barrier
+from landscape.barriers.exact import _descend_from, exact_barrier, exact_landscape
+from landscape.barriers.grid import grid_barrier
 from landscape.energy import energy_landscape
-from landscape.exact import _descend_from, exact_barrier, exact_landscape
 from landscape.minima import grid_minimum
 
 G = 9.81
@@ -179,7 +179,7 @@ def test_lab_robot_exact_vs_grid(lab_robot):
     """Exact righting within grid error of the 0.5 deg grid; the grid's escape ends in a spurious grid minimum
     on the diagonal valley that rolls straight back into the start basin (the discretisation error issue #3 is
     about)."""
-    from landscape.compute import start_orientation
+    from landscape.computation import start_orientation
 
     pose = lab_robot.pose(74, 0)
     start = start_orientation(lab_robot, pose, 74, 0)

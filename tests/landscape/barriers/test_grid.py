@@ -4,7 +4,7 @@ import trimesh
 
 from geometry import Robot
 from landscape import compute
-from landscape.barrier import grid_barrier
+from landscape.barriers.grid import grid_barrier
 from landscape.energy import energy_landscape
 from landscape.minima import grid_minimum
 

@@ -6,7 +6,7 @@ import trimesh
 
 from geometry import Robot
 from geometry.errors import GeometryError
-from landscape.exact import LENGTH_RTOL, ExactMethodError, exact_barrier, exact_landscape
+from landscape.barriers.exact import LENGTH_RTOL, ExactMethodError, exact_barrier, exact_landscape
 
 
 def _box(extents, com=(0.0, 0.0, 0.0), mass=1.0):

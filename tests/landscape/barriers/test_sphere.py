@@ -4,8 +4,8 @@ import trimesh
 
 from geometry import Robot
 from landscape import compute
-from landscape.exact import exact_barrier
-from landscape.sphere import sphere_barrier, sphere_graph, subdivisions_for_step
+from landscape.barriers.exact import exact_barrier
+from landscape.barriers.sphere import sphere_barrier, sphere_graph, subdivisions_for_step
 
 
 def test_graph_is_uniform_and_connected():

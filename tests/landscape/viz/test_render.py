@@ -14,11 +14,11 @@ from PIL import Image
 
 from geometry import Robot
 from geometry.frames import up_vector
-from landscape import render as rd
 from landscape.cli import main
-from landscape.cli_render import nearest_twin_deg, posed_meshes_world, wrapped_path_deg
-from landscape.compute import compute
+from landscape.computation import compute
 from landscape.energy import height_at
+from landscape.viz import render as rd
+from landscape.viz.scene import nearest_twin_deg, posed_meshes_world, wrapped_path_deg
 
 
 def _importable(name: str) -> bool:

@@ -8,7 +8,7 @@ import stat
 import pytest
 from matplotlib.figure import Figure as MplFigure
 
-from landscape.report import (
+from landscape.viz.report import (
     SELF_CHECK_JS,
     Figure,
     Section,

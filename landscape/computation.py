@@ -9,25 +9,22 @@ import numpy as np
 from numpy.typing import NDArray
 
 from geometry import Pose, Robot
+from geometry.errors import UsageError
 from geometry.frames import canonical_pitch_roll_deg
 
-from .barrier import GridBarrier, grid_barrier
+from .barriers import DEFAULT_METHOD, Barrier
+from .barriers import method as barrier_method
+from .barriers.grid import grid_barrier
 from .energy import G_M_S2, Landscape, energy_landscape
-from .exact import exact_barrier
 from .grid import cells_per_turn, wrap_deg
 from .minima import (
     Minimum,
-    as_minimum,
     follow_minimum,
     grid_minimum,
     local_descent,
     metastable_orientation,
     ramp_deg,
 )
-from .sphere import sphere_barrier, subdivisions_for_step
-
-METHODS = ("exact", "grid", "sphere")
-DEFAULT_METHOD = "exact"
 
 
 @dataclass(frozen=True)
@@ -50,7 +47,7 @@ class Computation:
         Orientation the start was sought from (the metastable continuation or the user's start), degrees.
     minimum : Minimum
         The start minimum on the grid.
-    barrier : GridBarrier
+    barrier : Barrier
         Righting, pitch-wise, roll-wise and escape exits.
     landscape : Landscape
     timing_s : dict
@@ -65,7 +62,7 @@ class Computation:
     com_m: NDArray[np.float64]
     start_deg: tuple[float, float]
     minimum: Minimum
-    barrier: GridBarrier
+    barrier: Barrier
     landscape: Landscape = field(repr=False)
     pose: Pose = field(repr=False)
     timing_s: dict = field(default_factory=dict)
@@ -92,7 +89,7 @@ def warm_up() -> None:
     _WARM.append(True)
 
 
-def _with_sectors(barrier: GridBarrier, minimum: Minimum, ls: Landscape, connectivity: int) -> GridBarrier:
+def _with_sectors(barrier: Barrier, minimum: Minimum, ls: Landscape, connectivity: int) -> Barrier:
     """Fill the pitch-wise and roll-wise exits of a non-grid method.
 
     Sector-restricted barriers live on the torus (a path over the pole changes sheet), so neither the exact
@@ -125,7 +122,7 @@ def start_orientation(robot: Robot, pose: Pose, theta_w_deg: float | None, theta
         p = 0.0 if start_pitch_deg is None else float(start_pitch_deg)
         r = 0.0 if start_roll_deg is None else float(start_roll_deg)
         if not (np.isfinite(p) and np.isfinite(r)) or abs(p) > 180 or abs(r) > 180:
-            raise ValueError(f"start pitch and roll must be finite degrees in [-180, 180]; got ({p!r}, {r!r})")
+            raise UsageError(f"start pitch and roll must be finite degrees in [-180, 180]; got ({p!r}, {r!r})")
         return local_descent(pose, p, r)
     if robot.has_joints:
         return metastable_orientation(robot, theta_w_deg, theta_l_deg)
@@ -149,7 +146,8 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
         Seek the start minimum by descent from here instead of the metastable continuation.
     connectivity : {8, 4}
         Grid neighbours (method "grid").
-    method : {"exact", "grid"}
+    method : str
+        A barrier method of :data:`landscape.barriers.METHODS`:
         "exact": righting and escape barriers on the hull's face-edge graph, no discretisation error
         (landscape/exact.py); pitch-wise and roll-wise are the exact righting barrier when its path stays
         in that sector, else the grid's sector search at ``step_deg`` referenced to the exact start energy;
@@ -165,8 +163,7 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
     JointLimitError, GridError, ValueError
         For angles outside the joint limits, a step not dividing 360, or a non-finite start.
     """
-    if method not in METHODS:
-        raise ValueError(f"method must be one of {', '.join(METHODS)}; got {method!r}")
+    solver = barrier_method(method)
     cells_per_turn(step_deg)
     warm_up()
     timing = {}
@@ -183,16 +180,9 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
     ls = energy_landscape(pose, step_deg=step_deg, g_m_s2=g_m_s2)
     timing["landscape"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    if method == "grid":
-        cell = grid_minimum(ls, *start_deg)
-        minimum, barrier = as_minimum(ls, *cell), grid_barrier(ls, cell, connectivity=connectivity)
-    else:
-        if method == "exact":
-            ex = exact_barrier(pose, *start_deg, g_m_s2=g_m_s2, sectors=False)
-            minimum, barrier = ex.start, ex.barrier
-        else:
-            sb = sphere_barrier(pose, *start_deg, subdivisions=subdivisions_for_step(step_deg), g_m_s2=g_m_s2)
-            minimum, barrier = sb.start, sb.barrier
+    minimum, barrier = solver.solve(pose, ls, start_deg, step_deg=step_deg, connectivity=connectivity,
+                                    g_m_s2=g_m_s2)
+    if not solver.SECTORS:
         barrier = _with_sectors(barrier, minimum, ls, connectivity)
     timing["barrier"] = time.perf_counter() - t0
     return Computation(pose.theta_w_deg, pose.theta_l_deg, float(step_deg), method, pose.mass_kg, pose.com_m,
@@ -225,3 +215,72 @@ def sweep_starts(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float
                 out[(w, tl)] = follow_minimum(robot, lpath, pitch_deg=p, roll_deg=r)[-1]
     return out
 
+
+
+@dataclass(frozen=True)
+class BarrierMap:
+    """Start minima and barriers over a theta_w x theta_l grid (the source paper's Fig. 5).
+
+    Attributes
+    ----------
+    theta_w_deg, theta_l_deg : tuple of float
+        The grid's axes, degrees.
+    computations : tuple of Computation
+        One per (theta_w, theta_l), theta_l varying fastest.
+    righting_j : ndarray of shape (W, L)
+        Minimal righting barrier, J (nan where the robot cannot right).
+    """
+
+    theta_w_deg: tuple[float, ...]
+    theta_l_deg: tuple[float, ...]
+    computations: tuple[Computation, ...] = field(repr=False)
+    righting_j: NDArray[np.float64] = field(repr=False)
+
+
+def barrier_map(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float], *, step_deg: float = 1.0,
+                method: str = DEFAULT_METHOD, progress=None) -> BarrierMap:
+    """Start minimum and barriers at every (theta_w, theta_l), the starts from one shared continuation.
+
+    Parameters
+    ----------
+    robot : Robot
+        A robot with joints.
+    theta_w_deg, theta_l_deg : list of float
+        Wing and leg angles, degrees.
+    step_deg, method
+        As in :func:`compute`.
+    progress : callable, optional
+        Called with 1 after each pose (e.g. a progress bar's ``update``).
+
+    Raises
+    ------
+    UsageError
+        If the robot has no joints, or a grid is empty.
+    JointLimitError, GridError
+        For angles outside the joint limits (checked before any work) or a step not dividing 360.
+    """
+    from geometry.errors import UsageError
+
+    if not robot.has_joints:
+        raise UsageError("a barrier map needs a robot with joints (--robot FILE.urdf or the built-in robot)")
+    ws, ls_ = [float(w) for w in theta_w_deg], [float(x) for x in theta_l_deg]
+    if not ws or not ls_:
+        raise UsageError("a barrier map needs at least one theta_w and one theta_l")
+    for w in ws:
+        for leg in ls_:
+            robot.joint_values_rad(w, leg)
+    barrier_method(method)
+    cells_per_turn(step_deg)
+    starts = sweep_starts(robot, ws, ls_)
+    out = []
+    grid = np.full((len(ws), len(ls_)), np.nan)
+    for i, w in enumerate(ws):
+        for j, leg in enumerate(ls_):
+            c = compute(robot, theta_w_deg=w, theta_l_deg=leg, step_deg=step_deg, start_deg=starts[(w, leg)],
+                        method=method)
+            if c.barrier.righting is not None:
+                grid[i, j] = c.barrier.righting.barrier_j
+            out.append(c)
+            if progress is not None:
+                progress(1)
+    return BarrierMap(tuple(ws), tuple(ls_), tuple(out), grid)

@@ -1,0 +1,115 @@
+"""``landscape compute`` and ``landscape barrier-map``: one landscape with its barriers, and barriers over a
+theta_w x theta_l grid (the source paper's Fig. 5). Each parses, calls one library function and writes."""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+from pathlib import Path
+
+import click
+import numpy as np
+
+from landscape.cli.options import MJ, MM, finite, method_option, parse_values, robot_from, robot_options
+
+
+def _fmt_exit(name: str, x, mg: float) -> str:
+    if x is None:
+        return f"  {name:<12} none"
+    return (f"  {name:<12} {x.barrier_j * MJ:9.3f} mJ  = CoM lift {x.barrier_j / mg * MM:7.3f} mm   "
+            f"saddle ({x.saddle_pitch_deg:7.2f}, {x.saddle_roll_deg:7.2f})  {x.direction}")
+
+
+def human_summary(c, robot) -> str:
+    mg = c.mass_kg * c.landscape.g_m_s2
+    tw = "-" if c.theta_w_deg is None else f"{c.theta_w_deg:g}°"
+    tl = "-" if c.theta_l_deg is None else f"{c.theta_l_deg:g}°"
+    lines = [
+        f"robot        {robot.name}  ({robot.source or 'in memory'})",
+        f"pose         theta_w {tw}  theta_l {tl}   grid step {c.step_deg:g}°   method {c.method}",
+        f"mass         {c.mass_kg * 1e3:.1f} g",
+        "CoM          ({:.2f}, {:.2f}, {:.2f}) mm  ({})".format(*(c.com_m * MM), robot.com_source),
+        f"minimum      pitch {c.minimum.pitch_deg:.2f}°  roll {c.minimum.roll_deg:.2f}°  "
+        f"E {c.minimum.energy_j * MJ:.3f} mJ  h {c.minimum.height_m * MM:.3f} mm",
+        "barriers     (pitch, roll) of the saddle in degrees",
+        _fmt_exit("righting", c.barrier.righting, mg),
+        _fmt_exit("pitch-wise", c.barrier.pitch_wise, mg),
+        _fmt_exit("roll-wise", c.barrier.roll_wise, mg),
+        _fmt_exit("escape", c.barrier.escape, mg),
+        "timing       " + "  ".join(f"{k} {v * 1e3:.1f} ms" for k, v in c.timing_s.items()),
+    ]
+    return "\n".join(lines)
+
+
+@click.command()
+@click.option("--theta-w", type=float, default=0.0, show_default=True, help="Wing angle, degrees.")
+@click.option("--theta-l", type=float, default=0.0, show_default=True, help="Leg angle, degrees.")
+@click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees; divides 360.")
+@click.option("--start-pitch", type=float, default=None, help="Start by descent from this pitch, degrees.")
+@click.option("--start-roll", type=float, default=None, help="Start by descent from this roll, degrees.")
+@click.option("--connectivity", type=click.Choice(["8", "4"]), default="8", show_default=True,
+              help="Grid neighbours of the grid search (8: with diagonals).")
+@method_option
+@robot_options
+@click.option("--out", type=click.Path(file_okay=False), default=None,
+              help="Write landscape.npz, landscape.csv and summary.json into this directory.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of the table.")
+def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, method, out, as_json, **kw):
+    """Landscape, start minimum and minimal barriers at one (theta_w, theta_l)."""
+    from landscape.computation import compute as run
+    from landscape.viz import files
+
+    for name, v in (("theta-w", theta_w), ("theta-l", theta_l), ("step", step), ("start-pitch", start_pitch),
+                    ("start-roll", start_roll)):
+        finite(v, name)
+    robot = robot_from(kw)
+    c = run(robot, theta_w_deg=theta_w, theta_l_deg=theta_l, step_deg=step, start_pitch_deg=start_pitch,
+            start_roll_deg=start_roll, connectivity=int(connectivity), method=method)
+    s = files.summary(c, robot_name=robot.name, robot_source=str(robot.source) if robot.source else None,
+                      robot_hash=robot.description_hash, com_source=robot.com_source)
+    if out:
+        files.write_computation(c, s, Path(out))
+    if as_json:
+        s = dict(s)
+        s.pop("paths")
+        click.echo(json.dumps(s))
+    else:
+        click.echo(human_summary(c, robot))
+        if out:
+            click.echo(f"wrote        {out}/landscape.npz, landscape.csv, summary.json")
+
+
+@click.command("barrier-map")
+@click.option("--theta-w", "theta_w", type=str, default="70:76:2", show_default=True,
+              help="Wing angles: list 70,72 or range START:STOP:STEP (inclusive), degrees.")
+@click.option("--theta-l", "theta_l", type=str, default="20:50:10", show_default=True,
+              help="Leg angles: list or range, degrees.")
+@click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees; divides 360.")
+@method_option
+@robot_options
+@click.option("--out", type=click.Path(file_okay=False), default="barrier-map", show_default=True,
+              help="Directory for barrier_map.csv and barrier_map.png.")
+def barrier_map(theta_w, theta_l, step, method, out, **kw):
+    """Minimal barrier over theta_w x theta_l: CSV and heat map (the source paper's Fig. 5)."""
+    from tqdm import tqdm
+
+    from landscape.computation import barrier_map as run
+    from landscape.viz import files, plots
+
+    ws, ls_ = parse_values(theta_w, "theta-w"), parse_values(theta_l, "theta-l")
+    finite(step, "step")
+    robot = robot_from(kw)
+    t0 = time.perf_counter()
+    with tqdm(total=len(ws) * len(ls_), desc="barrier-map", unit="pose", file=sys.stderr, disable=None) as bar:
+        bm = run(robot, ws, ls_, step_deg=step, method=method, progress=bar.update)
+    rows = files.barrier_map_rows(bm)
+    outd = Path(out)
+    csv_path = files.write_rows_csv(rows, outd / "barrier_map.csv")
+    grid_mj = bm.righting_j * MJ
+    png = plots.render_barrier_map(ws, ls_, grid_mj, outd / "barrier_map.png",
+                                   title=f"Minimal righting barrier, {robot.name}, "
+                                         + ("exact" if method == "exact" else f"{step:g}° {method}"))
+    click.echo(f"{len(rows)} poses in {time.perf_counter() - t0:.2f} s; "
+               f"righting barrier {np.nanmin(grid_mj):.3f} .. {np.nanmax(grid_mj):.3f} mJ")
+    click.echo(f"wrote {csv_path} and {png}")

@@ -1,0 +1,28 @@
+"""The experiment's constants, in one place: the source paper's protocol and the simulator's default steps.
+
+Pure constants (no pybullet), so the command line can show them in its help without loading the engine.
+"""
+
+PAPER_WING_PERIOD_S = 2.0
+"""Tw of the source paper's protocol, s (the default of :class:`sim.actuation.Actuation`)."""
+PAPER_LEG_PERIOD_S = 0.8
+"""Tl of the source paper's protocol, s (the default of :class:`sim.actuation.Actuation`)."""
+PAPER_THETA_W_DEG = (70.0, 72.0, 74.0, 76.0)
+"""The source paper's wing angles, degrees."""
+PAPER_THETA_L_DEG = (20.0, 30.0, 40.0, 50.0)
+"""The source paper's leg amplitudes, degrees."""
+PAPER_CV = (0.0, 0.05, 0.1, 0.15, 0.2, 0.25)
+"""The source paper's noise levels Cv = sigma / Tl."""
+PAPER_TRIALS = 40
+"""Trials per setting in the source paper."""
+PAPER_PHASE = 0.7
+"""First-attempt phase phi_1 of the default sweep."""
+DEFAULT_DURATION_S = 10.0
+"""Trial length, s (the source paper's)."""
+DEFAULT_DT_S = 5e-4
+"""Default physics time step of the built-in robot, s: the largest with < 0.5 deg orientation difference over the
+first second and the same outcomes as dt = 5e-5 with 50 solver iterations (``benchmarks/sim_convergence.py``;
+see docs/sim.md)."""
+OTHER_ROBOT_DT_S = 2e-4
+"""Default time step of any other robot, s: the lab URDF needs it (at 5e-4 it is 0.75 deg off in the first
+second); run the convergence benchmark on a new robot before trusting a larger one."""
