@@ -2,7 +2,7 @@
 
 Uses the lab robot (../shared/ref/lab_robot/lab_robot.urdf) when present, else the built-in robot. Writes
 figures/landscape_74.png, contour_74.png, robot_start_74.png and robot_saddle_74.png. Needs pyvista and an
-off-screen OpenGL (see landscape/render.py).
+off-screen OpenGL (see landscape/viz/render.py).
 
     python figures/render_examples.py
 """

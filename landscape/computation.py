@@ -93,7 +93,7 @@ def _with_sectors(barrier: Barrier, minimum: Minimum, ls: Landscape, connectivit
     """Fill the pitch-wise and roll-wise exits of a non-grid method.
 
     Sector-restricted barriers live on the torus (a path over the pole changes sheet), so neither the exact
-    face-edge graph (landscape/exact.py gives only an upper bound) nor the icosphere has them. Where the method's
+    face-edge graph (landscape/barriers/exact.py gives only an upper bound) nor the icosphere has them. Where the method's
     righting path stays inside a sector, it is that sector's barrier; otherwise the grid's sector search gives
     it: the grid's bottleneck level minus the method's start energy.
     """
@@ -149,12 +149,12 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
     method : str
         A barrier method of :data:`landscape.barriers.METHODS`:
         "exact": righting and escape barriers on the hull's face-edge graph, no discretisation error
-        (landscape/exact.py); pitch-wise and roll-wise are the exact righting barrier when its path stays
+        (landscape/barriers/exact.py); pitch-wise and roll-wise are the exact righting barrier when its path stays
         in that sector, else the grid's sector search at ``step_deg`` referenced to the exact start energy;
         "grid": the source paper's graph search on the pitch-roll grid. The landscape grid is computed either
         way (for files and figures);
         "sphere": the same search on an icosphere of up-directions spaced about ``step_deg`` apart
-        (landscape/sphere.py).
+        (landscape/barriers/sphere.py).
     start_deg : (float, float), optional
         A start orientation already found (used by sweeps that continue along theta); skips the search.
 

@@ -20,7 +20,7 @@ arc is ``w.u`` with ``w`` the perpendicular from the edge line to the CoM. For r
 cross ``u_z = 0`` and the crossing is the target (the upright set is ``u_z < 0``; its closure is reached at the
 same level, so the infimum over paths is taken). No grid, so no discretisation error, in milliseconds.
 
-Definitions shared with the grid method (landscape/barrier.py):
+Definitions shared with the grid method (landscape/barriers/grid.py):
 
 - *escape*: reach another minimum (the lowest maximum along any path to any other face minimum).
 - *righting*: reach ``u_z <= 0``.
@@ -173,7 +173,7 @@ class ExactBarrier:
         The exact start minimum (canonical pitch, roll in degrees; energy, J; CoM height, m).
     start_face : int
         The face the body rests on there (index into ``landscape.face_up``).
-    barrier : landscape.barrier.Barrier
+    barrier : landscape.barriers.Barrier
         Righting, pitch-wise, roll-wise and escape exits, as the grid method reports them.
     landscape : ExactLandscape
     """

@@ -33,8 +33,6 @@ def cli(ctx, debug):
 
     Angles are degrees, energies are reported in mJ (files: J), lengths in mm (files: m).
     """
-    if debug:
-        os.environ[DEBUG_ENV] = "1"
     if ctx.invoked_subcommand is None:
         click.echo(ctx.get_help())
 
@@ -47,6 +45,7 @@ for _cmd in (compute.compute, compute.barrier_map, render.render, robot.robot, b
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit status (0 ok, 1 failure or bug, 2 bad input, 130 interrupted)."""
     args = sys.argv[1:] if argv is None else list(argv)
+    debug = bool(os.environ.get(DEBUG_ENV)) or "--debug" in args
     try:
         rv = cli.main(args=args, prog_name="landscape", standalone_mode=False)
     except click.exceptions.Exit as exc:
@@ -61,11 +60,11 @@ def main(argv: list[str] | None = None) -> int:
         click.echo(f"landscape: error: {_first_line(exc)}", err=True)
         return 2
     except Exception as exc:
-        if isinstance(exc, OSError) and exc.filename is not None and not os.environ.get(DEBUG_ENV):
+        if isinstance(exc, OSError) and exc.filename is not None and not debug:
             # the environment, not the code: a file that cannot be read or written
             click.echo(f"landscape: error: {exc.strerror or type(exc).__name__}: {exc.filename}", err=True)
             return 2
-        if os.environ.get(DEBUG_ENV):
+        if debug:
             raise
         click.echo(f"landscape: internal error: {type(exc).__name__}: {_first_line(exc)}", err=True)
         click.echo(f"landscape: {BUG_REPORT}", err=True)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import trimesh
 from numpy.typing import NDArray
+from scipy.spatial import QhullError
 
 from geometry import Pose
 from geometry.frames import body_to_world
@@ -68,7 +69,7 @@ def posed_meshes_world(pose: Pose, pitch_deg: float, roll_deg: float
             continue
         try:
             hull = trimesh.convex.convex_hull(part.hull_link_m)
-        except Exception:  # flat or degenerate part: nothing to draw
+        except QhullError:  # flat or degenerate part: nothing to draw
             continue
         T = pose.link_transforms[part.link]
         v = (np.asarray(hull.vertices) @ T[:3, :3].T + T[:3, 3]) @ rot.T

@@ -361,7 +361,7 @@ def build_report(db: Path, out: Path, *, robot: str | Path | None = None) -> tup
     sections : list of Section
         As written (a section without data says which sweep produces it).
     """
-    from importlib.metadata import version
+    from importlib.metadata import PackageNotFoundError, version
 
 
     out = Path(out)
@@ -384,7 +384,7 @@ def build_report(db: Path, out: Path, *, robot: str | Path | None = None) -> tup
     for pkg in ("selfrighting-landscape", "numpy", "scipy", "numba", "pybullet", "matplotlib", "trimesh"):
         try:
             versions[pkg] = version(pkg)
-        except Exception:  # noqa: BLE001 - a missing optional package is reported, not fatal
+        except PackageNotFoundError:  # a missing optional package is reported, not fatal
             versions[pkg] = "not installed"
     page = write_report(sections, out, title="Self-righting: barrier, coordination and randomness",
                         inputs=inputs, versions=versions, timings_s=timings)

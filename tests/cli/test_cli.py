@@ -153,3 +153,42 @@ def test_robot_export_round_trip(capsys, tmp_path):
     default = json.loads(out)
     assert exported["barrier"]["righting_j"] == default["barrier"]["righting_j"]
     assert exported["minimum"] == default["minimum"]
+
+
+def test_unexpected_exception_is_reported_as_a_bug_not_as_bad_input(capsys, monkeypatch):
+    """A ValueError from inside the library (a shape bug, not the user's input) is a bug: exit 1, one line saying
+    so and how to see the traceback; bad input stays exit 2."""
+    import landscape.computation
+
+    def broken(*a, **k):
+        raise ValueError("operands could not be broadcast together with shapes (3,) (4,)")
+
+    monkeypatch.delenv("LANDSCAPE_DEBUG", raising=False)
+    monkeypatch.setattr(landscape.computation, "compute", broken)
+    code, out, err = run(capsys, "compute", "--theta-w", "74")
+    assert code == 1
+    assert "internal error: ValueError: operands could not be broadcast" in err
+    assert "this is a bug" in err and "--debug" in err and "Traceback" not in err
+    with pytest.raises(ValueError, match="broadcast"):
+        main(["--debug", "compute", "--theta-w", "74"])
+    monkeypatch.setenv("LANDSCAPE_DEBUG", "1")
+    with pytest.raises(ValueError, match="broadcast"):
+        main(["compute", "--theta-w", "74"])
+
+
+def test_bad_input_is_exit_2_and_one_line(capsys):
+    code, out, err = run(capsys, "compute", "--theta-w", "120")
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "outside joint" in err
+
+
+def test_no_arguments_prints_help_and_exits_0(capsys):
+    code, out, err = run(capsys)
+    assert code == 0 and "Usage: landscape" in out and "compute" in out and err == ""
+
+
+def test_every_command_is_registered(capsys):
+    """Commands are imported explicitly: none vanishes when a module fails to import."""
+    code, out, err = run(capsys, "--help")
+    for name in ("compute", "barrier-map", "render", "robot", "bench", "simulate", "sweep", "export", "analyze",
+                 "report"):
+        assert f"  {name} " in out

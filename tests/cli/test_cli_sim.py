@@ -1,11 +1,11 @@
+import contextlib
+import io
 import json
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
-import contextlib
-import io
-from types import SimpleNamespace
 
 SHARED = Path(__file__).resolve().parents[2].parent / "shared"
 LAB_URDF = SHARED / "ref" / "lab_robot" / "lab_robot.urdf"

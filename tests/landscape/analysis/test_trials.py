@@ -151,3 +151,19 @@ def test_barrier_outcome_correlates_per_cv():
         assert r.rho == pytest.approx(-1.0) and r.rho_grid == pytest.approx(-1.0)
         assert r.rho_time == pytest.approx(1.0)
         assert r.fit.b < 0 and np.allclose(r.exact_mj, [6, 5, 4, 3, 2, 1])
+
+
+def test_logistic_fit_solves_the_score_equations():
+    """At the maximum the score equations hold: sum(n p - k) = 0 and sum((n p - k) E) = 0 (up to the tiny ridge),
+    checked independently of the fitting method; and `converged` reports it (BFGS flagged 'precision loss' here
+    with newer scipy although the estimates were right)."""
+    rng = np.random.default_rng(7)
+    e = np.linspace(2.0, 9.0, 8)
+    n = np.full(len(e), 40)
+    k = rng.binomial(n, 1 / (1 + np.exp(-(6.0 - 1.1 * e))))
+    f = an.logistic_fit(e, k, n)
+    p = f.p(e)
+    assert f.converged
+    assert abs(np.sum(n * p - k)) < 1e-6
+    ridge_term = 2 * an.RIDGE * f.b * e.std() ** 2  # d/db of the penalty on the standardised slope, per unit E
+    assert abs(np.sum((n * p - k) * e) + ridge_term) < 1e-5
