@@ -20,8 +20,10 @@ from geometry.errors import UsageError
 #: names of the barrier methods, one per module of this package
 METHODS: tuple[str, ...] = tuple(sorted(m.name for m in pkgutil.iter_modules(__path__) if not m.name.startswith("_")))
 DEFAULT_METHOD = "exact"
+#: exit names at the interfaces -> fields of :class:`Barrier`
+EXITS = {"righting": "righting", "pitch-wise": "pitch_wise", "roll-wise": "roll_wise", "escape": "escape"}
 
-__all__ = ["Barrier", "DEFAULT_METHOD", "Exit", "METHODS", "method"]
+__all__ = ["Barrier", "DEFAULT_METHOD", "EXITS", "Exit", "METHODS", "method"]
 
 
 def __getattr__(name: str):
