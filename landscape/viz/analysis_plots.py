@@ -6,27 +6,17 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib.colors import ListedColormap
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.colors import ListedColormap  # noqa: E402
-
-from landscape.analysis.trials import AccuracyCell, BarrierOutcome, PhaseMap, ProbabilityCell  # noqa: E402
+from landscape.analysis.trials import AccuracyCell, BarrierOutcome, PhaseMap, ProbabilityCell
+from landscape.viz._mpl import plt, save
 
 OUTCOME_CMAP = ListedColormap(["#d7301f", "#1a9850"])
 
 
 def _save(fig, png: Path) -> Path:
-    png = Path(png)
-    png.parent.mkdir(parents=True, exist_ok=True)
-    try:
-        fig.savefig(png, dpi=130, bbox_inches="tight")
-        fig.savefig(png.with_suffix(".svg"), bbox_inches="tight")
-    finally:
-        plt.close(fig)
-    return png
+    return save(fig, png, svg_too=True, dpi=130, bbox_inches="tight")
 
 
 def _grid(n: int, ncols: int = 3) -> tuple[int, int]:

@@ -4,11 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from landscape.viz._mpl import plt, save
 
 
 def render_barrier_map(theta_w_deg, theta_l_deg, barrier_mj, path: Path, *, title: str = "") -> Path:
@@ -39,7 +37,4 @@ def render_barrier_map(theta_w_deg, theta_l_deg, barrier_mj, path: Path, *, titl
         ax.set_ylabel("wing angle θw (°)")
     ax.set_title(title or "Minimal righting barrier")
     fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return save(fig, path)

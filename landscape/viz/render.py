@@ -24,13 +24,11 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-import matplotlib
+import matplotlib.patheffects as patheffects
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-matplotlib.use("Agg")
-import matplotlib.patheffects as patheffects  # noqa: E402
-import matplotlib.pyplot as plt  # noqa: E402
+from landscape.viz._mpl import plt, save
 
 MJ_PER_J = 1e3
 START_COLOUR = "#e41a1c"
@@ -109,6 +107,16 @@ def _errors_only():
         yield
     finally:
         vtkLogger.SetStderrVerbosity(before)
+
+
+def _screenshot(pl, path: Path) -> Path:
+    """Write the plotter's image to ``path`` (creating the directory) and close the plotter whatever happens."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        pl.screenshot(str(path))
+    finally:
+        pl.close()
+    return path
 
 
 def _pieces(path_deg: NDArray[np.float64]) -> list[slice]:
@@ -259,12 +267,7 @@ def render_landscape(energy_j: ArrayLike, pitch_deg: ArrayLike, roll_deg: ArrayL
                                 saddle_deg=saddle_deg, saddle_j=saddle_j, path_deg=path_deg, path_j=path_j,
                                 title=title, off_screen=off_screen, window_size=window_size,
                                 elevation_deg=elevation_deg, azimuth_deg=azimuth_deg)
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            pl.screenshot(str(path))
-        finally:
-            pl.close()
-    return path
+        return _screenshot(pl, path)
 
 
 def export_landscape_html(energy_j: ArrayLike, pitch_deg: ArrayLike, roll_deg: ArrayLike, path: str | Path, *,
@@ -432,12 +435,7 @@ def render_robot(meshes_world: Sequence[tuple[ArrayLike, ArrayLike]], path: str 
         pl.camera.azimuth = azimuth_deg
         pl.reset_camera()
         pl.camera.zoom(1.5)
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            pl.screenshot(str(path))
-        finally:
-            pl.close()
-    return path
+        return _screenshot(pl, path)
 
 
 # ------------------------------------------------------------------------------------------------ 2-D contour map
@@ -512,7 +510,4 @@ def render_contour(energy_j: ArrayLike, pitch_deg: ArrayLike, roll_deg: ArrayLik
         ax.legend(loc="upper left", fontsize=7, framealpha=0.85)
     ax.set_title(title or "Potential-energy landscape")
     fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return save(fig, path)
