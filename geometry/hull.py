@@ -89,3 +89,26 @@ def convex_hull(points_m: ArrayLike) -> Hull:
     edges = np.concatenate([simp[:, [0, 1]], simp[:, [1, 2]], simp[:, [2, 0]]])
     ptr, idx = _csr(len(keep), edges)
     return Hull(pts[keep], ptr, idx, simp)
+
+
+def depth_inside_m(hull: Hull, point_m: ArrayLike) -> float:
+    """Distance of ``point_m`` inside the hull's surface, m: positive inside, negative outside (the largest
+    distance past any face plane); ``-inf`` for a flat hull, which has no inside.
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> h = convex_hull(trimesh.creation.box(extents=(2, 2, 2)).vertices)
+    >>> depth_inside_m(h, [0.0, 0.0, 0.5]), depth_inside_m(h, [0.0, 0.0, 3.0])
+    (0.5, -2.0)
+    """
+    if not len(hull.simplices):
+        return -np.inf
+    v = hull.vertices_m
+    p0, p1, p2 = (v[hull.simplices[:, k]] for k in range(3))
+    n = np.cross(p1 - p0, p2 - p0)
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    # orient every face normal outward: away from the vertex centroid, which is inside
+    flip = np.einsum("ij,ij->i", n, p0 - v.mean(axis=0)) < 0
+    n[flip] *= -1.0
+    return float(np.min(np.einsum("ij,ij->i", n, p0 - np.asarray(point_m, dtype=np.float64))))

@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from .errors import UsageError
+from .errors import RobotDescriptionError, UsageError
 
 #: name -> function returning the robot's URDF path (files written on demand)
 ROBOTS: dict[str, Callable[[], Path]] = {}
@@ -74,6 +74,10 @@ def load_robot(robot: str | Path | None = None, *, mesh: str | Path | None = Non
     """
     from .robot import JointMap, Robot
 
+    for what, given in (("--robot", robot), ("--mesh", mesh)):
+        if given is not None and str(given) not in ROBOTS and Path(given).is_dir():
+            raise RobotDescriptionError(f"{what} {given} is a directory; give the file inside it "
+                                        f"({'the .urdf' if what == '--robot' else 'a mesh file'})")
     if robot is not None and mesh is not None:
         raise UsageError("give either --robot FILE.urdf or --mesh FILE, not both")
     if mesh is not None:

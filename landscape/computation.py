@@ -129,6 +129,23 @@ def start_orientation(robot: Robot, pose: Pose, theta_w_deg: float | None, theta
     return local_descent(pose, 0.0, 0.0)
 
 
+COM_OUTSIDE_HULL = ("the CoM {com} m lies {dist:.3g} m outside the convex hull of the body, so it would rest "
+                    "below the ground; check the masses and <inertial> origins (or --com)")
+
+
+def _check_com_inside(pose: Pose) -> None:
+    """Refuse a CoM outside the hull (every method: the energies would be meaningless, even negative)."""
+    from geometry.hull import depth_inside_m
+
+    hull = pose.hull
+    if not len(hull.simplices):
+        return  # a flat body: the exact method refuses it; the grid treats it as a plate
+    size = float(np.ptp(hull.vertices_m, axis=0).max())
+    depth = depth_inside_m(hull, pose.com_m)
+    if depth < -1e-9 * size:
+        raise UsageError(COM_OUTSIDE_HULL.format(com=np.round(pose.com_m, 6).tolist(), dist=-depth))
+
+
 def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float | None = 0.0,
             step_deg: float = 1.0, start_pitch_deg: float | None = None, start_roll_deg: float | None = None,
             connectivity: int = 8, method: str = DEFAULT_METHOD, g_m_s2: float = G_M_S2,
@@ -169,7 +186,7 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
     timing = {}
     t0 = time.perf_counter()
     pose = robot.pose(theta_w_deg, theta_l_deg)
-    _ = pose.hull
+    _check_com_inside(pose)
     timing["pose"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     if start_deg is None:

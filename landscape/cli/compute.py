@@ -3,15 +3,22 @@ theta_w x theta_l grid (the source paper's Fig. 5). Each parses, calls one libra
 
 from __future__ import annotations
 
-import json
 import sys
 import time
 from pathlib import Path
 
 import click
-import numpy as np
 
-from landscape.cli.options import MJ, MM, finite, method_option, parse_values, robot_from, robot_options
+from landscape.cli.options import (
+    MJ,
+    MM,
+    finite,
+    method_option,
+    parse_values,
+    robot_from,
+    robot_options,
+    writable_dir,
+)
 
 
 def _fmt_exit(name: str, x, mg: float) -> str:
@@ -63,6 +70,8 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
     for name, v in (("theta-w", theta_w), ("theta-l", theta_l), ("step", step), ("start-pitch", start_pitch),
                     ("start-roll", start_roll)):
         finite(v, name)
+    if out:
+        writable_dir(out, "--out")
     robot = robot_from(kw)
     c = run(robot, theta_w_deg=theta_w, theta_l_deg=theta_l, step_deg=step, start_pitch_deg=start_pitch,
             start_roll_deg=start_roll, connectivity=int(connectivity), method=method)
@@ -73,7 +82,7 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
     if as_json:
         s = dict(s)
         s.pop("paths")
-        click.echo(json.dumps(s))
+        click.echo(files.json_text(s))
     else:
         click.echo(human_summary(c, robot))
         if out:
@@ -92,6 +101,7 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
               help="Directory for barrier_map.csv and barrier_map.png.")
 def barrier_map(theta_w, theta_l, step, method, out, **kw):
     """Minimal barrier over theta_w x theta_l: CSV and heat map (the source paper's Fig. 5)."""
+    import numpy as np
     from tqdm import tqdm
 
     from landscape.computation import barrier_map as run
@@ -99,6 +109,7 @@ def barrier_map(theta_w, theta_l, step, method, out, **kw):
 
     ws, ls_ = parse_values(theta_w, "theta-w"), parse_values(theta_l, "theta-l")
     finite(step, "step")
+    writable_dir(out, "--out")
     robot = robot_from(kw)
     t0 = time.perf_counter()
     with tqdm(total=len(ws) * len(ls_), desc="barrier-map", unit="pose", file=sys.stderr, disable=None) as bar:

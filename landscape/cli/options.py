@@ -14,6 +14,8 @@ from geometry.errors import UsageError
 
 MJ = 1e3
 MM = 1e3
+MAX_VALUES = 100_000
+"""Most values one list or range option may expand to (a typo like 0:90:1e-7 would be 9e8)."""
 
 __all__ = ["MJ", "MM", "UsageError", "finite", "load_robot", "method_option", "parse_values", "robot_from",
            "robot_options"]
@@ -26,10 +28,10 @@ def parse_values(text: str, what: str) -> list[float]:
     --------
     >>> parse_values("70:76:2", "theta-w"), parse_values("20, 30", "theta-l")
     ([70.0, 72.0, 74.0, 76.0], [20.0, 30.0])
-    >>> parse_values("1:2", "theta-w")
+    >>> parse_values("0:90:1e-7", "theta-w")
     Traceback (most recent call last):
     ...
-    geometry.errors.UsageError: --theta-w range '1:2' must be START:STOP:STEP with STEP > 0
+    geometry.errors.UsageError: --theta-w range '0:90:1e-7' has 9e+08 values, more than the 100000 allowed; use a larger STEP
     """
     text = text.strip()
     if not text:
@@ -39,7 +41,11 @@ def parse_values(text: str, what: str) -> list[float]:
             parts = [float(x) for x in text.split(":")]
             if len(parts) != 3 or not parts[2] > 0 or not all(math.isfinite(x) for x in parts):
                 raise UsageError(f"--{what} range {text!r} must be START:STOP:STEP with STEP > 0")
-            n = math.floor((parts[1] - parts[0]) / parts[2] + 1e-9) + 1
+            count = (parts[1] - parts[0]) / parts[2] + 1e-9
+            if not math.isfinite(count) or count + 1 > MAX_VALUES:
+                raise UsageError(f"--{what} range {text!r} has {count + 1:.3g} values, more than the "
+                                 f"{MAX_VALUES} allowed; use a larger STEP")
+            n = math.floor(count) + 1
             if n < 1:
                 raise UsageError(f"--{what} range {text!r} is empty (STOP < START)")
             vals = [round(parts[0] + k * parts[2], 10) for k in range(n)]
@@ -51,6 +57,8 @@ def parse_values(text: str, what: str) -> list[float]:
         raise UsageError(f"--{what} {text!r} is not a list of numbers (e.g. 70,72,74 or 70:76:2)") from None
     if not vals:
         raise UsageError(f"--{what} is empty; give at least one value")
+    if len(vals) > MAX_VALUES:
+        raise UsageError(f"--{what} has {len(vals)} values, more than the {MAX_VALUES} allowed")
     bad = [v for v in vals if not math.isfinite(v)]
     if bad:
         raise UsageError(f"--{what} must be finite numbers; got {bad[0]!r}")
@@ -119,3 +127,32 @@ def robot_from(kw: dict):
     """The robot of a command's :func:`robot_options` keywords."""
     return load_robot(kw["robot"], kw["mesh"], com=kw["com"], mass=kw["mass"], units=kw["units"],
                       com_model=kw["com_model"], joints=kw["joints"])
+
+
+def writable_dir(path, option: str) -> None:
+    """Refuse up front an output directory that cannot be created or written (before any long computation)."""
+    import os
+    from pathlib import Path
+
+    p = Path(path)
+    probe = p
+    while not probe.exists():
+        probe = probe.parent
+    if not probe.is_dir():
+        raise UsageError(f"{option} {path}: {probe} is a file, not a directory; choose another {option}")
+    if not os.access(probe, os.W_OK | os.X_OK):
+        raise UsageError(f"{option} {path} is not writable ({probe} is read-only); choose another {option}")
+
+
+def writable_file(path, option: str, *, inputs=()) -> None:
+    """Refuse up front an output file that cannot be written, or that is one of the command's ``inputs``."""
+    from pathlib import Path
+
+    p = Path(path)
+    for src in inputs:
+        if src is not None and Path(src).exists() and p.exists() and p.resolve() == Path(src).resolve():
+            raise UsageError(f"{option} {path} is also an input of this command; writing it would destroy the "
+                             "input. Choose another file name")
+    if p.is_dir():
+        raise UsageError(f"{option} {path} is a directory; give a file name")
+    writable_dir(p.parent if str(p.parent) else ".", option)

@@ -4,13 +4,15 @@ stored trials as CSV. pybullet loads only when a command runs."""
 from __future__ import annotations
 
 import csv
-import json
+import re
 from pathlib import Path
 
 import click
 
-from landscape.cli.options import UsageError, parse_values
+from landscape.cli.options import UsageError, parse_values, writable_file
 from sim.protocol import DEFAULT_DT_S, DEFAULT_DURATION_S, OTHER_ROBOT_DT_S
+
+SCHEDULER_RE = re.compile(r"(tcp|tls|inproc|ucx)://[^\s:/]+(:\d{1,5})?")
 
 
 def write_trace_csv(trace, path: Path) -> Path:
@@ -63,12 +65,15 @@ def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_jso
              leg_period, attempts):
     """Run one self-righting trial in pybullet and report its outcome."""
     from geometry import JointMap
+    from landscape.viz.files import json_text
     from sim.actuation import Actuation
     from sim.model import default_robot_urdf
     from sim.trial import run_trial
     from sim.world import SimulationDiverged
 
     robot_path = str(robot) if robot else str(default_robot_urdf())
+    if trace_path is not None:
+        writable_file(trace_path, "--trace", inputs=(robot_path,))
     try:
         act = Actuation(theta_w, theta_l, wing_period_s=wing_period, leg_period_s=leg_period)
         r = run_trial(theta_w, theta_l, phase=phase, cv=cv, rng=seed, duration_s=duration, dt_s=dt,
@@ -81,7 +86,7 @@ def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_jso
     if as_json:
         d = r.to_dict()
         d["robot"] = robot_path
-        click.echo(json.dumps(d))
+        click.echo(json_text(d))
     else:
         click.echo(_human(r, robot_path))
         if trace_path is not None:
@@ -115,11 +120,15 @@ def sweep(theta_w, theta_l, cv, phase, trials, wing_period, leg_period, attempts
     """Run (or resume) a sweep of self-righting trials into an SQLite database."""
     from dataclasses import asdict
 
+    from landscape.viz.files import json_text
     from sim.store import KEY_COLUMNS, TrialStore
     from sim.sweep import run_sweep, success_table, sweep_specs
 
     if workers is not None and scheduler is not None:
         raise UsageError("give either --workers N (local processes) or --scheduler ADDRESS (Dask), not both")
+    if scheduler is not None and not SCHEDULER_RE.fullmatch(scheduler):
+        raise UsageError(f"--scheduler {scheduler!r} is not a scheduler address; give tcp://HOST:PORT "
+                         "(as printed by `dask scheduler`)")
     tw, tl, cvs, phs = (parse_values(theta_w, "theta-w"), parse_values(theta_l, "theta-l"), parse_values(cv, "cv"),
                         parse_values(phase, "phase"))
     wps, lps = parse_values(wing_period, "wing-period"), parse_values(leg_period, "leg-period")
@@ -127,7 +136,7 @@ def sweep(theta_w, theta_l, cv, phase, trials, wing_period, leg_period, attempts
                         base_seed=base_seed, wing_period_s=wps, leg_period_s=lps, attempts=attempts)
     summary = run_sweep(specs, db=db, workers=workers, scheduler=scheduler, progress=not no_progress)
     if as_json:
-        click.echo(json.dumps(asdict(summary)))
+        click.echo(json_text(asdict(summary)))
         return
     click.echo(f"{summary.total} trials: {summary.skipped} already in {db}, ran {summary.ran} "
                f"({summary.diverged} diverged) in {summary.wall_s:.1f} s on {summary.workers} workers "
@@ -148,5 +157,8 @@ def export(db, csv_path):
     """Export every stored trial to CSV."""
     from sim.store import export_csv
 
+    if not Path(db).is_file():
+        raise UsageError(f"database '{db}' not found; run `landscape sweep --db {db}` first")
+    writable_file(csv_path, "--csv", inputs=(db,))
     n = export_csv(db, csv_path)
     click.echo(f"wrote {n} trials to {csv_path}")

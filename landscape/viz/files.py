@@ -5,11 +5,13 @@ from __future__ import annotations
 import csv
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from landscape.barriers import Exit
-from landscape.computation import BarrierMap, Computation
+if TYPE_CHECKING:  # type hints only: writing JSON must not load the numerics
+    from landscape.barriers import Exit
+    from landscape.computation import BarrierMap, Computation
 
 MJ = 1e3
 
@@ -85,7 +87,7 @@ def write_computation(c: Computation, summary_dict: dict, out_dir: Path) -> list
     np.savetxt(csv_path, table, delimiter=",", header="pitch_deg,roll_deg,energy_j", comments="",
                fmt=["%.6g", "%.6g", "%.12g"])
     js = out_dir / "summary.json"
-    js.write_text(json.dumps(summary_dict, indent=2) + "\n")
+    js.write_text(json_text(summary_dict, indent=2) + "\n")
     return [npz, csv_path, js]
 
 
@@ -97,3 +99,26 @@ def write_rows_csv(rows: list[dict], path: Path) -> Path:
         w.writeheader()
         w.writerows(rows)
     return path
+
+
+def finite_or_none(obj):
+    """``obj`` with every non-finite float (NaN, inf) replaced by None, recursively through dicts, lists and
+    tuples: strict JSON has no NaN or Infinity.
+
+    Examples
+    --------
+    >>> finite_or_none({"a": float("nan"), "b": [1.0, float("inf")], "c": "x"})
+    {'a': None, 'b': [1.0, None], 'c': 'x'}
+    """
+    if isinstance(obj, float):
+        return obj if np.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {k: finite_or_none(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [finite_or_none(v) for v in obj]
+    return obj
+
+
+def json_text(obj, **kw) -> str:
+    """Strict JSON of ``obj`` (non-finite numbers become null; never NaN or Infinity tokens)."""
+    return json.dumps(finite_or_none(obj), allow_nan=False, **kw)

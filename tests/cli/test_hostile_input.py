@@ -1,0 +1,89 @@
+"""Hostile and careless input through the real console script: exit status 2, one line on stderr, no traceback,
+no output written, the inputs unchanged (issue #16)."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+SCRIPT = Path(sys.executable).parent / "landscape"
+
+
+def landscape(*args, cwd=None, timeout=120):
+    exe = [str(SCRIPT)] if SCRIPT.is_file() else [sys.executable, "-m", "landscape"]
+    env = {k: v for k, v in os.environ.items() if k != "LANDSCAPE_DEBUG"}
+    return subprocess.run([*exe, *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=timeout,
+                          env=env)
+
+
+def digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+@pytest.fixture(scope="module")
+def corpus(tmp_path_factory):
+    d = tmp_path_factory.mktemp("hostile")
+    import trimesh
+
+    trimesh.creation.box(extents=(0.1, 0.06, 0.02)).export(d / "box.stl")
+    (d / "not_a_db.sqlite").write_bytes(b"hello, I am not a database")
+    (d / "robotdir").mkdir()
+    return d
+
+
+def refused(r, *needles):
+    assert r.returncode == 2, (r.returncode, r.stdout, r.stderr)
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("landscape: error: "), r.stderr
+    assert "Traceback" not in r.stderr + r.stdout
+    for n in needles:
+        assert n in r.stderr, (n, r.stderr)
+
+
+@pytest.mark.parametrize("args, needles", [
+    (["compute", "--theta-w", "nan"], ["--theta-w must be a finite number"]),
+    (["compute", "--theta-w", "120"], ["outside joint"]),
+    (["compute", "--step", "7"], ["does not divide 360"]),
+    (["compute", "--method", "magic"], ["magic"]),
+    (["compute", "--robot", "{d}/robotdir"], ["is a directory"]),
+    (["compute", "--mesh", "{d}/robotdir"], ["is a directory"]),
+    (["compute", "--robot", "{d}/absent.urdf"], ["absent.urdf"]),
+    (["compute", "--mesh", "{d}/box.stl", "--com", "0,0,0.5"], ["outside the convex hull"]),
+    (["compute", "--mesh", "{d}/box.stl", "--com", "0,0,0.5", "--method", "grid"], ["outside the convex hull"]),
+    (["compute", "--mesh", "{d}/box.stl", "--com", "0,0,0.5", "--method", "sphere"], ["outside the convex hull"]),
+    (["compute", "--mesh", "{d}/box.stl", "--joints", "wing=a;leg=b"], ["--joints applies to a URDF"]),
+    (["barrier-map", "--theta-w", "0:90:1e-7", "--out", "{d}/bm"], ["more than the 100000 allowed"]),
+    (["barrier-map", "--theta-w", "0:1e308:1e-308", "--out", "{d}/bm"], ["more than the 100000 allowed"]),
+    (["barrier-map", "--theta-w", "", "--out", "{d}/bm"], ["is empty"]),
+    (["bench", "--repeat", "0"], ["--repeat"]),
+    (["sweep", "--db", "{d}/s.sqlite", "--scheduler", "not a url"], ["not a scheduler address"]),
+    (["export", "--db", "{d}/absent.sqlite", "--csv", "{d}/x.csv"], ["not found"]),
+])
+def test_refused_with_one_line(corpus, args, needles):
+    r = landscape(*[a.format(d=corpus) for a in args])
+    refused(r, *needles)
+    assert not (corpus / "bm").exists() and not (corpus / "s.sqlite").exists() and not (corpus / "x.csv").exists()
+
+
+def test_export_never_writes_over_its_input(corpus, tmp_path):
+    db = tmp_path / "trials.sqlite"
+    shutil.copy(corpus / "not_a_db.sqlite", db)
+    before = digest(db)
+    refused(landscape("export", "--db", db, "--csv", db), "also an input")
+    assert digest(db) == before
+
+
+def test_compute_json_is_strict(corpus):
+    """JSON output never holds NaN or Infinity tokens, whatever the method."""
+    import json
+
+    for method in ("exact", "grid", "sphere"):
+        r = landscape("compute", "--mesh", corpus / "box.stl", "--method", method, "--json")
+        assert r.returncode == 0, r.stderr
+        json.loads(r.stdout, parse_constant=lambda tok: pytest.fail(f"{method}: {tok} in JSON"))
