@@ -158,7 +158,7 @@ def rpy_from_matrix(rot: ArrayLike) -> NDArray[np.float64]:
     m = np.asarray(rot, dtype=np.float64).reshape(3, 3)
     cp = float(np.hypot(m[0, 0], m[1, 0]))
     pitch = float(np.arctan2(-m[2, 0], cp))
-    if cp > 1e-12:
+    if cp > 1e-8:  # below, roll and yaw are not separable to better than ~1e-8 rad anyway
         return np.array([np.arctan2(m[2, 1], m[2, 2]), pitch, np.arctan2(m[1, 0], m[0, 0])])
     roll = np.arctan2(m[0, 1], m[1, 1]) if m[2, 0] < 0 else np.arctan2(-m[0, 1], m[1, 1])
     return np.array([roll, pitch, 0.0])
