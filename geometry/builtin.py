@@ -42,8 +42,8 @@ from pathlib import Path
 
 import numpy as np
 import trimesh
-from numpy.typing import NDArray
 
+from .frames import rpy_matrix
 from .mass import MassProperties, combine, shell_mass_properties, solid_mass_properties
 
 URDF_NAME = "robot.urdf"
@@ -62,17 +62,53 @@ class BuiltinParameters:
     shell_depth_m: float = 35.47e-3
     shell_grid: int = 22
     # plan outline of the shell: half-width (|y|) at stations along x, read off the lab's meshes
-    outline_x_m: tuple[float, ...] = tuple(np.round(np.r_[-125.4, np.arange(-120.0, 131.0, 10.0), 134.5] * 1e-3, 6))
-    outline_half_width_m: tuple[float, ...] = tuple(np.array([
-        58.3, 69.1, 79.7, 88.5, 94.1, 98.8, 102.6, 105.7, 107.2, 109.0, 109.4, 109.8, 109.0, 107.8, 106.6,
-        103.6, 99.8, 95.3, 92.1, 86.0, 75.7, 68.3, 61.2, 57.5, 50.8, 39.6, 26.2, 11.5]) * 1e-3)
+    outline_x_m: tuple[float, ...] = tuple(
+        np.round(np.r_[-125.4, np.arange(-120.0, 131.0, 10.0), 134.5] * 1e-3, 6)
+    )
+    outline_half_width_m: tuple[float, ...] = tuple(
+        np.array(
+            [
+                58.3,
+                69.1,
+                79.7,
+                88.5,
+                94.1,
+                98.8,
+                102.6,
+                105.7,
+                107.2,
+                109.0,
+                109.4,
+                109.8,
+                109.0,
+                107.8,
+                106.6,
+                103.6,
+                99.8,
+                95.3,
+                92.1,
+                86.0,
+                75.7,
+                68.3,
+                61.2,
+                57.5,
+                50.8,
+                39.6,
+                26.2,
+                11.5,
+            ]
+        )
+        * 1e-3
+    )
     head_x_m: tuple[float, float] = (5.4e-3, 134.5e-3)
     head_y_max_m: float = 71.3e-3
     # the head is a horseshoe band: its inner half-width at stations along x (open middle), from the lab's mesh
-    head_inner_x_m: tuple[float, ...] = tuple(np.array([5.4, 10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120,
-                                                        134.5]) * 1e-3)
-    head_inner_half_width_m: tuple[float, ...] = tuple(np.array([46.0, 47.9, 52.3, 55.5, 56.6, 57.0, 55.9, 53.7,
-                                                                 50.2, 45.7, 36.3, 24.9, 0.0, 0.0]) * 1e-3)
+    head_inner_x_m: tuple[float, ...] = tuple(
+        np.array([5.4, 10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120, 134.5]) * 1e-3
+    )
+    head_inner_half_width_m: tuple[float, ...] = tuple(
+        np.array([46.0, 47.9, 52.3, 55.5, 56.6, 57.0, 55.9, 53.7, 50.2, 45.7, 36.3, 24.9, 0.0, 0.0]) * 1e-3
+    )
     wing_x_m: tuple[float, float] = (-125.4e-3, 98.2e-3)
     wing_y_min_m: float = 21.8e-3
     # masses (the paper's Table 1)
@@ -109,8 +145,15 @@ class BuiltinParameters:
 
     @property
     def total_mass_kg(self) -> float:
-        return (self.head_kg + 2 * self.wing_kg + self.leg_motor_kg + 2 * self.pitch_motor_kg
-                + 2 * self.roll_motor_kg + self.rod_kg + self.leg_mass_kg)
+        return (
+            self.head_kg
+            + 2 * self.wing_kg
+            + self.leg_motor_kg
+            + 2 * self.pitch_motor_kg
+            + 2 * self.roll_motor_kg
+            + self.rod_kg
+            + self.leg_mass_kg
+        )
 
 
 def builtin_parameters() -> BuiltinParameters:
@@ -119,15 +162,6 @@ def builtin_parameters() -> BuiltinParameters:
 
 
 # ---------------------------------------------------------------------------------------------- geometry helpers
-def _rpy_matrix(rpy) -> NDArray[np.float64]:
-    r, p, y = rpy
-    cr, sr, cp, sp, cy, sy = np.cos(r), np.sin(r), np.cos(p), np.sin(p), np.cos(y), np.sin(y)
-    rx = np.array([[1, 0, 0], [0, cr, -sr], [0, sr, cr]])
-    ry = np.array([[cp, 0, sp], [0, 1, 0], [-sp, 0, cp]])
-    rz = np.array([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]])
-    return rz @ ry @ rx
-
-
 def _mirror_y(v):
     return (v[0], -v[1], v[2])
 
@@ -165,7 +199,7 @@ def _shell_piece(p: BuiltinParameters, x_range, side: str) -> trimesh.Trimesh:
 def _box(extents, rpy=(0.0, 0.0, 0.0), center=(0.0, 0.0, 0.0)) -> trimesh.Trimesh:
     m = trimesh.creation.box(extents=np.asarray(extents, float))
     T = np.eye(4)
-    T[:3, :3] = _rpy_matrix(rpy)
+    T[:3, :3] = rpy_matrix(rpy)
     T[:3, 3] = center
     m.apply_transform(T)
     return m
@@ -189,40 +223,77 @@ class _Link:
 def _links(p: BuiltinParameters) -> list[_Link]:
     zero = (0.0, 0.0, 0.0)
     motor = _box(p.motor_box_m, p.base_motor_rpy)
-    links = [_Link("base_link", {"base_link.obj": motor},
-                   solid_mass_properties(motor, mass_kg=p.leg_motor_kg, name="leg motor"))]
+    links = [
+        _Link(
+            "base_link",
+            {"base_link.obj": motor},
+            solid_mass_properties(motor, mass_kg=p.leg_motor_kg, name="leg motor"),
+        )
+    ]
     head_origin = np.asarray(p.head_origin_m)
     halves = [_shell_piece(p, p.head_x_m, side) for side in ("head_left", "head_right")]
     for h in halves:
         h.apply_translation(-head_origin)
     head = trimesh.util.concatenate(halves)
-    links.append(_Link("head", {"head_left.obj": halves[0], "head_right.obj": halves[1]},
-                       _moved(shell_mass_properties(head, mass_kg=p.head_kg), p.head_com_m)))
-    for side, sign, pitch_motor, roll_motor, wing in (("left", 1.0, "motor4", "motor2", "wing2"),
-                                                      ("right", -1.0, "motor3", "motor1", "wing1")):
+    links.append(
+        _Link(
+            "head",
+            {"head_left.obj": halves[0], "head_right.obj": halves[1]},
+            _moved(shell_mass_properties(head, mass_kg=p.head_kg), p.head_com_m),
+        )
+    )
+    for side, sign, pitch_motor, roll_motor, wing in (
+        ("left", 1.0, "motor4", "motor2", "wing2"),
+        ("right", -1.0, "motor3", "motor1", "wing1"),
+    ):
+
         def m(v, sign=sign):
             return v if sign > 0 else _mirror_y(v)
 
         pm = _box(p.motor_box_m, p.base_motor_rpy)
-        links.append(_Link(pitch_motor, {f"{pitch_motor}.obj": pm},
-                           solid_mass_properties(pm, mass_kg=p.pitch_motor_kg, name=pitch_motor)))
+        links.append(
+            _Link(
+                pitch_motor,
+                {f"{pitch_motor}.obj": pm},
+                solid_mass_properties(pm, mass_kg=p.pitch_motor_kg, name=pitch_motor),
+            )
+        )
         rm = _box(p.motor_box_m, p.roll_motor_rpy, m(p.roll_motor_offset_m))
-        links.append(_Link(roll_motor, {f"{roll_motor}.obj": rm},
-                           solid_mass_properties(rm, mass_kg=p.roll_motor_kg, name=roll_motor)))
-        wing_origin = (np.asarray(m(p.pitch_motor_origin_m)) + np.asarray(p.pitch_joint_origin_m)
-                       + np.asarray(m(p.roll_joint_origin_m)))
+        links.append(
+            _Link(
+                roll_motor,
+                {f"{roll_motor}.obj": rm},
+                solid_mass_properties(rm, mass_kg=p.roll_motor_kg, name=roll_motor),
+            )
+        )
+        wing_origin = (
+            np.asarray(m(p.pitch_motor_origin_m))
+            + np.asarray(p.pitch_joint_origin_m)
+            + np.asarray(m(p.roll_joint_origin_m))
+        )
         piece = _shell_piece(p, p.wing_x_m, side)
         piece.apply_translation(-wing_origin)
-        links.append(_Link(wing, {f"{wing}.obj": piece},
-                           _moved(shell_mass_properties(piece, mass_kg=p.wing_kg), m(p.wing_com_m))))
+        links.append(
+            _Link(
+                wing,
+                {f"{wing}.obj": piece},
+                _moved(shell_mass_properties(piece, mass_kg=p.wing_kg), m(p.wing_com_m)),
+            )
+        )
     rod = _box(p.rod_box_m, zero, p.rod_center_m)
     ball = trimesh.creation.icosphere(subdivisions=2, radius=p.sphere_radius_m)
     ball.apply_translation(p.sphere_center_m)
     r = p.sphere_radius_m
-    ball_mp = MassProperties(p.leg_mass_kg, np.asarray(p.sphere_center_m, float),
-                             0.4 * p.leg_mass_kg * r * r * np.eye(3), "solid")
-    links.append(_Link("pendulum", {"pendulum_rod.obj": rod, "pendulum_sphere.obj": ball},
-                       combine([solid_mass_properties(rod, mass_kg=p.rod_kg, name="leg rod"), ball_mp])))
+    ball_mp = MassProperties(
+        p.leg_mass_kg, np.asarray(p.sphere_center_m, float), 0.4 * p.leg_mass_kg * r * r * np.eye(3), "solid"
+    )
+    links.append(
+        _Link(
+            "pendulum",
+            {"pendulum_rod.obj": rod, "pendulum_sphere.obj": ball},
+            combine([solid_mass_properties(rod, mass_kg=p.rod_kg, name="leg rod"), ball_mp]),
+        )
+    )
     return links
 
 
@@ -241,42 +312,81 @@ def _fmt(v) -> str:
 
 
 def _urdf_text(p: BuiltinParameters, links: list[_Link]) -> str:
-    lines = ['<?xml version="1.0"?>',
-             "<!-- Built-in self-righting robot, written by geometry/builtin.py (version "
-             f"{GENERATOR_VERSION}). Metres, kilograms, radians. -->",
-             '<robot name="builtin_robot">']
+    lines = [
+        '<?xml version="1.0"?>',
+        "<!-- Built-in self-righting robot, written by geometry/builtin.py (version "
+        f"{GENERATOR_VERSION}). Metres, kilograms, radians. -->",
+        '<robot name="builtin_robot">',
+    ]
     for link in links:
         lines.append(f'  <link name="{link.name}">')
         for fname in link.meshes:
             for kind in ("visual", "collision"):
-                lines += [f'    <{kind} name="{fname[:-4]}">', '      <origin xyz="0 0 0" rpy="0 0 0"/>',
-                          f'      <geometry><mesh filename="{fname}"/></geometry>', f"    </{kind}>"]
+                lines += [
+                    f'    <{kind} name="{fname[:-4]}">',
+                    '      <origin xyz="0 0 0" rpy="0 0 0"/>',
+                    f'      <geometry><mesh filename="{fname}"/></geometry>',
+                    f"    </{kind}>",
+                ]
         inertia = link.inertial.inertia_kg_m2
-        lines += ["    <inertial>", f'      <origin xyz="{_fmt(link.inertial.com_m)}" rpy="0 0 0"/>',
-                  f'      <mass value="{link.inertial.mass_kg:.9g}"/>',
-                  f'      <inertia ixx="{inertia[0, 0]:.9g}" ixy="{inertia[0, 1]:.9g}" ixz="{inertia[0, 2]:.9g}" '
-                  f'iyy="{inertia[1, 1]:.9g}" iyz="{inertia[1, 2]:.9g}" izz="{inertia[2, 2]:.9g}"/>', "    </inertial>", "  </link>"]
+        lines += [
+            "    <inertial>",
+            f'      <origin xyz="{_fmt(link.inertial.com_m)}" rpy="0 0 0"/>',
+            f'      <mass value="{link.inertial.mass_kg:.9g}"/>',
+            f'      <inertia ixx="{inertia[0, 0]:.9g}" ixy="{inertia[0, 1]:.9g}" ixz="{inertia[0, 2]:.9g}" '
+            f'iyy="{inertia[1, 1]:.9g}" iyz="{inertia[1, 2]:.9g}" izz="{inertia[2, 2]:.9g}"/>',
+            "    </inertial>",
+            "  </link>",
+        ]
 
     def joint(name, kind, parent, child, xyz, axis=None, limits=None):
-        out = [f'  <joint name="{name}" type="{kind}">', f'    <parent link="{parent}"/>',
-               f'    <child link="{child}"/>', f'    <origin xyz="{_fmt(xyz)}" rpy="0 0 0"/>']
+        out = [
+            f'  <joint name="{name}" type="{kind}">',
+            f'    <parent link="{parent}"/>',
+            f'    <child link="{child}"/>',
+            f'    <origin xyz="{_fmt(xyz)}" rpy="0 0 0"/>',
+        ]
         if axis is not None:
             out.append(f'    <axis xyz="{_fmt(axis)}"/>')
-            out.append(f'    <limit lower="{limits[0]:.17g}" upper="{limits[1]:.17g}" '
-                       f'effort="{p.effort_n_m:g}" velocity="{p.velocity_rad_s:g}"/>')
+            out.append(
+                f'    <limit lower="{limits[0]:.17g}" upper="{limits[1]:.17g}" '
+                f'effort="{p.effort_n_m:g}" velocity="{p.velocity_rad_s:g}"/>'
+            )
         return out + ["  </joint>"]
 
     lines += joint("head_mount", "fixed", "base_link", "head", p.head_origin_m)
     lines += joint("motor4_mount", "fixed", "base_link", "motor4", p.pitch_motor_origin_m)
     lines += joint("motor3_mount", "fixed", "base_link", "motor3", _mirror_y(p.pitch_motor_origin_m))
-    lines += joint("wing_pitch_left", "revolute", "motor4", "motor2", p.pitch_joint_origin_m, (0, -1, 0),
-                   p.wing_limits_rad)
-    lines += joint("wing_pitch_right", "revolute", "motor3", "motor1", p.pitch_joint_origin_m, (0, -1, 0),
-                   p.wing_limits_rad)
-    lines += joint("wing_roll_left", "revolute", "motor2", "wing2", p.roll_joint_origin_m, (-1, 0, 0),
-                   p.wing_limits_rad)
-    lines += joint("wing_roll_right", "revolute", "motor1", "wing1", _mirror_y(p.roll_joint_origin_m), (1, 0, 0),
-                   p.wing_limits_rad)
+    lines += joint(
+        "wing_pitch_left",
+        "revolute",
+        "motor4",
+        "motor2",
+        p.pitch_joint_origin_m,
+        (0, -1, 0),
+        p.wing_limits_rad,
+    )
+    lines += joint(
+        "wing_pitch_right",
+        "revolute",
+        "motor3",
+        "motor1",
+        p.pitch_joint_origin_m,
+        (0, -1, 0),
+        p.wing_limits_rad,
+    )
+    lines += joint(
+        "wing_roll_left", "revolute", "motor2", "wing2", p.roll_joint_origin_m, (-1, 0, 0), p.wing_limits_rad
+    )
+    lines += joint(
+        "wing_roll_right",
+        "revolute",
+        "motor1",
+        "wing1",
+        _mirror_y(p.roll_joint_origin_m),
+        (1, 0, 0),
+        p.wing_limits_rad,
+    )
     lines += joint("leg", "revolute", "base_link", "pendulum", p.leg_pivot_m, (0, 0, 1), p.leg_limits_rad)
     lines.append("</robot>")
     return "\n".join(lines) + "\n"
@@ -309,16 +419,18 @@ def _cache_root() -> Path:
 
 
 def builtin_urdf_path(cache_dir: str | Path | None = None, params: BuiltinParameters | None = None) -> Path:
-    """Path of the built-in robot's URDF, written once into a content-addressed cache directory.
+    """Path of the built-in robot's URDF, in a content-addressed cache directory verified on every use.
 
     The directory is ``builtin-<hash of the files>`` under ``cache_dir`` (default ``$LANDSCAPE_CACHE`` or
-    ``~/.cache/selfrighting-landscape``); it is written atomically, so concurrent processes agree.
+    ``~/.cache/selfrighting-landscape``). It is written atomically, so concurrent processes agree; on every call
+    each file is compared with the generated bytes, and one that was edited, removed or damaged is rewritten
+    (atomically, file by file), so the name never vouches for contents it no longer has.
     """
     files = builtin_description(params)
     digest = hashlib.sha256(b"".join(k.encode() + v for k, v in files.items())).hexdigest()[:16]
     root = Path(cache_dir) if cache_dir is not None else _cache_root()
     target = root / f"builtin-{digest}"
-    if not (target / URDF_NAME).is_file():
+    if not target.is_dir():
         root.mkdir(parents=True, exist_ok=True)
         tmp = root / f".tmp-{digest}-{os.getpid()}"
         tmp.mkdir(parents=True, exist_ok=True)
@@ -330,6 +442,16 @@ def builtin_urdf_path(cache_dir: str | Path | None = None, params: BuiltinParame
             for f in tmp.iterdir():
                 f.unlink()
             tmp.rmdir()
+    for name, data in files.items():
+        path = target / name
+        try:
+            if path.read_bytes() == data:
+                continue
+        except OSError:  # missing or unreadable: rewrite it
+            pass
+        tmp_file = target / f".{name}.tmp-{os.getpid()}"
+        tmp_file.write_bytes(data)
+        os.replace(tmp_file, path)
     return target / URDF_NAME
 
 
@@ -338,4 +460,3 @@ def load_builtin_robot():
     from .robot import Robot
 
     return Robot.from_urdf(builtin_urdf_path())
-

@@ -116,3 +116,49 @@ def body_to_world(pitch_rad: float, roll_rad: float) -> NDArray[np.float64]:
     ry = np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]])
     rx = np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
     return ry @ rx
+
+
+def rpy_matrix(rpy_rad: ArrayLike) -> NDArray[np.float64]:
+    """Rotation matrix of a URDF ``rpy`` triple: fixed axes x, y, z, ``R = Rz(yaw) @ Ry(pitch) @ Rx(roll)``.
+
+    The one implementation of the URDF rotation (geometry reads every ``<origin>`` through it).
+
+    Parameters
+    ----------
+    rpy_rad : array_like of shape (3,)
+        Roll, pitch and yaw, radians.
+
+    Returns
+    -------
+    R : ndarray of shape (3, 3)
+
+    Examples
+    --------
+    >>> (rpy_matrix([0.0, 0.0, np.pi / 2]) @ [1.0, 0.0, 0.0]).round(12).tolist()
+    [0.0, 1.0, 0.0]
+    """
+    r, p, y = np.asarray(rpy_rad, dtype=np.float64).reshape(3)
+    cr, sr, cp, sp, cy, sy = np.cos(r), np.sin(r), np.cos(p), np.sin(p), np.cos(y), np.sin(y)
+    rx = np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
+    ry = np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]])
+    rz = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]])
+    return rz @ ry @ rx
+
+
+def rpy_from_matrix(rot: ArrayLike) -> NDArray[np.float64]:
+    """The URDF ``rpy`` triple (radians) of a rotation matrix, inverse of :func:`rpy_matrix`.
+
+    Pitch lies in [-90, 90] deg; at pitch +-90 deg (gimbal lock) the yaw is returned as 0.
+
+    Examples
+    --------
+    >>> rpy_from_matrix(rpy_matrix([0.1, -0.2, 0.3])).round(12).tolist()
+    [0.1, -0.2, 0.3]
+    """
+    m = np.asarray(rot, dtype=np.float64).reshape(3, 3)
+    cp = float(np.hypot(m[0, 0], m[1, 0]))
+    pitch = float(np.arctan2(-m[2, 0], cp))
+    if cp > 1e-8:  # below, roll and yaw are not separable to better than ~1e-8 rad anyway
+        return np.array([np.arctan2(m[2, 1], m[2, 2]), pitch, np.arctan2(m[1, 0], m[0, 0])])
+    roll = np.arctan2(m[0, 1], m[1, 1]) if m[2, 0] < 0 else np.arctan2(-m[0, 1], m[1, 1])
+    return np.array([roll, pitch, 0.0])

@@ -7,6 +7,7 @@ landscape needs: the total mass, the mass-weighted CoM and the convex hull of al
 from __future__ import annotations
 
 import hashlib
+import io
 import logging
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -26,10 +27,16 @@ from .errors import (
 )
 from .hull import Hull, convex_hull
 from .mass import MassProperties, combine, mesh_mass_properties
+from .urdf import MeshRef, UrdfFile, origin_matrix, read_urdf
 
 log = logging.getLogger(__name__)
 
 UNITS_M = {"mm": 1e-3, "cm": 1e-2, "m": 1.0}
+
+MOVABLE_JOINT_TYPES = ("revolute", "continuous")
+"""Joint types a joint map may drive (theta_w and theta_l are angles)."""
+JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+_JOINTS_HINT = "declare the mapping with --joints 'wing=NAME,...;leg=NAME,...'"
 
 
 @dataclass(frozen=True)
@@ -50,8 +57,35 @@ class JointMap:
     wing: tuple[str, ...] = ("wing_pitch_left", "wing_pitch_right", "wing_roll_left", "wing_roll_right")
     leg: tuple[str, ...] = ("leg",)
 
+    def __post_init__(self):
+        seen: set[str] = set()
+        for key in ("wing", "leg"):
+            names = getattr(self, key)
+            if isinstance(names, str) or not all(isinstance(n, str) for n in names):
+                raise GeometryError(f"joint map {key} must be a tuple of joint names; got {names!r}")
+            object.__setattr__(self, key, tuple(names))
+            if not names or not all(n.strip() for n in names):
+                raise GeometryError(
+                    f"joint map group '{key}' is empty or has an empty name ({','.join(names)!r}); name at least "
+                    "one joint in each group, e.g. 'wing=a,b,c,d;leg=e'"
+                )
+            for n in names:
+                if n in seen:
+                    raise GeometryError(
+                        f"joint '{n}' is named twice in the joint map; each joint is driven by theta_w or theta_l, "
+                        "not both: name it once"
+                    )
+                seen.add(n)
+
     @classmethod
     def parse(cls, text: str) -> JointMap:
+        """Parse ``'wing=NAME,...;leg=NAME,...'`` (both groups, each naming at least one joint, no joint twice).
+
+        Raises
+        ------
+        GeometryError
+            If the text is not of that form.
+        """
         groups: dict[str, tuple[str, ...]] = {}
         for item in filter(None, (s.strip() for s in text.split(";"))):
             key, sep, names = item.partition("=")
@@ -60,8 +94,27 @@ class JointMap:
                 raise GeometryError(
                     f"joint map entry {item!r} is not 'wing=NAME,...' or 'leg=NAME,...'; e.g. 'wing=a,b,c,d;leg=e'"
                 )
-            groups[key] = tuple(n.strip() for n in names.split(",") if n.strip())
+            if key in groups:
+                raise GeometryError(f"joint map {text!r} gives '{key}=' twice; give each group once")
+            groups[key] = tuple(n.strip() for n in names.split(","))
+            if groups[key] == ("",):
+                groups[key] = ()
+        for key in ("wing", "leg"):
+            if key not in groups:
+                raise GeometryError(
+                    f"joint map {text!r} has no '{key}=' group; give both: 'wing=NAME,...;leg=NAME,...'"
+                )
         return cls(**groups)
+
+    def text(self) -> str:
+        """The map as ``'wing=NAME,...;leg=NAME,...'`` (what :meth:`parse` reads).
+
+        Examples
+        --------
+        >>> JointMap().text()
+        'wing=wing_pitch_left,wing_pitch_right,wing_roll_left,wing_roll_right;leg=leg'
+        """
+        return f"wing={','.join(self.wing)};leg={','.join(self.leg)}"
 
 
 @dataclass(frozen=True)
@@ -119,7 +172,9 @@ class Pose:
 
     def all_points_m(self) -> NDArray[np.float64]:
         """Every mesh vertex of every part in the body frame, m (the lab's brute-force input)."""
-        out = [_apply(self.link_transforms[p.link], p.points_link_m) for p in self.parts if len(p.points_link_m)]
+        out = [
+            _apply(self.link_transforms[p.link], p.points_link_m) for p in self.parts if len(p.points_link_m)
+        ]
         return np.concatenate(out) if out else np.zeros((0, 3))
 
 
@@ -127,28 +182,187 @@ def _apply(T: NDArray[np.float64], pts: NDArray[np.float64]) -> NDArray[np.float
     return pts @ T[:3, :3].T + T[:3, 3]
 
 
-def _geometry_mesh(geom: yourdfpy.Geometry, urdf_dir: Path, link: str) -> trimesh.Trimesh | None:
+def _check_vertices(verts: NDArray[np.float64], what: str) -> None:
+    if not np.isfinite(verts).all():
+        i = int(np.flatnonzero(~np.isfinite(verts).all(axis=1))[0])
+        raise RobotDescriptionError(f"{what}: vertex {i} is not finite ({verts[i].tolist()}); fix the mesh")
+
+
+def _load_mesh_bytes(data: bytes, path: Path, prefix: str = "") -> trimesh.Trimesh:
+    """A mesh file's bytes as an unprocessed trimesh (nothing merged or dropped), vertices checked finite;
+    ``prefix`` (e.g. ``"link 'head': "``) starts the error messages."""
+    try:
+        mesh = trimesh.load(
+            io.BytesIO(data),
+            file_type=path.suffix.lstrip(".").lower(),
+            force="mesh",
+            process=False,
+            resolver=trimesh.resolvers.FilePathResolver(str(path.parent)),
+        )
+    except Exception as exc:  # trimesh's loaders raise many types (ValueError, KeyError, IndexError, ...)
+        raise RobotDescriptionError(
+            f"{prefix}cannot read mesh '{path}': {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}; "
+            "give a mesh file (STL, OBJ, PLY, ...)"
+        ) from None
+    if not isinstance(mesh, trimesh.Trimesh) or len(mesh.vertices) == 0:
+        raise RobotDescriptionError(
+            f"{prefix}'{path}' holds no triangle mesh; give a mesh file (STL, OBJ, PLY, ...)"
+        )
+    _check_vertices(np.asarray(mesh.vertices, dtype=np.float64), f"{prefix}mesh '{path.name}'")
+    return mesh
+
+
+def _geometry_mesh(geom: yourdfpy.Geometry, ref: MeshRef | None, link: str) -> trimesh.Trimesh | None:
     if geom.mesh is not None:
-        path = Path(yourdfpy.filename_handler_magic(geom.mesh.filename, dir=str(urdf_dir)))
-        if not path.is_file():
-            raise RobotDescriptionError(
-                f"link '{link}': mesh file '{geom.mesh.filename}' not found (looked for {path}); "
-                "put it next to the URDF or fix the filename"
-            )
-        try:
-            mesh = trimesh.load(str(path), force="mesh", process=False)
-        except Exception as exc:  # trimesh raises many types for unreadable files
-            raise RobotDescriptionError(f"link '{link}': cannot read mesh '{path}': {exc}") from None
-        scale = np.ones(3) if geom.mesh.scale is None else np.broadcast_to(np.asarray(geom.mesh.scale, float), 3)
-        mesh.apply_scale(scale) if np.allclose(scale, scale[0]) else mesh.apply_transform(np.diag([*scale, 1.0]))
+        mesh = _load_mesh_bytes(ref.data, ref.path, f"link '{link}': ")
+        scale = ref.scale
+        mesh.apply_scale(scale[0]) if np.allclose(scale, scale[0]) else mesh.apply_transform(
+            np.diag([*scale, 1.0])
+        )
         return mesh
     if geom.box is not None:
         return trimesh.creation.box(extents=np.asarray(geom.box.size, float))
     if geom.cylinder is not None:
-        return trimesh.creation.cylinder(radius=geom.cylinder.radius, height=geom.cylinder.length, sections=64)
+        return trimesh.creation.cylinder(
+            radius=geom.cylinder.radius, height=geom.cylinder.length, sections=64
+        )
     if geom.sphere is not None:
         return trimesh.creation.icosphere(subdivisions=3, radius=geom.sphere.radius)
     return None
+
+
+def _check_origins(uf: UrdfFile) -> None:
+    """Every ``<origin>`` and joint ``<axis>`` holds finite numbers (before yourdfpy multiplies them)."""
+    name = uf.path.name
+    for kind in ("link", "joint"):
+        for el in uf.root.findall(kind):
+            label = f"'{name}': {kind} '{el.get('name')}'"
+            holders = (
+                [(el, "origin")] if kind == "joint" else [(el.find("inertial"), "inertial origin (CoM)")]
+            )
+            holders += [(c, f"{c.tag} origin") for c in (*el.findall("collision"), *el.findall("visual"))]
+            for holder, what in holders:
+                if holder is None:
+                    continue
+                t = origin_matrix(holder, f"{label}: {what}")
+                if not np.isfinite(t).all():
+                    o = holder.find("origin")
+                    raise RobotDescriptionError(
+                        f"{label}: {what} is not finite (xyz {o.get('xyz')!r}, rpy "
+                        f"{o.get('rpy')!r}); fix its <origin>"
+                    )
+            axis = el.find("axis") if kind == "joint" else None
+            if axis is not None and axis.get("xyz") is not None:
+                try:
+                    ok = np.isfinite([float(x) for x in axis.get("xyz").split()]).all()
+                except ValueError:
+                    ok = False
+                if not ok:
+                    raise RobotDescriptionError(
+                        f"{label}: axis {axis.get('xyz')!r} is not three finite numbers; "
+                        "fix its <axis xyz=.../>"
+                    )
+
+
+def _parse_structure(uf: UrdfFile) -> yourdfpy.Robot:
+    """yourdfpy's model of the strictly parsed tree, its links and joints checked."""
+    name = uf.path.name
+    _check_origins(uf)
+    try:
+        robot = yourdfpy.URDF._parse_robot(xml_element=uf.root)
+    except KeyError as exc:
+        raise RobotDescriptionError(
+            f"cannot read '{name}' as URDF: an element lacks its required attribute {exc}; add it"
+        ) from None
+    except ValueError as exc:
+        raise RobotDescriptionError(
+            f"cannot read '{name}' as URDF: {str(exc).splitlines()[0]}; fix the value"
+        ) from None
+    except (AttributeError, TypeError):  # yourdfpy reads a missing child element as None and fails on it
+        raise RobotDescriptionError(
+            f"cannot read '{name}' as URDF: an element lacks a required child "
+            "(e.g. a joint's <parent link=.../> or <child link=.../>); add it"
+        ) from None
+    links = {lk.name for lk in robot.links}
+    children: dict[str, str] = {}
+    for j in robot.joints:
+        if j.type not in JOINT_TYPES:
+            raise RobotDescriptionError(
+                f"'{name}': joint '{j.name}' has type {j.type!r}; use one of {', '.join(JOINT_TYPES)}"
+            )
+        for what, link in (("parent", j.parent), ("child", j.child)):
+            if link not in links:
+                raise RobotDescriptionError(
+                    f"'{name}': joint '{j.name}' {what} link {link!r} is not a link of the "
+                    f"robot; fix its <{what} link=.../>"
+                )
+        if j.child in children:
+            raise RobotDescriptionError(
+                f"'{name}': link '{j.child}' is the child of joints '{children[j.child]}' "
+                f"and '{j.name}'; a URDF is a tree: give it one parent joint"
+            )
+        children[j.child] = j.name
+    roots = [lk for lk in links if lk not in children]
+    if len(roots) != 1:
+        raise RobotDescriptionError(
+            f"'{name}': links {', '.join(sorted(roots))} have no parent joint; a URDF has "
+            "one base link: connect the others by joints"
+        )
+    return robot
+
+
+def _link_mass(link: yourdfpy.Link, name: str) -> MassProperties:
+    """A link's ``<inertial>`` as MassProperties in the link frame, every field checked."""
+    inertial = link.inertial
+    if inertial is None or inertial.mass is None:
+        return MassProperties(0.0, np.zeros(3), np.zeros((3, 3)), "given")
+    mass = float(inertial.mass)
+    if not (np.isfinite(mass) and mass >= 0):
+        raise RobotDescriptionError(
+            f"'{name}': link '{link.name}': mass is {mass!r} kg; a mass must be a finite "
+            "number >= 0: fix its <inertial><mass value=.../>"
+        )
+    T = np.eye(4) if inertial.origin is None else np.asarray(inertial.origin, dtype=np.float64)
+    inertia = np.zeros((3, 3)) if inertial.inertia is None else np.asarray(inertial.inertia, dtype=np.float64)
+    if not np.isfinite(inertia).all():
+        raise RobotDescriptionError(
+            f"'{name}': link '{link.name}': inertia is not finite "
+            f"({inertia.tolist()}); fix its <inertial><inertia .../>"
+        )
+    return MassProperties(mass, T[:3, 3].copy(), T[:3, :3] @ inertia @ T[:3, :3].T, "given")
+
+
+def _checked_joint_map(robot: yourdfpy.Robot, joint_map: JointMap | None, name: str) -> JointMap | None:
+    """The joint map to use: an explicit one checked, else the default names if all are there, else None (rigid).
+
+    Raises UnknownJointError if a named joint is absent or not movable, or only some default names are present.
+    """
+    types = {j.name: j.type for j in robot.joints}
+    movable = ", ".join(n for n, t in types.items() if t in MOVABLE_JOINT_TYPES) or "none"
+    if joint_map is None:
+        default = JointMap()
+        wanted = (*default.wing, *default.leg)
+        missing = [n for n in wanted if n not in types]
+        if len(missing) == len(wanted):  # none of the default names: a rigid robot at its zero configuration
+            log.info("%s: none of the default joints %s; treating the robot as rigid", name, wanted)
+            return None
+        if missing:
+            raise UnknownJointError(
+                f"'{name}' has {len(wanted) - len(missing)} of the {len(wanted)} default joints; missing: "
+                f"{', '.join(missing)} (movable joints: {movable}); rename them in the URDF or {_JOINTS_HINT}"
+            )
+        joint_map = default
+    for n in (*joint_map.wing, *joint_map.leg):
+        if n not in types:
+            raise UnknownJointError(
+                f"joint '{n}' is not in '{name}' (movable joints: {movable}); {_JOINTS_HINT}"
+            )
+        if types[n] not in MOVABLE_JOINT_TYPES:
+            raise UnknownJointError(
+                f"joint '{n}' is {types[n]}, not movable (revolute or continuous), in '{name}' "
+                f"(movable joints: {movable}); {_JOINTS_HINT}"
+            )
+    return joint_map
 
 
 class Robot:
@@ -157,80 +371,116 @@ class Robot:
     Build one with :meth:`from_urdf` or :meth:`from_mesh`; call :meth:`pose` for the rigid body at given angles.
     """
 
-    def __init__(self, name: str, parts: tuple[Part, ...], *, urdf: yourdfpy.URDF | None = None,
-                 joint_map: JointMap | None = None, source: Path | None = None, description_hash: str = ""):
+    def __init__(
+        self,
+        name: str,
+        parts: tuple[Part, ...],
+        *,
+        urdf: yourdfpy.URDF | None = None,
+        joint_map: JointMap | None = None,
+        source: Path | None = None,
+        description_hash: str = "",
+        urdf_file: UrdfFile | None = None,
+        element_vertices: dict[tuple[str, str, int], NDArray[np.float64]] | None = None,
+    ):
         self.name = name
         self.parts = parts
         self.urdf = urdf
         self.joint_map = joint_map
         self.source = source
         self.description_hash = description_hash
+        self.urdf_file = urdf_file
+        self.element_vertices = element_vertices or {}
         self._part_by_link = {p.link: p for p in parts}
+
+    @property
+    def robot_hash(self) -> str:
+        """What identifies the robot *and how it moves*: ``description_hash`` when the joints are the default
+        names or there are none, else 16 hex digits of SHA-256 over ``description_hash`` and the joint map's text.
+        """
+        if self.joint_map is None or self.joint_map == JointMap():
+            return self.description_hash
+        return hashlib.sha256(f"{self.description_hash}|{self.joint_map.text()}".encode()).hexdigest()[:16]
 
     # ------------------------------------------------------------------ construction
     @classmethod
     def from_urdf(cls, path: str | Path, *, joint_map: JointMap | None = None) -> Robot:
         """Load a URDF: links' collision geometry (visual where a link has none) and ``<inertial>`` masses.
 
+        The file is read by :func:`geometry.urdf.read_urdf` (strict XML; ``description_hash`` covers the URDF and
+        every mesh file its geometry uses).
+
         Raises
         ------
         RobotDescriptionError
-            If the file is missing or unreadable, a mesh is missing, or the robot has no mass.
+            If the file is missing or malformed (line and column given), a mesh is missing or has a non-finite
+            vertex, a link's mass, CoM or inertia is not finite or a mass is negative, the joints do not form a
+            tree, or the robot has no mass or no geometry.
         UnknownJointError
-            If an explicit joint map names a joint the robot lacks. Without a map, the lab robot's joint names
-            are used when all are present; otherwise the robot is rigid at its zero configuration.
+            If a joint map names a joint the robot lacks or one that is not revolute/continuous, or, without a
+            map, if only some of the default joint names are present. A robot with none of the default names and
+            no map is rigid at its zero configuration.
         """
-        path = Path(path)
-        if not path.is_file():
-            raise RobotDescriptionError(f"robot file '{path}' not found; give the path to a .urdf file")
-        try:
-            urdf = yourdfpy.URDF.load(str(path), load_meshes=False, build_scene_graph=True,
-                                      build_collision_scene_graph=False)
-        except Exception as exc:
-            raise RobotDescriptionError(f"cannot parse '{path}' as URDF: {str(exc).splitlines()[0]}") from None
-        explicit = joint_map is not None
-        joint_map = joint_map or JointMap()
-        missing = [n for n in (*joint_map.wing, *joint_map.leg) if n not in urdf.joint_map]
-        if missing and explicit:
-            movable = ", ".join(urdf.actuated_joint_names) or "none"
-            raise UnknownJointError(
-                f"joint '{missing[0]}' is not in '{path.name}' (movable joints: {movable}); "
-                "declare the mapping with --joints 'wing=NAME,...;leg=NAME'"
-            )
-        if missing:  # no theta joints under the default names: a rigid robot at its zero configuration
-            log.info("%s: default joints %s absent; treating the robot as rigid", path.name, missing)
-            joint_map = None
+        uf = read_urdf(path)
+        path = uf.path
+        robot = _parse_structure(uf)
+        joint_map = _checked_joint_map(robot, joint_map, path.name)
+        urdf = yourdfpy.URDF(
+            robot=robot,
+            build_scene_graph=True,
+            build_collision_scene_graph=False,
+            load_meshes=False,
+            mesh_dir=str(path.parent),
+        )
         parts = []
+        element_vertices: dict[tuple[str, str, int], NDArray[np.float64]] = {}
         for link in urdf.robot.links:
-            geoms = link.collisions or link.visuals
+            kind = "collision" if link.collisions else "visual"
             meshes = []
-            for g in geoms:
-                m = _geometry_mesh(g.geometry, path.parent, link.name)
+            for i, g in enumerate(link.collisions or link.visuals):
+                ref = uf.mesh(link.name, kind, i) if g.geometry.mesh is not None else None
+                if ref is not None:
+                    raw = _load_mesh_bytes(ref.data, ref.path, f"link '{link.name}': ")
+                    element_vertices[(link.name, kind, i)] = np.asarray(raw.vertices, dtype=np.float64)
+                m = _geometry_mesh(g.geometry, ref, link.name)
                 if m is not None:
                     if g.origin is not None:
                         m.apply_transform(g.origin)
                     meshes.append(m)
-            points = np.concatenate([np.asarray(m.vertices, float) for m in meshes]) if meshes else np.zeros((0, 3))
+            points = (
+                np.concatenate([np.asarray(m.vertices, float) for m in meshes])
+                if meshes
+                else np.zeros((0, 3))
+            )
             hull = convex_hull(points).vertices_m if len(points) else np.zeros((0, 3))
-            if link.inertial is not None and link.inertial.mass:
-                T = np.eye(4) if link.inertial.origin is None else link.inertial.origin
-                inertia = np.zeros((3, 3)) if link.inertial.inertia is None else np.asarray(link.inertial.inertia)
-                mp = MassProperties(float(link.inertial.mass), T[:3, 3].copy(),
-                                    T[:3, :3] @ inertia @ T[:3, :3].T, "given")
-            else:
-                mp = MassProperties(0.0, np.zeros(3), np.zeros((3, 3)), "given")
-            parts.append(Part(link.name, mp, hull, points))
+            parts.append(Part(link.name, _link_mass(link, path.name), hull, points))
         if not sum(p.mass.mass_kg for p in parts) > 0:
-            raise RobotDescriptionError(f"'{path}' gives no link a mass; add <inertial><mass .../></inertial>")
+            raise RobotDescriptionError(
+                f"'{path}' gives no link a mass; add <inertial><mass .../></inertial>"
+            )
         if not any(len(p.hull_link_m) for p in parts):
             raise RobotDescriptionError(f"'{path}' has no geometry; add <collision> or <visual> elements")
-        digest = hashlib.sha256(path.read_bytes()).hexdigest()[:16]
-        return cls(urdf.robot.name or path.stem, tuple(parts), urdf=urdf, joint_map=joint_map, source=path,
-                   description_hash=digest)
+        return cls(
+            urdf.robot.name or path.stem,
+            tuple(parts),
+            urdf=urdf,
+            joint_map=joint_map,
+            source=path,
+            description_hash=uf.description_hash,
+            urdf_file=uf,
+            element_vertices=element_vertices,
+        )
 
     @classmethod
-    def from_mesh(cls, path: str | Path, *, mass_kg: float = 1.0, com: ArrayLike | None = None,
-                  units: str = "m", com_model: str = "auto") -> Robot:
+    def from_mesh(
+        cls,
+        path: str | Path,
+        *,
+        mass_kg: float = 1.0,
+        com: ArrayLike | None = None,
+        units: str = "m",
+        com_model: str = "auto",
+    ) -> Robot:
         """A single rigid body from any mesh file trimesh reads.
 
         Parameters
@@ -251,20 +501,38 @@ class Robot:
             raise GeometryError(f"units must be one of {', '.join(UNITS_M)}; got {units!r}")
         if not path.is_file():
             raise RobotDescriptionError(f"mesh file '{path}' not found; check the path")
-        try:
-            mesh = trimesh.load(str(path), force="mesh")
-        except Exception as exc:
-            raise RobotDescriptionError(f"cannot read mesh '{path}': {exc}") from None
-        if not isinstance(mesh, trimesh.Trimesh) or len(mesh.vertices) == 0:
-            raise RobotDescriptionError(f"'{path}' holds no triangle mesh; give a mesh file (STL, OBJ, PLY, ...)")
-        return cls.from_trimesh(mesh, mass_kg=mass_kg, com=com, units=units, com_model=com_model,
-                                name=path.stem, source=path)
+        data = path.read_bytes()
+        mesh = _load_mesh_bytes(data, path)  # raw vertices checked before trimesh's processing drops any
+        mesh.process()
+        return cls.from_trimesh(
+            mesh,
+            mass_kg=mass_kg,
+            com=com,
+            units=units,
+            com_model=com_model,
+            name=path.stem,
+            source=path,
+            file_bytes=data,
+        )
 
     @classmethod
-    def from_trimesh(cls, mesh: trimesh.Trimesh, *, mass_kg: float = 1.0, com: ArrayLike | None = None,
-                     units: str = "m", com_model: str = "auto", name: str = "mesh",
-                     source: Path | None = None) -> Robot:
-        """A single rigid body from a trimesh object (see :meth:`from_mesh`)."""
+    def from_trimesh(
+        cls,
+        mesh: trimesh.Trimesh,
+        *,
+        mass_kg: float = 1.0,
+        com: ArrayLike | None = None,
+        units: str = "m",
+        com_model: str = "auto",
+        name: str = "mesh",
+        source: Path | None = None,
+        file_bytes: bytes | None = None,
+    ) -> Robot:
+        """A single rigid body from a trimesh object (see :meth:`from_mesh`).
+
+        ``description_hash`` covers the mesh (``file_bytes``, the file's contents, when given; else its vertex and
+        face arrays), ``units``, ``mass_kg``, ``com`` and ``com_model``: everything that changes the body.
+        """
         verts = np.asarray(mesh.vertices, dtype=np.float64)
         if not np.isfinite(verts).all():
             i = int(np.flatnonzero(~np.isfinite(verts).all(axis=1))[0])
@@ -283,8 +551,18 @@ class Robot:
             mp = mesh_mass_properties(mesh, mass_kg=mass_kg, com_model=com_model, name=name)
         pts = np.asarray(mesh.vertices, dtype=np.float64)
         part = Part(name, mp, convex_hull(pts).vertices_m, pts)
-        digest = hashlib.sha256(pts.tobytes() + mp.com_m.tobytes()).hexdigest()[:16]
-        return cls(name, (part,), source=source, description_hash=digest)
+        h = hashlib.sha256()
+        if file_bytes is not None:
+            h.update(b"file\0" + file_bytes)
+        else:
+            h.update(b"arrays\0" + verts.tobytes() + np.asarray(mesh.faces, dtype=np.int64).tobytes())
+        com_text = (
+            "auto" if com is None else ",".join(repr(float(x)) for x in np.asarray(com, float).reshape(-1))
+        )
+        h.update(
+            f"\0units={units}\0mass_kg={float(mass_kg)!r}\0com={com_text}\0com_model={com_model}".encode()
+        )
+        return cls(name, (part,), source=source, description_hash=h.hexdigest()[:16])
 
     # ------------------------------------------------------------------ joints
     @property
@@ -305,7 +583,10 @@ class Robot:
         out = {}
         for key, names in (("theta_w", self.joint_map.wing), ("theta_l", self.joint_map.leg)):
             lims = [self.joint_limits_deg(n) for n in names]
-            out[key] = (max((lo for lo, _ in lims), default=-np.inf), min((hi for _, hi in lims), default=np.inf))
+            out[key] = (
+                max((lo for lo, _ in lims), default=-np.inf),
+                min((hi for _, hi in lims), default=np.inf),
+            )
         return out
 
     def joint_values_rad(self, theta_w_deg: float, theta_l_deg: float) -> dict[str, float]:
@@ -317,14 +598,18 @@ class Robot:
             If an angle is not finite or lies outside a mapped joint's limits.
         """
         values = {}
-        for what, val, names in (("theta_w", theta_w_deg, self.joint_map.wing),
-                                 ("theta_l", theta_l_deg, self.joint_map.leg)):
+        for what, val, names in (
+            ("theta_w", theta_w_deg, self.joint_map.wing),
+            ("theta_l", theta_l_deg, self.joint_map.leg),
+        ):
             if not np.isfinite(val):
                 raise JointLimitError(f"{what} must be a finite angle in degrees; got {val!r}")
             for n in names:
                 lo, hi = self.joint_limits_deg(n)
                 if not lo - 1e-9 <= val <= hi + 1e-9:
-                    raise JointLimitError(JOINT_OUT_OF_RANGE.format(what=what, got=val, joint=n, lo=lo, hi=hi))
+                    raise JointLimitError(
+                        JOINT_OUT_OF_RANGE.format(what=what, got=val, joint=n, lo=lo, hi=hi)
+                    )
                 values[n] = float(np.deg2rad(val))
         return values
 
@@ -338,7 +623,9 @@ class Robot:
             cfg[i] = joint_values_rad.get(n, 0.0)
         self.urdf.update_cfg(cfg)
         base = self.urdf.base_link
-        return {p.link: np.asarray(self.urdf.get_transform(p.link, base), dtype=np.float64) for p in self.parts}
+        return {
+            p.link: np.asarray(self.urdf.get_transform(p.link, base), dtype=np.float64) for p in self.parts
+        }
 
     def pose(self, theta_w_deg: float | None = 0.0, theta_l_deg: float | None = 0.0) -> Pose:
         """The rigid body at wing angle theta_w and leg angle theta_l (degrees).
@@ -355,11 +642,20 @@ class Robot:
             theta_w_deg = theta_l_deg = None
         else:
             T = self.link_transforms(self.joint_values_rad(float(theta_w_deg), float(theta_l_deg)))
-        masses = [MassProperties(p.mass.mass_kg, _apply(T[p.link], p.mass.com_m[None])[0],
-                                 T[p.link][:3, :3] @ p.mass.inertia_kg_m2 @ T[p.link][:3, :3].T, p.mass.model)
-                  for p in self.parts if p.mass.mass_kg > 0]
+        masses = [
+            MassProperties(
+                p.mass.mass_kg,
+                _apply(T[p.link], p.mass.com_m[None])[0],
+                T[p.link][:3, :3] @ p.mass.inertia_kg_m2 @ T[p.link][:3, :3].T,
+                p.mass.model,
+            )
+            for p in self.parts
+            if p.mass.mass_kg > 0
+        ]
         total = combine(masses)
-        hull_pts = np.concatenate([_apply(T[p.link], p.hull_link_m) for p in self.parts if len(p.hull_link_m)])
+        hull_pts = np.concatenate(
+            [_apply(T[p.link], p.hull_link_m) for p in self.parts if len(p.hull_link_m)]
+        )
         return Pose(theta_w_deg, theta_l_deg, total.mass_kg, total.com_m, hull_pts, T, self.parts)
 
     @property

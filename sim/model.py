@@ -18,22 +18,23 @@ directory and loads the result.
 
 from __future__ import annotations
 
+import copy
 import hashlib
 import logging
-import warnings
-import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 import trimesh
+from lxml import etree as ET
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import ConvexHull
-from scipy.spatial.transform import Rotation
 
 from geometry import JointMap, Robot
 from geometry.errors import RobotDescriptionError
+from geometry.frames import rpy_from_matrix
+from geometry.urdf import origin_matrix, read_urdf
 
 log = logging.getLogger(__name__)
 
@@ -105,7 +106,9 @@ class SimplifiedHull:
     gap: float
 
 
-def simplified_hull(points: ArrayLike, *, tol: float, max_vertices: int = HULL_MAX_VERTICES) -> SimplifiedHull:
+def simplified_hull(
+    points: ArrayLike, *, tol: float, max_vertices: int = HULL_MAX_VERTICES
+) -> SimplifiedHull:
     """Convex hull of ``points``, simplified by support-gap refinement (see the module docstring).
 
     Parameters
@@ -151,7 +154,9 @@ def simplified_hull(points: ArrayLike, *, tol: float, max_vertices: int = HULL_M
     gap = float((h_full - (verts @ dirs.T).max(axis=0)).max())
     tri = trimesh.Trimesh(verts, ConvexHull(verts).simplices, process=True)
     trimesh.repair.fix_normals(tri)
-    return SimplifiedHull(np.asarray(tri.vertices), np.asarray(tri.faces, dtype=np.int64), len(full), max(gap, 0.0))
+    return SimplifiedHull(
+        np.asarray(tri.vertices), np.asarray(tri.faces, dtype=np.int64), len(full), max(gap, 0.0)
+    )
 
 
 def hull_obj_text(hull: SimplifiedHull) -> str:
@@ -175,7 +180,9 @@ class SimModel:
     joint_map : JointMap
         Which joints theta_w and theta_l drive.
     description_hash : str
-        ``Robot.description_hash`` of the source URDF.
+        ``Robot.description_hash`` of the source URDF (the URDF and every mesh file it uses).
+    robot_hash : str
+        ``Robot.robot_hash``: the description hash, with the joint map folded in when it is not the default.
     model_hash : str
         Hash of the rewritten URDF and its meshes (names the cache directory).
     max_gap_m : float
@@ -193,6 +200,7 @@ class SimModel:
     meshes: dict[str, str] = field(repr=False)
     joint_map: JointMap
     description_hash: str
+    robot_hash: str
     model_hash: str
     max_gap_m: float
     vertex_counts: dict[str, tuple[int, int]] = field(repr=False)
@@ -201,47 +209,36 @@ class SimModel:
     source: Path
 
 
-def _scale_m(mesh_el: ET.Element) -> float:
-    s = mesh_el.get("scale")
-    if not s:
-        return 1.0
-    vals = [float(x) for x in s.split()]
-    return float(max(abs(v) for v in vals))
+def _origin(el: ET._Element | None) -> NDArray[np.float64]:
+    """4x4 transform of an element's ``<origin xyz rpy>`` (:func:`geometry.urdf.origin_matrix`)."""
+    return origin_matrix(el)
 
 
-def _origin(el: ET.Element | None) -> NDArray[np.float64]:
-    """4x4 transform of an element's ``<origin xyz rpy>`` (URDF rpy: fixed axes x, y, z)."""
-    t = np.eye(4)
-    o = None if el is None else el.find("origin")
-    if o is not None:
-        t[:3, 3] = [float(x) for x in o.get("xyz", "0 0 0").split()]
-        t[:3, :3] = Rotation.from_euler("xyz", [float(x) for x in o.get("rpy", "0 0 0").split()]).as_matrix()
-    return t
-
-
-def _set_origin(el: ET.Element, t: NDArray[np.float64]) -> None:
+def _set_origin(el: ET._Element, t: NDArray[np.float64]) -> None:
     o = el.find("origin")
     if o is None:
         o = ET.Element("origin")
         el.insert(0, o)
     rpy = np.zeros(3)
     if not np.allclose(t[:3, :3], np.eye(3), rtol=0.0, atol=1e-15):
-        with warnings.catch_warnings():  # at pitch +-90 deg scipy warns of gimbal lock; the rotation is still exact
-            warnings.simplefilter("ignore", UserWarning)
-            rpy = Rotation.from_matrix(t[:3, :3]).as_euler("xyz")
+        rpy = rpy_from_matrix(t[:3, :3])
     o.set("xyz", " ".join(f"{x:.17g}" for x in t[:3, 3]))
     o.set("rpy", " ".join(f"{x:.17g}" for x in rpy))
 
 
-def _inertial(link: ET.Element) -> tuple[float, NDArray[np.float64], NDArray[np.float64]]:
+def _inertial(link: ET._Element) -> tuple[float, NDArray[np.float64], NDArray[np.float64]]:
     """(mass kg, CoM m, 3x3 inertia about the CoM kg m^2) of a link in its own frame."""
     el = link.find("inertial")
     if el is None or el.find("mass") is None:
         return 0.0, np.zeros(3), np.zeros((3, 3))
     t = _origin(el)
     i = el.find("inertia")
-    g = {k: float(i.get(k, "0")) if i is not None else 0.0 for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
-    tensor = np.array([[g["ixx"], g["ixy"], g["ixz"]], [g["ixy"], g["iyy"], g["iyz"]], [g["ixz"], g["iyz"], g["izz"]]])
+    g = {
+        k: float(i.get(k, "0")) if i is not None else 0.0 for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+    }
+    tensor = np.array(
+        [[g["ixx"], g["ixy"], g["ixz"]], [g["ixy"], g["iyy"], g["iyz"]], [g["ixz"], g["iyz"], g["izz"]]]
+    )
     return float(el.find("mass").get("value")), t[:3, 3], t[:3, :3] @ tensor @ t[:3, :3].T
 
 
@@ -260,7 +257,7 @@ def _principal_frame(tensor: NDArray[np.float64]) -> tuple[NDArray[np.float64], 
     return w, v
 
 
-def merge_fixed_links(root: ET.Element) -> list[str]:
+def merge_fixed_links(root: ET._Element) -> list[str]:
     """Merge every link hanging on a ``fixed`` joint into its parent, in place; return the merged link names.
 
     The parent gets the children's collision elements (origins composed with the joint's) and their joints
@@ -318,8 +315,16 @@ def merge_fixed_links(root: ET.Element) -> list[str]:
             t[:3, :3], t[:3, 3] = axes, com
             _set_origin(el, t)
             ET.SubElement(el, "mass", value=f"{mass:.17g}")
-            ET.SubElement(el, "inertia", ixx=f"{moments[0]:.17g}", ixy="0", ixz="0", iyy=f"{moments[1]:.17g}",
-                          iyz="0", izz=f"{moments[2]:.17g}")
+            ET.SubElement(
+                el,
+                "inertia",
+                ixx=f"{moments[0]:.17g}",
+                ixy="0",
+                ixz="0",
+                iyy=f"{moments[1]:.17g}",
+                iyz="0",
+                izz=f"{moments[2]:.17g}",
+            )
         root.remove(fixed)
         root.remove(child)
         merged.append(child.get("name"))
@@ -340,16 +345,24 @@ def rest_pitch_deg(robot: Robot) -> float:
 
 
 @lru_cache(maxsize=8)
-def _build(path_str: str, mtime_ns: int, tol_m: float, max_vertices: int, joint_map: JointMap | None,
-           merge_fixed: bool) -> SimModel:
+def _build(
+    path_str: str,
+    description_hash: str,
+    tol_m: float,
+    max_vertices: int,
+    joint_map: JointMap | None,
+    merge_fixed: bool,
+) -> SimModel:
+    """The model (cached by the robot's description hash, so an edited URDF or mesh file is rebuilt)."""
     path = Path(path_str)
     robot = Robot.from_urdf(path, joint_map=joint_map)
     if not robot.has_joints:
         raise RobotDescriptionError(
-            f"'{path.name}' has none of the default wing/leg joints; the simulation needs theta_w and theta_l "
-            "joints (declare them with a joint map 'wing=NAME,...;leg=NAME')"
+            f"'{path.name}' has none of the default wing/leg joints, so it would be a rigid body; the simulation "
+            "needs theta_w and theta_l joints: declare them with a joint map 'wing=NAME,...;leg=NAME,...'"
         )
-    root = ET.fromstring(path.read_text())
+    urdf_file = robot.urdf_file
+    root = copy.deepcopy(urdf_file.root)
     meshes: dict[str, str] = {}
     counts: dict[str, tuple[int, int]] = {}
     max_gap = 0.0
@@ -360,14 +373,12 @@ def _build(path_str: str, mtime_ns: int, tol_m: float, max_vertices: int, joint_
             mesh_el = col.find("geometry/mesh")
             if mesh_el is None:
                 continue
-            fname = mesh_el.get("filename", "")
-            mpath = Path(fname.removeprefix("file://"))
-            mpath = mpath if mpath.is_absolute() else path.parent / mpath
-            if not mpath.is_file():
-                raise RobotDescriptionError(f"link '{link.get('name')}': mesh '{fname}' not found (looked for {mpath})")
-            mesh = trimesh.load(str(mpath), force="mesh", process=False)
-            scale = _scale_m(mesh_el)
-            hull = simplified_hull(mesh.vertices, tol=tol_m / scale if tol_m > 0 else 0.0, max_vertices=max_vertices)
+            ref = urdf_file.mesh(link.get("name"), "collision", i)
+            vertices = robot.element_vertices[(ref.link, ref.kind, ref.index)]
+            scale = float(np.abs(ref.scale).max())
+            hull = simplified_hull(
+                vertices, tol=tol_m / scale if tol_m > 0 else 0.0, max_vertices=max_vertices
+            )
             name = f"{link.get('name')}_{i}"
             meshes[name] = hull_obj_text(hull)
             counts[name] = (hull.n_full, len(hull.vertices))
@@ -378,16 +389,37 @@ def _build(path_str: str, mtime_ns: int, tol_m: float, max_vertices: int, joint_
     h = hashlib.sha256(text.encode())
     for k in sorted(meshes):
         h.update(k.encode() + meshes[k].encode())
-    model = SimModel(text, meshes, robot.joint_map, robot.description_hash, h.hexdigest()[:16], max_gap, counts,
-                     rest_pitch_deg(robot), robot.theta_limits_deg(), path)
-    log.info("sim model %s: hulls %s, max support gap %.3g mm, merged links %s", path.name, counts,
-             max_gap * 1e3, merged)
+    model = SimModel(
+        text,
+        meshes,
+        robot.joint_map,
+        robot.description_hash,
+        robot.robot_hash,
+        h.hexdigest()[:16],
+        max_gap,
+        counts,
+        rest_pitch_deg(robot),
+        robot.theta_limits_deg(),
+        path,
+    )
+    log.info(
+        "sim model %s: hulls %s, max support gap %.3g mm, merged links %s",
+        path.name,
+        counts,
+        max_gap * 1e3,
+        merged,
+    )
     return model
 
 
-def sim_model(urdf: str | Path | None = None, *, tol_m: float = HULL_TOL_M,
-              max_vertices: int = HULL_MAX_VERTICES, joint_map: JointMap | None = None,
-              merge_fixed: bool = False) -> SimModel:
+def sim_model(
+    urdf: str | Path | None = None,
+    *,
+    tol_m: float = HULL_TOL_M,
+    max_vertices: int = HULL_MAX_VERTICES,
+    joint_map: JointMap | None = None,
+    merge_fixed: bool = False,
+) -> SimModel:
     """The simulation model of a URDF robot (cached per process).
 
     Parameters
@@ -408,10 +440,13 @@ def sim_model(urdf: str | Path | None = None, *, tol_m: float = HULL_TOL_M,
     Raises
     ------
     RobotDescriptionError
-        If the file or a mesh is missing, or the robot has no wing/leg joints.
+        If the file or a mesh is missing or the description is bad (:meth:`geometry.Robot.from_urdf`), or the
+        robot has no wing/leg joints.
+    UnknownJointError
+        If the joint map names a joint the robot lacks or cannot move, or only some default joint names exist.
     """
     path = Path(urdf) if urdf is not None else default_robot_urdf()
-    if not path.is_file():
-        raise RobotDescriptionError(f"robot file '{path}' not found; give the path to a .urdf file")
-    return _build(str(path.resolve()), path.stat().st_mtime_ns, float(tol_m), int(max_vertices), joint_map,
-                  bool(merge_fixed))
+    description_hash = read_urdf(path).description_hash  # the cache key: any edited file is rebuilt
+    return _build(
+        str(path.resolve()), description_hash, float(tol_m), int(max_vertices), joint_map, bool(merge_fixed)
+    )

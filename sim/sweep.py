@@ -29,6 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
+from geometry import JointMap
+
 from .actuation import Actuation
 from .model import default_robot_urdf, sim_model
 from .protocol import (
@@ -74,7 +76,12 @@ def trial_seed(theta_w_deg: float, theta_l_deg: float, cv: float, phase: float, 
 
 @dataclass(frozen=True)
 class TrialSpec:
-    """One trial of a sweep (everything a worker needs)."""
+    """One trial of a sweep (everything a worker needs).
+
+    ``robot_hash`` is ``geometry.Robot.robot_hash``: the robot's files and, when ``joints`` is not the default
+    map, the joint map too, so the resume key tells apart the same URDF driven through different joints.
+    ``joints`` is the joint map's text (``JointMap.text()``; "" for the default names).
+    """
 
     theta_w_deg: float
     theta_l_deg: float
@@ -89,6 +96,11 @@ class TrialSpec:
     wing_period_s: float = PAPER_WING_PERIOD_S
     leg_period_s: float = PAPER_LEG_PERIOD_S
     attempts: int = 0
+    joints: str = ""
+
+    def joint_map(self) -> JointMap | None:
+        """The joint map to simulate with (None: the robot's default joint names)."""
+        return JointMap.parse(self.joints) if self.joints else None
 
     def key(self) -> tuple:
         """Primary key in ``sim.store.KEY_COLUMNS`` order."""
@@ -99,8 +111,13 @@ def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: 
                 phase: Iterable[float] = (0.7,), trials: int = PAPER_TRIALS,
                 duration_s: float = DEFAULT_DURATION_S, dt_s: float | None = None,
                 robot: str | Path | None = None, base_seed: int = 0, wing_period_s: Iterable[float] = (PAPER_WING_PERIOD_S,),
-                leg_period_s: Iterable[float] = (PAPER_LEG_PERIOD_S,), attempts: int = 0) -> list[TrialSpec]:
+                leg_period_s: Iterable[float] = (PAPER_LEG_PERIOD_S,), attempts: int = 0,
+                joint_map: JointMap | str | None = None) -> list[TrialSpec]:
     """Every trial of a full-factorial sweep, in a fixed order.
+
+    ``joint_map`` (a :class:`geometry.JointMap` or its text ``'wing=NAME,...;leg=NAME,...'``) names the joints
+    theta_w and theta_l drive, for a robot whose joints are not named like the lab robot's; it is checked
+    against the robot here and becomes part of every trial's ``robot_hash``.
 
     ``dt_s`` None takes the robot's default (:func:`sim.trial.default_dt_s`). ``wing_period_s`` (Tw) and
     ``leg_period_s`` (Tl) are swept too; ``attempts`` > 0 limits every trial to that
@@ -110,7 +127,12 @@ def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: 
     ------
     TrialInputError
         If a parameter list is empty, ``trials`` < 1 or a value is out of range.
+    GeometryError
+        If the robot cannot be loaded or the joint map does not fit it (``RobotDescriptionError``,
+        ``UnknownJointError``; all are ValueError).
     """
+    if isinstance(joint_map, str):
+        joint_map = JointMap.parse(joint_map)
     grids = {"theta-w": [float(x) for x in theta_w_deg], "theta-l": [float(x) for x in theta_l_deg],
              "cv": [float(x) for x in cv], "phase": [float(x) for x in phase],
              "wing-period": [float(x) for x in wing_period_s], "leg-period": [float(x) for x in leg_period_s]}
@@ -134,7 +156,8 @@ def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: 
             except ValueError as exc:
                 raise TrialInputError(f"--wing-period {tw_s:g} / --leg-period {tl_s:g}: {exc}") from None
     path = Path(robot) if robot is not None else default_robot_urdf()
-    model = sim_model(path)
+    model = sim_model(path, joint_map=joint_map)
+    joints = "" if joint_map is None or joint_map == JointMap() else joint_map.text()
     for name, key in (("theta-w", "theta_w"), ("theta-l", "theta_l")):
         lo, hi = model.theta_limits_deg[key]
         bad = [v for v in grids[name] if not (max(lo, 0.0) <= v <= hi)]
@@ -146,7 +169,7 @@ def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: 
     dt_s = default_dt_s(path) if dt_s is None else dt_s
     return [TrialSpec(tw, tl, c, ph, k, trial_seed(tw, tl, c, ph, k, base_seed=base_seed, wing_period_s=wp,
                                                    leg_period_s=lp, attempts=n_att),
-                      float(duration_s), float(dt_s), robot_str, model.description_hash, wp, lp, n_att)
+                      float(duration_s), float(dt_s), robot_str, model.robot_hash, wp, lp, n_att, joints)
             for wp, lp, tw, tl, c, ph, k in itertools.product(grids["wing-period"], grids["leg-period"],
                                                               grids["theta-w"], grids["theta-l"], grids["cv"],
                                                               grids["phase"], range(trials))]
@@ -162,8 +185,8 @@ def run_spec(spec: TrialSpec) -> dict:
         act = Actuation(spec.theta_w_deg, spec.theta_l_deg, wing_period_s=spec.wing_period_s,
                         leg_period_s=spec.leg_period_s)
         r = run_trial(spec.theta_w_deg, spec.theta_l_deg, phase=spec.phase, cv=spec.cv, rng=spec.seed,
-                      duration_s=spec.duration_s, dt_s=spec.dt_s, robot=spec.robot, actuation=act,
-                      attempts=spec.attempts or None)
+                      duration_s=spec.duration_s, dt_s=spec.dt_s, robot=spec.robot, joint_map=spec.joint_map(),
+                      actuation=act, attempts=spec.attempts or None)
     except SimulationDiverged as exc:
         row.update(status="diverged", error=str(exc))
         return row

@@ -120,7 +120,8 @@ class TrialResult:
     max_tracking_error_deg : float
         Largest |measured - commanded| driven-joint angle over the trial, deg.
     robot_hash, model_hash : str
-        Hash of the robot description and of the simulated model (hulls).
+        Hash of the robot (``geometry.Robot.robot_hash``: its files, and its joint map when not the default) and
+        of the simulated model (hulls).
     trace : Trace or None
     """
 
@@ -176,19 +177,29 @@ def resolve_seed(rng: np.random.Generator | int | None) -> tuple[int, np.random.
 
 def default_dt_s(robot: str | Path | None = None) -> float:
     """Default time step for a robot: ``DEFAULT_DT_S`` for the built-in robot (also an exported copy of it, by its
-    description hash), ``OTHER_ROBOT_DT_S`` for any other URDF.
+    description hash, whatever its joint map), ``OTHER_ROBOT_DT_S`` for any other URDF.
+
+    Only the files are compared (:func:`geometry.urdf.read_urdf`), so no joint map is needed here.
+
+    Raises
+    ------
+    RobotDescriptionError
+        If the URDF or one of its meshes is missing or the XML is malformed.
 
     Examples
     --------
     >>> default_dt_s()
     0.0005
     """
+    from geometry.urdf import read_urdf
+
     from .model import default_robot_urdf
 
-    default = sim_model(None)
-    if robot is None or Path(robot).resolve() == default_robot_urdf().resolve():
+    default = default_robot_urdf()
+    if robot is None or Path(robot).resolve() == default.resolve():
         return DEFAULT_DT_S
-    return DEFAULT_DT_S if sim_model(robot).description_hash == default.description_hash else OTHER_ROBOT_DT_S
+    same = read_urdf(robot).description_hash == read_urdf(default).description_hash
+    return DEFAULT_DT_S if same else OTHER_ROBOT_DT_S
 
 
 def _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, limits) -> None:
@@ -274,7 +285,7 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
     model = sim_model(robot, tol_m=hull_tol_m, max_vertices=hull_max_vertices, joint_map=joint_map,
                       merge_fixed=merge_fixed_links)
     theta_w_deg, theta_l_deg, phase, cv = float(theta_w_deg), float(theta_l_deg), float(phase), float(cv)
-    duration_s, dt_s = float(duration_s), float(default_dt_s(robot) if dt_s is None else dt_s)
+    duration_s, dt_s = float(duration_s), float(default_dt_s(model.source) if dt_s is None else dt_s)
     _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, model.theta_limits_deg)
     seed, gen = resolve_seed(rng)
     base = actuation or Actuation(theta_w_deg, theta_l_deg)
@@ -363,7 +374,7 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
         phases=tuple(float(x) for x in attempt_phases(started, act)),
         attempt_starts_s=tuple(float(x) for x in started), mode=mode, sim_s=t_end,
         wall_s=time.perf_counter() - wall0, cpu_s=time.process_time() - cpu0, max_tracking_error_deg=float(np.rad2deg(max_err)),
-        robot_hash=model.description_hash, model_hash=model.model_hash, trace=tr)
+        robot_hash=model.robot_hash, model_hash=model.model_hash, trace=tr)
 
 
 def _trace_row(world: World, t_s: float, wing_cmd_deg: float, leg_cmd_deg: float, n_wing: int) -> list[float]:

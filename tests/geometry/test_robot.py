@@ -5,8 +5,12 @@ import trimesh
 from geometry import GeometryError, JointLimitError, JointMap, Robot, RobotDescriptionError, UnknownJointError
 
 # Reference values from ../shared/ref/lab_robot/README.md (CoM in mm)
-LAB_COM_MM = {(0, 0): (7.5156, -0.0621, 3.4843), (74, 0): (15.2153, -0.0621, -1.6171),
-              (90, 0): (16.0227, -0.0621, 0.0043), (74, 50): (19.9858, -10.2925, -1.6171)}
+LAB_COM_MM = {
+    (0, 0): (7.5156, -0.0621, 3.4843),
+    (74, 0): (15.2153, -0.0621, -1.6171),
+    (90, 0): (16.0227, -0.0621, 0.0043),
+    (74, 50): (19.9858, -10.2925, -1.6171),
+}
 
 
 @pytest.mark.parametrize("angles", sorted(LAB_COM_MM))
@@ -17,7 +21,10 @@ def test_lab_robot_com(lab_robot, angles):
 
 
 def test_lab_robot_limits(lab_robot):
-    assert lab_robot.theta_limits_deg() == {"theta_w": pytest.approx((-10, 95)), "theta_l": pytest.approx((-90, 90))}
+    assert lab_robot.theta_limits_deg() == {
+        "theta_w": pytest.approx((-10, 95)),
+        "theta_l": pytest.approx((-90, 90)),
+    }
     with pytest.raises(JointLimitError, match=r"limits \[-10, 95\]"):
         lab_robot.pose(96, 0)
     with pytest.raises(JointLimitError, match="finite"):
@@ -40,14 +47,16 @@ def test_missing_files(tmp_path):
     with pytest.raises(RobotDescriptionError, match="not found"):
         Robot.from_urdf(tmp_path / "none.urdf")
     bad = tmp_path / "bad.urdf"
-    bad.write_text("<robot name='x'><link name='a'><visual><geometry><mesh filename='missing.obj'/></geometry>"
-                   "</visual><inertial><mass value='1'/><inertia ixx='1' ixy='0' ixz='0' iyy='1' iyz='0' izz='1'/>"
-                   "</inertial></link></robot>")
+    bad.write_text(
+        "<robot name='x'><link name='a'><visual><geometry><mesh filename='missing.obj'/></geometry>"
+        "</visual><inertial><mass value='1'/><inertia ixx='1' ixy='0' ixz='0' iyy='1' iyz='0' izz='1'/>"
+        "</inertial></link></robot>"
+    )
     with pytest.raises(RobotDescriptionError, match="missing.obj"):
         Robot.from_urdf(bad)
     garbage = tmp_path / "garbage.urdf"
     garbage.write_text("not xml at all <<<")
-    with pytest.raises(RobotDescriptionError, match="cannot parse"):
+    with pytest.raises(RobotDescriptionError, match="not well-formed XML at line 1, column 1"):
         Robot.from_urdf(garbage)
 
 
@@ -60,10 +69,12 @@ def test_primitive_urdf(tmp_path):
   <link name="foot"><collision><origin xyz="0.1 0 0"/><geometry><sphere radius="0.02"/></geometry></collision>
     <inertial><origin xyz="0.1 0 0"/><mass value="1.0"/>
       <inertia ixx="1e-4" ixy="0" ixz="0" iyy="1e-4" iyz="0" izz="1e-4"/></inertial></link>
+  <link name="flap"/>
   <joint name="hip" type="revolute"><parent link="body"/><child link="foot"/><axis xyz="0 0 1"/>
     <limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>
+  <joint name="flap" type="continuous"><parent link="body"/><child link="flap"/><axis xyz="1 0 0"/></joint>
 </robot>""")
-    r = Robot.from_urdf(urdf, joint_map=JointMap(wing=(), leg=("hip",)))
+    r = Robot.from_urdf(urdf, joint_map=JointMap(wing=("flap",), leg=("hip",)))
     p = r.pose(0, 90 * 0.5)
     # foot CoM rotated 45 deg about z: (0.1 cos45, 0.1 sin45, 0); body at origin; equal masses
     assert p.com_m == pytest.approx([0.05 * np.cos(np.pi / 4), 0.05 * np.sin(np.pi / 4), 0], abs=1e-12)
