@@ -19,6 +19,7 @@ from .energy import G_M_S2, Landscape, energy_landscape
 from .grid import cells_per_turn, wrap_deg
 from .minima import (
     Minimum,
+    _follow_minimum_grid,
     follow_minimum,
     grid_minimum,
     local_descent,
@@ -206,30 +207,32 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
                        canonical_pitch_roll_deg(*start_deg), minimum, barrier, ls, pose, timing)
 
 
-def sweep_starts(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float]
+def sweep_starts(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float], *, baseline: bool = False
                  ) -> dict[tuple[float, float], tuple[float, float]]:
     """Metastable orientations over a theta_w x theta_l grid by one shared continuation.
 
     theta_w rises from 0 through every requested value (1 deg steps or finer), and at each requested theta_w a
     branch raises theta_l from 0. Equivalent to :func:`metastable_orientation` per pair, far cheaper.
+    ``baseline=True`` uses the former per-step grid pattern search (benchmarks/start_state.py).
     """
+    follow = _follow_minimum_grid if baseline else follow_minimum
     out: dict[tuple[float, float], tuple[float, float]] = {}
     ws = sorted(set(float(w) for w in theta_w_deg))
     ls = sorted(set(float(x) for x in theta_l_deg))
     for sign_ws in ([w for w in ws if w >= 0], sorted([w for w in ws if w < 0], reverse=True)):
         at = 0.0
-        p, r = follow_minimum(robot, [(0.0, 0.0)])[-1]
+        p, r = follow(robot, [(0.0, 0.0)])[-1]
         for w in sign_ws:
             path = [(x, 0.0) for x in ramp_deg(at, w)]
             if path:
-                p, r = follow_minimum(robot, path, pitch_deg=p, roll_deg=r)[-1]
+                p, r = follow(robot, path, pitch_deg=p, roll_deg=r)[-1]
             at = w
             for tl in ls:
                 if tl == 0.0:
                     out[(w, tl)] = (p, r)
                     continue
                 lpath = [(w, x) for x in ramp_deg(0.0, tl)]
-                out[(w, tl)] = follow_minimum(robot, lpath, pitch_deg=p, roll_deg=r)[-1]
+                out[(w, tl)] = follow(robot, lpath, pitch_deg=p, roll_deg=r)[-1]
     return out
 
 

@@ -642,12 +642,14 @@ def _direction(u: NDArray[np.float64], start_deg: tuple[float, float]) -> str:
     return "pitch" if abs(pp - start_deg[0]) >= abs(rr - start_deg[1]) else "roll"
 
 
-def _exit(ex: ExactLandscape, level_m: float, start_h: float, start_deg, pieces, kind: str | None) -> Exit:
-    """pieces: list of (arc, s0, s1, peak_h, peak_up) traversed in order."""
+def _exit(ex: ExactLandscape, level_m: float, start_h: float, start_deg, pieces, kind: str | None, *,
+          peak: int | None = None) -> Exit:
+    """pieces: list of (arc, s0, s1, peak_h, peak_up) traversed in order; the saddle is the highest piece's
+    peak (the first of equals) unless ``peak`` names the piece."""
     us = [up_vector(*np.deg2rad(start_deg))[None, :]]
     us += [_arc_points(ex, a, s0, s1)[1:] for a, s0, s1, _, _ in pieces]
     path = _torus_path(np.concatenate(us), start_deg)
-    k = int(np.argmax([ph for *_, ph, _ in pieces])) if pieces else -1
+    k = peak if peak is not None else int(np.argmax([ph for *_, ph, _ in pieces])) if pieces else -1
     saddle_up = pieces[k][4] if pieces else up_vector(*np.deg2rad(start_deg))
     sp, sr = canonical_pitch_roll_deg(*_deg(saddle_up)[0])
     direction = kind or _direction(saddle_up, start_deg)
@@ -683,6 +685,34 @@ def _piece(ex: ExactLandscape, arc: int, forward: bool) -> tuple:
     """A whole arc, forward (face 0 -> face 1) or back."""
     theta = float(ex._g.arc_theta[arc])
     return _pieces(ex, arc, 0.0 if forward else theta, theta if forward else 0.0)[0]
+
+
+def _escape_saddle(ex: ExactLandscape, pieces: list[tuple], f0: int, level_m: float) -> int:
+    """Check that the escape path's highest point is a saddle between the start's basin and another one.
+
+    The bottleneck level is a critical value (mountain pass), but a path may touch it at several points; the
+    reported saddle must be a critical point (an edge-arc peak with the CoM's foot inside the edge) whose two
+    sides roll down into different basins, one of them the start's. Returns the index of the first piece
+    whose peak is such a saddle.
+
+    Raises
+    ------
+    RuntimeError
+        If no point of the path at the bottleneck level is such a saddle (a bug: please report the body).
+    """
+    crit = ex.critical
+    start_row = int(np.flatnonzero(crit.minima_face == f0)[0])
+    tol = ex.tol_m
+    for k, pc in enumerate(pieces):
+        if pc[3] < level_m - tol:
+            continue
+        hit = np.flatnonzero(crit.saddles_arc == pc[0])
+        if len(hit) and np.linalg.norm(pc[4] - ex.arc_peak_up[pc[0]]) <= 1e-9:
+            joins = crit.saddles_joins[hit[0]]
+            if joins[0] != joins[1] and start_row in joins:
+                return k
+    raise RuntimeError(f"the escape path's highest point (level {level_m:.9g} m) is no saddle between the start's "
+                       "basin and another; please report this body")
 
 
 def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_roll_deg: float, *,
@@ -748,7 +778,8 @@ def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_rol
     escape = None
     if first >= 0:
         pieces = [_piece(ex, e, bool(fb[e] == x)) for e, x in _chain(par, fa, fb, first)]
-        escape = _exit(ex, float(lev[first]), h0, start_deg, pieces, None)
+        k = _escape_saddle(ex, pieces, int(f0), float(lev[first]))
+        escape = _exit(ex, float(lev[first]), h0, start_deg, pieces, None, peak=k)
 
     # righting: faces with u_z <= tol are upright; arcs leaving the upper hemisphere end at the crossing
     up_z = ex.face_up[:, 2]

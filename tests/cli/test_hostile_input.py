@@ -86,4 +86,4 @@ def test_compute_json_is_strict(corpus):
     for method in ("exact", "grid", "sphere"):
         r = landscape("compute", "--mesh", corpus / "box.stl", "--method", method, "--json")
         assert r.returncode == 0, r.stderr
-        json.loads(r.stdout, parse_constant=lambda tok: pytest.fail(f"{method}: {tok} in JSON"))
+        json.loads(r.stdout, parse_constant=lambda tok, m=method: pytest.fail(f"{m}: {tok} in JSON"))
