@@ -76,7 +76,8 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
     c = run(robot, theta_w_deg=theta_w, theta_l_deg=theta_l, step_deg=step, start_pitch_deg=start_pitch,
             start_roll_deg=start_roll, connectivity=int(connectivity), method=method)
     s = files.summary(c, robot_name=robot.name, robot_source=str(robot.source) if robot.source else None,
-                      robot_hash=robot.description_hash, com_source=robot.com_source)
+                      robot_hash=robot.robot_hash, com_source=robot.com_source,
+                      description_hash=robot.description_hash)
     if out:
         files.write_computation(c, s, Path(out))
     if as_json:

@@ -113,10 +113,11 @@ def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_jso
 @click.option("--workers", type=click.IntRange(min=1), default=None, help="Local worker processes (default: all cores).")
 @click.option("--scheduler", type=str, default=None, help="Dask scheduler address tcp://HOST:PORT.")
 @click.option("--robot", type=str, default=None, help="URDF file (default: the built-in robot).")
+@click.option("--joints", type=str, default=None, help="Joint map 'wing=J1,J2,...;leg=J' for a URDF whose joint names differ.")
 @click.option("--no-progress", is_flag=True, help="No progress bar.")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object.")
 def sweep(theta_w, theta_l, cv, phase, trials, wing_period, leg_period, attempts, db, duration, dt, base_seed,
-          workers, scheduler, robot, no_progress, as_json):
+          workers, scheduler, robot, joints, no_progress, as_json):
     """Run (or resume) a sweep of self-righting trials into an SQLite database."""
     from dataclasses import asdict
 
@@ -133,7 +134,8 @@ def sweep(theta_w, theta_l, cv, phase, trials, wing_period, leg_period, attempts
                         parse_values(phase, "phase"))
     wps, lps = parse_values(wing_period, "wing-period"), parse_values(leg_period, "leg-period")
     specs = sweep_specs(tw, tl, cvs, phase=phs, trials=trials, duration_s=duration, dt_s=dt, robot=robot,
-                        base_seed=base_seed, wing_period_s=wps, leg_period_s=lps, attempts=attempts)
+                        base_seed=base_seed, wing_period_s=wps, leg_period_s=lps, attempts=attempts,
+                        joint_map=joints)
     summary = run_sweep(specs, db=db, workers=workers, scheduler=scheduler, progress=not no_progress)
     if as_json:
         click.echo(json_text(asdict(summary)))

@@ -48,11 +48,16 @@ def barrier_map_rows(bm: BarrierMap) -> list[dict]:
 
 
 def summary(c: Computation, *, robot_name: str, robot_source: str | None, robot_hash: str,
-            com_source: str = "") -> dict:
-    """The JSON summary of one computation (energies in J, angles in degrees, lengths in m)."""
+            com_source: str = "", description_hash: str | None = None) -> dict:
+    """The JSON summary of one computation (energies in J, angles in degrees, lengths in m).
+
+    ``robot_hash`` identifies the robot and how its joints are driven (``Robot.robot_hash``);
+    ``description_hash`` its files alone (``Robot.description_hash``; default: ``robot_hash``).
+    """
     b = c.barrier
     return {
-        "robot": {"name": robot_name, "source": robot_source, "description_hash": robot_hash},
+        "robot": {"name": robot_name, "source": robot_source, "robot_hash": robot_hash,
+                  "description_hash": description_hash or robot_hash},
         "theta_w_deg": c.theta_w_deg,
         "theta_l_deg": c.theta_l_deg,
         "step_deg": c.step_deg,

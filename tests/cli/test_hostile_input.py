@@ -87,3 +87,30 @@ def test_compute_json_is_strict(corpus):
         r = landscape("compute", "--mesh", corpus / "box.stl", "--method", method, "--json")
         assert r.returncode == 0, r.stderr
         json.loads(r.stdout, parse_constant=lambda tok, m=method: pytest.fail(f"{m}: {tok} in JSON"))
+
+
+def test_a_robot_the_landscape_accepts_can_be_simulated_and_swept(tmp_path):
+    """A URDF with renamed joints and its --joints map: compute, simulate (no --dt) and sweep all accept it, and
+    the sweep's rows are keyed by the mapped robot (#9)."""
+    pytest.importorskip("pybullet")
+    from geometry.builtin import URDF_NAME, builtin_description
+
+    for name, data in builtin_description().items():
+        (tmp_path / name).write_bytes(data)
+    urdf = tmp_path / URDF_NAME
+    text = urdf.read_text()
+    for j in ("wing_pitch_left", "wing_pitch_right", "wing_roll_left", "wing_roll_right", "leg"):
+        text = text.replace(f'joint name="{j}"', f'joint name="j_{j}"')
+    urdf.write_text(text)
+    jm = "wing=j_wing_pitch_left,j_wing_pitch_right,j_wing_roll_left,j_wing_roll_right;leg=j_leg"
+    r = landscape("compute", "--robot", urdf, "--joints", jm, "--theta-w", "74", "--json")
+    assert r.returncode == 0, r.stderr
+    r = landscape("simulate", "--robot", urdf, "--joints", jm, "--theta-w", "74", "--theta-l", "30",
+                  "--duration", "0.2", "--json")
+    assert r.returncode == 0, r.stderr
+    db = tmp_path / "s.sqlite"
+    r = landscape("sweep", "--robot", urdf, "--joints", jm, "--theta-w", "74", "--theta-l", "30", "--cv", "0",
+                  "--trials", "1", "--duration", "0.2", "--db", db, "--workers", "1", "--no-progress")
+    assert r.returncode == 0, r.stderr
+    refused(landscape("sweep", "--robot", urdf, "--theta-w", "74", "--theta-l", "30", "--cv", "0", "--trials",
+                      "1", "--duration", "0.2", "--db", db, "--workers", "1", "--no-progress"), "none of the default")
