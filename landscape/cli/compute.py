@@ -28,17 +28,25 @@ def _fmt_exit(name: str, x, mg: float) -> str:
             f"saddle ({x.saddle_pitch_deg:7.2f}, {x.saddle_roll_deg:7.2f})  {x.direction}")
 
 
-def human_summary(c, robot) -> str:
+def human_summary(c, robot, *, mass_note: str = "", units: str | None = None) -> str:
+    """The table ``landscape compute`` prints. ``mass_note`` follows the mass (e.g. that it is a default);
+    ``units`` names the unit a ``--mesh`` file was read in."""
+    import math
+
     mg = c.mass_kg * c.landscape.g_m_s2
+    p, r = math.radians(c.minimum.pitch_deg), math.radians(c.minimum.roll_deg)
+    upright = math.cos(p) * math.cos(r) < 0  # world-up u_z < 0 in the body frame
     tw = "-" if c.theta_w_deg is None else f"{c.theta_w_deg:g}°"
     tl = "-" if c.theta_l_deg is None else f"{c.theta_l_deg:g}°"
     lines = [
-        f"robot        {robot.name}  ({robot.source or 'in memory'})",
+        f"robot        {robot.name}  ({robot.source or 'in memory'})"
+        + (f"  read in {units} (--units)" if units else ""),
         f"pose         theta_w {tw}  theta_l {tl}   grid step {c.step_deg:g}°   method {c.method}",
-        f"mass         {c.mass_kg * 1e3:.1f} g",
+        f"mass         {c.mass_kg * 1e3:.1f} g{mass_note}",
         "CoM          ({:.2f}, {:.2f}, {:.2f}) mm  ({})".format(*(c.com_m * MM), robot.com_source),
         f"minimum      pitch {c.minimum.pitch_deg:.2f}°  roll {c.minimum.roll_deg:.2f}°  "
-        f"E {c.minimum.energy_j * MJ:.3f} mJ  h {c.minimum.height_m * MM:.3f} mm",
+        f"E {c.minimum.energy_j * MJ:.3f} mJ  h {c.minimum.height_m * MM:.3f} mm"
+        + ("  (already upright: no righting needed)" if upright else ""),
         "barriers     (pitch, roll) of the saddle in degrees",
         _fmt_exit("righting", c.barrier.righting, mg),
         _fmt_exit("pitch-wise", c.barrier.pitch_wise, mg),
@@ -85,7 +93,9 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
         s.pop("paths")
         click.echo(files.json_text(s))
     else:
-        click.echo(human_summary(c, robot))
+        mesh = kw["mesh"] is not None
+        click.echo(human_summary(c, robot, units=(kw["units"] or "m") if mesh else None,
+                                 mass_note="  (default; give --mass KG)" if mesh and kw["mass"] is None else ""))
         if out:
             click.echo(f"wrote        {out}/landscape.npz, landscape.csv, summary.json")
 

@@ -14,6 +14,10 @@ from geometry.errors import UsageError
 
 MJ = 1e3
 MM = 1e3
+DEFAULT_MESH_MASS_KG = 1.0
+"""Mass of a ``--mesh`` body when ``--mass`` is not given, kg (said beside it in the output)."""
+PLAUSIBLE_SIZE_M = (0.005, 5.0)
+"""A ``--mesh`` body outside this size range (largest extent, m) gets a ``--units`` warning."""
 MAX_VALUES = 100_000
 """Most values one list or range option may expand to (a typo like 0:90:1e-7 would be 9e8)."""
 
@@ -109,12 +113,13 @@ def robot_options(f):
         click.option("--robot", type=str, default=None, help="URDF file (default: the built-in robot)."),
         click.option("--mesh", type=str, default=None, help="A single rigid body: any mesh file trimesh reads."),
         click.option("--com", type=str, default=None, help="With --mesh: CoM X,Y,Z in the mesh's units."),
-        click.option("--mass", type=float, default=1.0, show_default=True, help="With --mesh: mass, kg."),
-        click.option("--units", type=click.Choice(["mm", "cm", "m"]), default="m", show_default=True,
-                     help="With --mesh: units of the mesh file."),
-        click.option("--com-model", type=click.Choice(["auto", "solid", "shell"]), default="auto",
-                     show_default=True,
-                     help="With --mesh and no --com: solid (closed mesh), shell (thin surface) or auto."),
+        click.option("--mass", type=float, default=None,
+                     help=f"With --mesh: mass, kg [default: {DEFAULT_MESH_MASS_KG:g}]."),
+        click.option("--units", type=click.Choice(["mm", "cm", "m"]), default=None,
+                     help="With --mesh: units of the mesh file [default: m]."),
+        click.option("--com-model", type=click.Choice(["auto", "solid", "shell"]), default=None,
+                     help="With --mesh and no --com: solid (closed mesh), shell (thin surface) or auto "
+                          "[default: auto]."),
         click.option("--joints", type=str, default=None,
                      help="Joint map 'wing=J1,J2,...;leg=J' for a URDF whose joint names differ."),
     ]
@@ -124,9 +129,31 @@ def robot_options(f):
 
 
 def robot_from(kw: dict):
-    """The robot of a command's :func:`robot_options` keywords."""
-    return load_robot(kw["robot"], kw["mesh"], com=kw["com"], mass=kw["mass"], units=kw["units"],
-                      com_model=kw["com_model"], joints=kw["joints"])
+    """The robot of a command's :func:`robot_options` keywords.
+
+    Mesh-only options without ``--mesh`` are refused (they would be ignored). A mesh whose size is implausible
+    in its assumed units gets a warning on stderr naming the ``--units`` fix.
+    """
+    if kw["mesh"] is None:
+        given = [f"--{k.replace('_', '-')}" for k in ("com", "mass", "units", "com_model") if kw[k] is not None]
+        if given:
+            raise UsageError(f"{', '.join(given)} only apply to a single body given with --mesh FILE; "
+                             "a URDF robot takes its masses and CoM from its <inertial> elements")
+        return load_robot(kw["robot"], None, joints=kw["joints"])
+    mass = DEFAULT_MESH_MASS_KG if kw["mass"] is None else kw["mass"]
+    units = kw["units"] or "m"
+    robot = load_robot(kw["robot"], kw["mesh"], com=kw["com"], mass=mass, units=units,
+                       com_model=kw["com_model"] or "auto", joints=kw["joints"])
+    import numpy as np
+
+    size_m = max((float(np.ptp(p.hull_link_m, axis=0).max()) for p in robot.parts if len(p.hull_link_m)),
+                 default=0.0)
+    if kw["units"] is None and not PLAUSIBLE_SIZE_M[0] <= size_m <= PLAUSIBLE_SIZE_M[1]:
+        guess = "mm" if size_m > PLAUSIBLE_SIZE_M[1] else None
+        click.echo(f"landscape: warning: the mesh is {size_m:.3g} m across, read in metres (the default); "
+                   + (f"if it was saved in millimetres (CAD exports usually are), add --units {guess}"
+                      if guess else "give its --units if it was not saved in metres"), err=True)
+    return robot
 
 
 def writable_dir(path, option: str) -> None:
