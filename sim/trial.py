@@ -259,16 +259,20 @@ def check_trial_cost(duration_s: float, dt_s: float, *, control_period_s: float 
         raise TrialInputError(f"duration must be > 0 s; got {duration_s!r}")
     if not MIN_DT_S <= dt_s <= MAX_DT_S:
         raise TrialInputError(f"dt must be in [MIN_DT_S, MAX_DT_S] = [{MIN_DT_S:g}, {MAX_DT_S:g}] s; got {dt_s!r}")
-    steps, mem = trial_cost(min(duration_s, 1e12), dt_s, control_period_s=control_period_s, n_joints=n_joints)
-    cost = f"{steps:.3g} physics steps, {mem / 2**30:.3g} GiB of command profiles"
+    # the estimate in floats: a huge duration must be described, not computed
+    sub = max(1, round(control_period_s / dt_s)) if control_period_s else 1
+    steps = (SETTLE_S + float(duration_s)) / dt_s
+    mem = float(duration_s) / (sub * dt_s) * (_BYTES_PER_CONTROL_PERIOD + _BYTES_PER_CONTROL_PERIOD_JOINT * n_joints)
+    cost = (f"{steps:.3g} physics steps, {mem / 2**30:.3g} GiB of command profiles" if np.isfinite(mem)
+            else "over 1e+308 physics steps and bytes of command profiles")
     if duration_s > MAX_DURATION_S:
         raise TrialInputError(f"duration {duration_s:g} s is longer than MAX_DURATION_S = {MAX_DURATION_S:g} s "
                               f"({cost}); give --duration <= {MAX_DURATION_S:g}")
     if steps > MAX_STEPS:
-        raise TrialInputError(f"duration {duration_s:g} s at dt {dt_s:g} s is {steps:.3g} physics steps with "
-                              f"settling ({cost}), more than MAX_STEPS = {MAX_STEPS:.3g} (the default trial takes "
-                              "21000); "
-                              f"give a larger --dt or a shorter --duration")
+        raise TrialInputError(f"duration {duration_s:g} s at dt {dt_s:g} s is {steps:,.0f} physics steps with "
+                              f"settling ({mem / 2**30:.3g} GiB of command profiles), more than MAX_STEPS = "
+                              f"{MAX_STEPS:,} (the default trial takes 21,000); give a larger --dt or a shorter "
+                              "--duration")
     if mem > MAX_TRIAL_MEMORY_BYTES:
         raise TrialInputError(f"duration {duration_s:g} s at dt {dt_s:g} s needs {cost}, more than "
                               "MAX_TRIAL_MEMORY_BYTES = "
