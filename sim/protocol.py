@@ -26,3 +26,16 @@ see docs/sim.md)."""
 OTHER_ROBOT_DT_S = 2e-4
 """Default time step of any other robot, s: the lab URDF needs it (at 5e-4 it is 0.75 deg off in the first
 second); run the convergence benchmark on a new robot before trusting a larger one."""
+
+# Bounds: a request past them is refused up front with its cost (``sim.trial.check_trial_cost``).
+MAX_DURATION_S = 600.0
+"""Longest trial, s (the paper's trials last 10 s); a longer one is refused before anything is allocated."""
+MIN_DT_S = 1e-6
+"""Smallest time step, s (the convergence benchmark's finest is 5e-5 s)."""
+MAX_DT_S = 0.01
+"""Largest time step, s (the servo time constant ``sim.trial.SERVO_TAU_S``)."""
+MAX_STEPS = 5_000_000
+"""Most physics steps of one trial, settling included (the default trial takes 21,000; at about 0.1 ms each the
+limit is about 10 min of CPU per trial)."""
+MAX_TRIALS = 1_000_000
+"""Most trials of one sweep (the paper's has 3,840)."""

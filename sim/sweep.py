@@ -20,8 +20,10 @@ import logging
 import multiprocessing
 import os
 import time
+from collections import deque
 from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from datetime import datetime, timezone
 from importlib.metadata import PackageNotFoundError, version
@@ -34,12 +36,13 @@ from geometry import JointMap
 from .actuation import Actuation
 from .model import default_robot_urdf, sim_model
 from .protocol import (
+    MAX_TRIALS,
     PAPER_LEG_PERIOD_S,
     PAPER_TRIALS,
     PAPER_WING_PERIOD_S,
 )
 from .store import KEY_COLUMNS, TrialStore
-from .trial import DEFAULT_DURATION_S, TrialInputError, default_dt_s, run_trial
+from .trial import DEFAULT_DURATION_S, TrialInputError, check_trial_cost, default_dt_s, run_trial
 from .world import SimulationDiverged
 
 log = logging.getLogger(__name__)
@@ -147,6 +150,10 @@ def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: 
         raise TrialInputError(f"--phase values must be in [0, 1); got {grids['phase']}")
     if trials < 1:
         raise TrialInputError(f"--trials must be >= 1; got {trials}")
+    n_trials = int(np.prod([len(v) for v in grids.values()], dtype=object)) * int(trials)
+    if n_trials > MAX_TRIALS:
+        raise TrialInputError(f"the sweep has {n_trials:,} trials, more than MAX_TRIALS = {MAX_TRIALS:,} (the "
+                              "paper's has 3,840); sweep fewer values or --trials, or split it into several sweeps")
     if int(attempts) != attempts or attempts < 0:
         raise TrialInputError(f"--attempts must be a whole number >= 0 (0: no limit); got {attempts}")
     for tw_s, tl_s in itertools.product(grids["wing-period"], grids["leg-period"]):
@@ -208,16 +215,21 @@ class SweepSummary:
     Attributes
     ----------
     total, skipped, ran, diverged : int
-        Trials in the sweep, already in the database, run now, and diverged among those run.
+        Distinct trials in the sweep (repeated specs count once), already in the database (at the start or stored
+        by another sweep before this one reached them), stored now, and diverged among those stored.
     wall_s : float
         Wall-clock time of the run, s.
     trials_per_s : float
         ``ran / wall_s``.
     cpu_s : float
-        Sum of the trials' own CPU time, s.
+        Sum of the trials' own CPU time, s (every trial simulated, ``duplicates`` included).
     workers : int
         Worker processes (or Dask worker threads) used.
     db : str
+    duplicates : int
+        Trials simulated here whose row another sweep stored first (kept as it was; not counted in ``ran``).
+    pool_restarts : int
+        Times the local pool was recreated after a worker died (its unfinished trials were run again).
     """
 
     total: int
@@ -229,10 +241,72 @@ class SweepSummary:
     cpu_s: float
     workers: int
     db: str
+    duplicates: int = 0
+    pool_restarts: int = 0
+
+
+MAX_POOL_RESTARTS = 3
+"""A local pool whose worker died (killed, out of memory) is recreated and its unfinished trials submitted again
+at most this many times per sweep; then the sweep stops with :class:`SweepAborted`, its stored trials kept."""
+PARENT_POLL_S = 0.5
+"""How often a local worker checks that the sweep that started it is alive, s (it exits when it is not)."""
+
+
+class SweepAborted(RuntimeError):
+    """The sweep stopped before its end (workers kept dying, or a trial raised); the trials stored are kept and
+    rerunning the same sweep resumes it."""
+
+
+def _exit_with_parent(parent_pid: int) -> None:
+    """Pool initializer: end this worker when the sweep process that started it dies (even by SIGKILL, which
+    runs no cleanup), instead of waiting for work forever."""
+    import threading
+
+    def _watch() -> None:
+        while os.getppid() == parent_pid:
+            time.sleep(PARENT_POLL_S)
+        os._exit(1)
+
+    threading.Thread(target=_watch, name="exit-with-parent", daemon=True).start()
 
 
 def _local_executor(workers: int) -> ProcessPoolExecutor:
-    return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+    return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
+                               initializer=_exit_with_parent, initargs=(os.getpid(),))
+
+
+def _stop_local(executor: ProcessPoolExecutor, *, wait_s: float = 10.0) -> None:
+    """Stop a local pool at once (error path): cancel queued trials, terminate the workers, reap them."""
+    procs = list((getattr(executor, "_processes", None) or {}).values())
+    executor.shutdown(wait=False, cancel_futures=True)
+    for proc in procs:
+        if proc.is_alive():
+            proc.terminate()
+    for proc in procs:
+        proc.join(wait_s)
+        if proc.is_alive():
+            proc.kill()
+            proc.join(wait_s)
+    executor.shutdown(wait=True)
+
+
+def _unique(specs: Sequence[TrialSpec]) -> list[TrialSpec]:
+    """The specs with a repeated key dropped (first kept), in order."""
+    seen: dict[tuple, TrialSpec] = {}
+    for s in specs:
+        seen.setdefault(s.key(), s)
+    return list(seen.values())
+
+
+def _check_sweep_cost(specs: Sequence[TrialSpec]) -> None:
+    """Refuse a sweep larger than ``MAX_TRIALS`` or with a trial over the bounds of :func:`sim.trial.run_trial`
+    before anything runs."""
+    if len(specs) > MAX_TRIALS:
+        raise TrialInputError(f"the sweep has {len(specs):,} trials, more than MAX_TRIALS = {MAX_TRIALS:,} (the "
+                              "paper's has 3,840); sweep fewer values or --trials, or split it into several sweeps")
+    for duration_s, dt_s, robot, joints in sorted({(s.duration_s, s.dt_s, s.robot, s.joints) for s in specs}):
+        jm = sim_model(robot, joint_map=JointMap.parse(joints) if joints else None).joint_map
+        check_trial_cost(duration_s, dt_s, n_joints=len(jm.wing) + len(jm.leg))
 
 
 def run_sweep(specs: Sequence[TrialSpec], *, db: str | Path, workers: int | None = None,
@@ -240,12 +314,18 @@ def run_sweep(specs: Sequence[TrialSpec], *, db: str | Path, workers: int | None
               on_result: Callable[[dict], None] | None = None) -> SweepSummary:
     """Run the trials of ``specs`` that are not yet in ``db``, storing each as it finishes.
 
+    Repeated specs run once. Every bound is checked and the database opened (and its robot hashes compared)
+    before the first trial starts. A local worker that dies (killed, out of memory) costs only time: the pool is
+    recreated and its unfinished trials submitted again, at most ``MAX_POOL_RESTARTS`` times. At the end the
+    workers are waited for (local) or the client closed and waited for (Dask), so no process is left behind;
+    a local worker also exits by itself when the sweep's process dies.
+
     Parameters
     ----------
     specs : sequence of TrialSpec
         From :func:`sweep_specs`.
     db : path
-        SQLite database (created if absent).
+        SQLite database (created if absent; see :class:`sim.store.TrialStore`).
     workers : int, optional
         Local worker processes (default: all cores). Ignored with ``scheduler``.
     scheduler : str, optional
@@ -253,72 +333,134 @@ def run_sweep(specs: Sequence[TrialSpec], *, db: str | Path, workers: int | None
     progress : bool
         Show a tqdm progress bar (rate and ETA) on stderr.
     on_result : callable, optional
-        Called with each stored row (after its commit).
+        Called with each newly stored row (after its commit).
 
     Returns
     -------
     SweepSummary
+
+    Raises
+    ------
+    TrialInputError
+        If there are no trials, more than ``MAX_TRIALS``, a trial over the bounds of :func:`sim.trial.run_trial`,
+        or ``workers`` < 1.
+    StoreError
+        If ``db`` is not a writable trial store, or a robot file changed since it was swept into ``db``
+        (:class:`sim.store.RobotChangedError`).
+    SweepAborted
+        If local workers died more than ``MAX_POOL_RESTARTS`` times, or a trial raised on a worker; the trials
+        stored until then are kept.
     """
     if not specs:
         raise TrialInputError("the sweep has no trials; give at least one value per parameter")
+    specs = _unique(specs)
+    _check_sweep_cost(specs)
+    if not scheduler:
+        n_workers = int(workers or os.cpu_count() or 1)
+        if n_workers < 1:
+            raise TrialInputError(f"--workers must be >= 1; got {workers}")
     t0 = time.perf_counter()
     with TrialStore(db) as store:
+        for robot, robot_hash in sorted({(s.robot, s.robot_hash) for s in specs}):
+            store.check_robot(robot, robot_hash)
         done = store.done_keys()
         todo = [s for s in specs if s.key() not in done]
         skipped = len(specs) - len(todo)
-        client = None
-        if scheduler:
-            from distributed import Client
-
-            client = Client(scheduler, timeout="30s", set_as_default=False)
-            executor = client.get_executor(pure=False)
-            n_workers = max(1, sum(client.nthreads().values()))
-        else:
-            n_workers = int(workers or os.cpu_count() or 1)
-            if n_workers < 1:
-                raise TrialInputError(f"--workers must be >= 1; got {workers}")
-            executor = _local_executor(n_workers) if todo else None
-        ran = diverged = 0
+        client = executor = None
+        ran = diverged = duplicates = restarts = 0
         cpu = 0.0
         bar = None
-        if progress:
-            from tqdm import tqdm
-
-            bar = tqdm(total=len(specs), initial=skipped, unit="trial", dynamic_ncols=True, smoothing=0.05)
+        ok = False
         try:
+            if scheduler:
+                from distributed import Client
+
+                client = Client(scheduler, timeout="30s", set_as_default=False)
+                executor = client.get_executor(pure=False)
+                n_workers = max(1, sum(client.nthreads().values()))
+            elif todo:
+                executor = _local_executor(n_workers)
+            if progress:
+                from tqdm import tqdm
+
+                bar = tqdm(total=len(specs), initial=skipped, unit="trial", dynamic_ncols=True, smoothing=0.05)
             window = 2 * n_workers
-            queue = iter(todo)
-            pending: set[Future] = set()
+            queue = deque(todo)
+            pending: dict[Future, TrialSpec] = {}
             while True:
-                while len(pending) < window:
-                    spec = next(queue, None)
-                    if spec is None:
-                        break
-                    pending.add(executor.submit(run_spec, spec))
-                if not pending:
+                broken = False
+                while len(pending) < window and queue and not broken:
+                    spec = queue.popleft()
+                    if store.has(spec.key()):  # stored meanwhile by another sweep on this database
+                        skipped += 1
+                        if bar is not None:
+                            bar.update(1)
+                        continue
+                    try:
+                        pending[executor.submit(run_spec, spec)] = spec
+                    except BrokenProcessPool:
+                        queue.appendleft(spec)
+                        broken = True
+                if not pending and not broken:
                     break
-                finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+                finished = wait(pending, return_when=FIRST_COMPLETED)[0] if pending else set()
+                if broken or any(isinstance(f.exception(), BrokenProcessPool) for f in finished):
+                    # a worker died: every unfinished future of this pool fails; keep the results that came in
+                    # and submit the rest again to a new pool
+                    wait(pending)
+                    finished = set(pending)
+                    broken = True
                 for fut in finished:
+                    spec = pending.pop(fut)
+                    exc = fut.exception()
+                    if isinstance(exc, BrokenProcessPool):
+                        queue.appendleft(spec)
+                        continue
+                    if exc is not None:
+                        raise SweepAborted(
+                            f"trial (theta_w {spec.theta_w_deg:g}, theta_l {spec.theta_l_deg:g}, cv {spec.cv:g}, "
+                            f"phase {spec.phase:g}, trial {spec.trial}) failed on a worker ({type(exc).__name__}: "
+                            f"{(str(exc).splitlines() or [''])[0]}); the {store.count()} trials in "
+                            f"'{db}' are kept: fix the cause and rerun the same sweep to resume") from exc
                     row = fut.result()
-                    store.add(row)
-                    ran += 1
-                    diverged += row["status"] == "diverged"
                     cpu += row.get("cpu_s") or 0.0
+                    if not store.add(row):
+                        duplicates += 1
+                        skipped += 1
+                    else:
+                        ran += 1
+                        diverged += row["status"] == "diverged"
+                        if on_result is not None:
+                            on_result(row)
                     if bar is not None:
                         bar.update(1)
-                    if on_result is not None:
-                        on_result(row)
+                if broken:
+                    restarts += 1
+                    executor.shutdown(wait=True)
+                    executor = None
+                    if restarts > MAX_POOL_RESTARTS:
+                        raise SweepAborted(
+                            f"worker processes died {restarts} times (killed, or out of memory?); the "
+                            f"{store.count()} trials in '{db}' are kept: rerun the same sweep to resume "
+                            "(with fewer --workers if memory ran out)")
+                    log.warning("a worker process died; restarting the pool and running its %d unfinished trials "
+                                "again (%d/%d)", len(queue), restarts, MAX_POOL_RESTARTS)
+                    executor = _local_executor(n_workers)
+            ok = True
         finally:
             if bar is not None:
                 bar.close()
             if client is not None:
-                executor.shutdown(wait=False)
-                client.close()
+                executor.shutdown(wait=ok)  # no future is left on success; on error cancel the rest
+                client.close(timeout=30)
             elif executor is not None:
-                executor.shutdown(wait=False, cancel_futures=True)
+                if ok:
+                    executor.shutdown(wait=True)
+                else:
+                    _stop_local(executor)
     wall = time.perf_counter() - t0
     return SweepSummary(len(specs), skipped, ran, diverged, wall, ran / wall if wall > 0 else 0.0, cpu,
-                        n_workers, str(db))
+                        n_workers, str(db), duplicates, restarts)
 
 
 def success_table(rows: Iterable[dict]) -> dict[tuple[float, float, float], tuple[int, int]]:

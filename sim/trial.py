@@ -38,7 +38,15 @@ from geometry.errors import GeometryError, JointLimitError
 
 from .actuation import Actuation, attempt_phases, attempt_starts_s, leg_profile_deg, wing_profile_deg
 from .model import HULL_MAX_VERTICES, HULL_TOL_M, sim_model
-from .protocol import DEFAULT_DT_S, DEFAULT_DURATION_S, OTHER_ROBOT_DT_S
+from .protocol import (
+    DEFAULT_DT_S,
+    DEFAULT_DURATION_S,
+    MAX_DT_S,
+    MAX_DURATION_S,
+    MAX_STEPS,
+    MIN_DT_S,
+    OTHER_ROBOT_DT_S,
+)
 from .world import G_M_S2, Contact, SimulationDiverged, World
 
 log = logging.getLogger(__name__)
@@ -52,8 +60,15 @@ TRACE_EVERY_S = 0.01
 CONTROL_PERIOD_S = 1e-3
 """Servo command period, s: the commands are held for this many physics steps, which pybullet sub-steps in one
 ``stepSimulation`` call. The same at every ``dt`` that divides it, so it is part of the model, not the numerics."""
+MAX_TRIAL_MEMORY_BYTES = 2**30
+"""Most memory for one trial's precomputed command profiles, bytes (1 GiB; :func:`trial_cost` estimates it within
+5 % of the peak tracemalloc measures)."""
+_BYTES_PER_CONTROL_PERIOD = 96
+_BYTES_PER_CONTROL_PERIOD_JOINT = 160
 
-__all__ = ["DEFAULT_DT_S", "OTHER_ROBOT_DT_S", "default_dt_s", "SimulationDiverged", "Trace", "TrialResult", "run_trial", "resolve_seed"]
+__all__ = ["DEFAULT_DT_S", "OTHER_ROBOT_DT_S", "default_dt_s", "SimulationDiverged", "Trace", "TrialResult", "run_trial", "resolve_seed",
+           "MAX_DURATION_S", "MIN_DT_S", "MAX_DT_S", "MAX_STEPS", "MAX_TRIAL_MEMORY_BYTES", "trial_cost",
+           "check_trial_cost"]
 
 
 class TrialInputError(GeometryError):
@@ -202,7 +217,74 @@ def default_dt_s(robot: str | Path | None = None) -> float:
     return DEFAULT_DT_S if same else OTHER_ROBOT_DT_S
 
 
-def _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, limits) -> None:
+def trial_cost(duration_s: float, dt_s: float, *, control_period_s: float | None = CONTROL_PERIOD_S,
+               n_joints: int = 5) -> tuple[int, int]:
+    """Physics steps (settling included) and bytes of precomputed command profiles of one trial.
+
+    The profiles hold, per control period, its time stamps and the wing and leg angles and speeds (float64),
+    and per driven joint the held and end-of-period targets and speeds (arrays and the lists stepped through).
+
+    Examples
+    --------
+    >>> trial_cost(10.0, 5e-4, n_joints=5)
+    (21000, 8960000)
+    """
+    dt_s = float(dt_s)
+    sub = max(1, int(round(control_period_s / dt_s))) if control_period_s else 1
+    n_ctrl = int(round(float(duration_s) / (sub * dt_s)))
+    steps = int(round((SETTLE_S + float(duration_s)) / dt_s))
+    return steps, n_ctrl * (_BYTES_PER_CONTROL_PERIOD + _BYTES_PER_CONTROL_PERIOD_JOINT * int(n_joints))
+
+
+def check_trial_cost(duration_s: float, dt_s: float, *, control_period_s: float | None = CONTROL_PERIOD_S,
+                     n_joints: int = 5) -> None:
+    """Refuse a trial longer than ``MAX_DURATION_S``, with a step outside [``MIN_DT_S``, ``MAX_DT_S``], more
+    than ``MAX_STEPS`` physics steps or profiles larger than ``MAX_TRIAL_MEMORY_BYTES``, before it starts.
+
+    Raises
+    ------
+    TrialInputError
+        Saying which bound is exceeded, the trial's estimated steps and memory, and what to change.
+
+    Examples
+    --------
+    >>> check_trial_cost(1e6, 5e-4)
+    Traceback (most recent call last):
+    ...
+    sim.trial.TrialInputError: duration 1e+06 s is longer than MAX_DURATION_S = 600 s (2e+09 physics steps, 834 GiB of command profiles); give --duration <= 600
+    """
+    for name, v in (("duration", duration_s), ("dt", dt_s)):
+        if not np.isfinite(v):
+            raise TrialInputError(f"{name} must be a finite number; got {v!r}")
+    if control_period_s is not None and not (np.isfinite(control_period_s) and 0 < control_period_s <= MAX_DT_S):
+        raise TrialInputError(f"control_period_s must be in (0, {MAX_DT_S:g}] s or None; got {control_period_s!r}")
+    if not duration_s > 0:
+        raise TrialInputError(f"duration must be > 0 s; got {duration_s!r}")
+    if not MIN_DT_S <= dt_s <= MAX_DT_S:
+        raise TrialInputError(f"dt must be in [MIN_DT_S, MAX_DT_S] = [{MIN_DT_S:g}, {MAX_DT_S:g}] s; got {dt_s!r}")
+    # the estimate in floats: a huge duration must be described, not computed
+    sub = max(1, round(control_period_s / dt_s)) if control_period_s else 1
+    steps = (SETTLE_S + float(duration_s)) / dt_s
+    mem = float(duration_s) / (sub * dt_s) * (_BYTES_PER_CONTROL_PERIOD + _BYTES_PER_CONTROL_PERIOD_JOINT * n_joints)
+    cost = (f"{steps:.3g} physics steps, {mem / 2**30:.3g} GiB of command profiles" if np.isfinite(mem)
+            else "over 1e+308 physics steps and bytes of command profiles")
+    if duration_s > MAX_DURATION_S:
+        raise TrialInputError(f"duration {duration_s:g} s is longer than MAX_DURATION_S = {MAX_DURATION_S:g} s "
+                              f"({cost}); give --duration <= {MAX_DURATION_S:g}")
+    if steps > MAX_STEPS:
+        raise TrialInputError(f"duration {duration_s:g} s at dt {dt_s:g} s is {steps:,.0f} physics steps with "
+                              f"settling ({mem / 2**30:.3g} GiB of command profiles), more than MAX_STEPS = "
+                              f"{MAX_STEPS:,} (the default trial takes 21,000); give a larger --dt or a shorter "
+                              "--duration")
+    if mem > MAX_TRIAL_MEMORY_BYTES:
+        raise TrialInputError(f"duration {duration_s:g} s at dt {dt_s:g} s needs {cost}, more than "
+                              "MAX_TRIAL_MEMORY_BYTES = "
+                              f"{MAX_TRIAL_MEMORY_BYTES / 2**30:g} GiB; give a shorter --duration or command the "
+                              "servos less often")
+
+
+def _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, limits, *,
+                  control_period_s=CONTROL_PERIOD_S, n_joints=5) -> None:
     for name, v in (("theta_w_deg", theta_w_deg), ("theta_l_deg", theta_l_deg), ("phase", phase), ("cv", cv),
                     ("duration_s", duration_s), ("dt_s", dt_s)):
         if not np.isfinite(v):
@@ -217,10 +299,7 @@ def _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, limits)
         raise TrialInputError(f"phase must be in [0, 1) (fraction of the leg period); got {phase!r}")
     if cv < 0:
         raise TrialInputError(f"cv must be >= 0 (sigma / leg period); got {cv!r}")
-    if not duration_s > 0:
-        raise TrialInputError(f"duration must be > 0 s; got {duration_s!r}")
-    if not 0 < dt_s <= 0.01:
-        raise TrialInputError(f"dt must be in (0, 0.01] s; got {dt_s!r}")
+    check_trial_cost(duration_s, dt_s, control_period_s=control_period_s, n_joints=n_joints)
 
 
 def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float,
@@ -286,7 +365,9 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
                       merge_fixed=merge_fixed_links)
     theta_w_deg, theta_l_deg, phase, cv = float(theta_w_deg), float(theta_l_deg), float(phase), float(cv)
     duration_s, dt_s = float(duration_s), float(default_dt_s(model.source) if dt_s is None else dt_s)
-    _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, model.theta_limits_deg)
+    _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, model.theta_limits_deg,
+                  control_period_s=control_period_s,
+                  n_joints=len(model.joint_map.wing) + len(model.joint_map.leg))
     seed, gen = resolve_seed(rng)
     base = actuation or Actuation(theta_w_deg, theta_l_deg)
     act = Actuation(theta_w_deg, theta_l_deg, base.wing_period_s, base.wing_open_deg_s, base.wing_close_deg_s,

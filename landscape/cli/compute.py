@@ -13,6 +13,7 @@ from landscape.cli.options import (
     MJ,
     MM,
     finite,
+    grid_step,
     method_option,
     parse_values,
     robot_from,
@@ -78,6 +79,7 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
     for name, v in (("theta-w", theta_w), ("theta-l", theta_l), ("step", step), ("start-pitch", start_pitch),
                     ("start-roll", start_roll)):
         finite(v, name)
+    grid_step(step)
     if out:
         writable_dir(out, "--out")
     robot = robot_from(kw)
@@ -119,7 +121,7 @@ def barrier_map(theta_w, theta_l, step, method, out, **kw):
     from landscape.viz import files, plots
 
     ws, ls_ = parse_values(theta_w, "theta-w"), parse_values(theta_l, "theta-l")
-    finite(step, "step")
+    grid_step(step)
     writable_dir(out, "--out")
     robot = robot_from(kw)
     t0 = time.perf_counter()

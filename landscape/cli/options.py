@@ -76,6 +76,15 @@ def finite(value: float | None, name: str) -> float | None:
     return value
 
 
+def grid_step(step_deg: float) -> float:
+    """``--step`` checked before any robot is loaded: finite and dividing 360 (:func:`landscape.grid.cells_per_turn`)."""
+    from landscape.grid import cells_per_turn
+
+    finite(step_deg, "step")
+    cells_per_turn(step_deg)
+    return step_deg
+
+
 def load_robot(robot: str | None, mesh: str | None, *, com: str | None = None, mass: float = 1.0,
                units: str = "m", com_model: str = "auto", joints: str | None = None):
     """The robot the options describe: a URDF, a single mesh, or the built-in robot

@@ -9,7 +9,7 @@ from __future__ import annotations
 import click
 
 from landscape.barriers import EXITS
-from landscape.cli.options import finite, method_option, robot_from, robot_options, writable_dir
+from landscape.cli.options import finite, grid_step, method_option, robot_from, robot_options, writable_dir
 
 
 @click.command()
@@ -29,6 +29,7 @@ def render(theta_w, theta_l, step, method, exit_kind, out, **kw):
 
     for name, v in (("theta-w", theta_w), ("theta-l", theta_l), ("step", step)):
         finite(v, name)
+    grid_step(step)
     writable_dir(out, "--out")
     robot = robot_from(kw)
     c = run(robot, theta_w_deg=theta_w, theta_l_deg=theta_l, step_deg=step, method=method)

@@ -10,7 +10,37 @@ from pathlib import Path
 import click
 
 from landscape.cli.options import UsageError, parse_values, writable_file
-from sim.protocol import DEFAULT_DT_S, DEFAULT_DURATION_S, OTHER_ROBOT_DT_S
+from sim.protocol import (
+    DEFAULT_DT_S,
+    DEFAULT_DURATION_S,
+    MAX_DT_S,
+    MAX_DURATION_S,
+    MAX_TRIALS,
+    MIN_DT_S,
+    OTHER_ROBOT_DT_S,
+    PAPER_TRIALS,
+)
+
+DURATION_OPT = click.option("--duration", type=float, default=DEFAULT_DURATION_S, show_default=True,
+                            help=f"Trial length, s (at most {MAX_DURATION_S:g}).")
+DT_OPT = click.option("--dt", type=float, default=None,
+                      help=f"Physics time step, s, in [{MIN_DT_S:g}, {MAX_DT_S:g}] [default: {DEFAULT_DT_S:g} for the "
+                           f"built-in robot, {OTHER_ROBOT_DT_S:g} for others: the largest steps that pass the "
+                           "convergence benchmark; a larger one gets a warning].")
+
+
+def _warn_coarse_dt(dt: float | None, robot: str | None) -> None:
+    """A step coarser than the robot's converged default is allowed, with a warning that names the default."""
+    if dt is None:
+        return
+    from sim.trial import default_dt_s
+
+    converged = default_dt_s(robot)
+    if dt > converged * (1 + 1e-9):
+        click.echo(f"landscape: warning: --dt {dt:g} s is coarser than {converged:g} s, the largest step that passes "
+                   "the convergence benchmark for this robot (benchmarks/sim_convergence.py); outcomes may differ",
+                   err=True)
+
 
 SCHEDULER_RE = re.compile(r"(tcp|tls|inproc|ucx)://[^\s:/]+(:\d{1,5})?")
 
@@ -49,9 +79,8 @@ def _human(r, robot: str) -> str:
               help="First attempt's phase phi_1 = dt_1 / Tl, in [0, 1).")
 @click.option("--cv", type=float, default=0.0, show_default=True, help="Noise Cv = sigma / Tl (>= 0).")
 @click.option("--seed", type=click.IntRange(min=0), default=None, help="Random seed (default: fresh; reported).")
-@click.option("--duration", type=float, default=DEFAULT_DURATION_S, show_default=True, help="Trial length, s.")
-@click.option("--dt", type=float, default=None,
-              help=f"Time step, s [default: {DEFAULT_DT_S:g} for the built-in robot, {OTHER_ROBOT_DT_S:g} for others].")
+@DURATION_OPT
+@DT_OPT
 @click.option("--trace", "trace_path", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Write the pitch/roll/energy trace to this CSV file.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of a summary.")
@@ -72,6 +101,7 @@ def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_jso
     from sim.world import SimulationDiverged
 
     robot_path = str(robot) if robot else str(default_robot_urdf())
+    _warn_coarse_dt(dt, robot_path)
     if trace_path is not None:
         writable_file(trace_path, "--trace", inputs=(robot_path,))
     try:
@@ -98,16 +128,16 @@ def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_jso
 @click.option("--theta-l", default="20,30,40,50", show_default=True, help="Leg amplitudes, degrees.")
 @click.option("--cv", default="0,0.05,0.1,0.15,0.2,0.25", show_default=True, help="Noise levels Cv = sigma / Tl.")
 @click.option("--phase", default="0.7", show_default=True, help="First-attempt phases phi_1 in [0, 1).")
-@click.option("--trials", type=int, default=40, show_default=True, help="Trials per parameter combination.")
+@click.option("--trials", type=click.IntRange(1, MAX_TRIALS), default=PAPER_TRIALS, show_default=True,
+              help=f"Trials per parameter combination (a sweep holds at most {MAX_TRIALS:,} trials).")
 @click.option("--wing-period", default="2", show_default=True, help="Tw values, s (time between wing openings).")
 @click.option("--leg-period", default="0.8", show_default=True, help="Tl values, s (leg oscillation period).")
 @click.option("--attempts", type=click.IntRange(min=0), default=0, show_default=True,
               help="At most this many wing openings per trial (1: single-attempt trials for the phase map); 0: no "
                    "limit.")
 @click.option("--db", type=click.Path(dir_okay=False, path_type=Path), required=True, help="SQLite results file.")
-@click.option("--duration", type=float, default=DEFAULT_DURATION_S, show_default=True, help="Trial length, s.")
-@click.option("--dt", type=float, default=None,
-              help=f"Time step, s [default: {DEFAULT_DT_S:g} for the built-in robot, {OTHER_ROBOT_DT_S:g} for others].")
+@DURATION_OPT
+@DT_OPT
 @click.option("--seed", "base_seed", type=click.IntRange(min=0), default=0, show_default=True,
               help="Base seed mixed into every trial's seed.")
 @click.option("--workers", type=click.IntRange(min=1), default=None, help="Local worker processes (default: all cores).")
@@ -122,8 +152,8 @@ def sweep(theta_w, theta_l, cv, phase, trials, wing_period, leg_period, attempts
     from dataclasses import asdict
 
     from landscape.viz.files import json_text
-    from sim.store import KEY_COLUMNS, TrialStore
-    from sim.sweep import run_sweep, success_table, sweep_specs
+    from sim.store import KEY_COLUMNS, read_rows
+    from sim.sweep import SweepAborted, run_sweep, success_table, sweep_specs
 
     if workers is not None and scheduler is not None:
         raise UsageError("give either --workers N (local processes) or --scheduler ADDRESS (Dask), not both")
@@ -133,19 +163,24 @@ def sweep(theta_w, theta_l, cv, phase, trials, wing_period, leg_period, attempts
     tw, tl, cvs, phs = (parse_values(theta_w, "theta-w"), parse_values(theta_l, "theta-l"), parse_values(cv, "cv"),
                         parse_values(phase, "phase"))
     wps, lps = parse_values(wing_period, "wing-period"), parse_values(leg_period, "leg-period")
+    _warn_coarse_dt(dt, robot)
     specs = sweep_specs(tw, tl, cvs, phase=phs, trials=trials, duration_s=duration, dt_s=dt, robot=robot,
                         base_seed=base_seed, wing_period_s=wps, leg_period_s=lps, attempts=attempts,
                         joint_map=joints)
-    summary = run_sweep(specs, db=db, workers=workers, scheduler=scheduler, progress=not no_progress)
+    try:
+        summary = run_sweep(specs, db=db, workers=workers, scheduler=scheduler, progress=not no_progress)
+    except SweepAborted as exc:  # not the input's fault; what finished is stored, and rerunning resumes
+        raise click.ClickException(str(exc).splitlines()[0]) from None
     if as_json:
         click.echo(json_text(asdict(summary)))
         return
     click.echo(f"{summary.total} trials: {summary.skipped} already in {db}, ran {summary.ran} "
                f"({summary.diverged} diverged) in {summary.wall_s:.1f} s on {summary.workers} workers "
-               f"= {summary.trials_per_s:.2f} trials/s, {summary.cpu_s:.0f} trial CPU-s")
+               f"= {summary.trials_per_s:.2f} trials/s, {summary.cpu_s:.0f} trial CPU-s"
+               + (f"; {summary.duplicates} repeated settings dropped" if summary.duplicates else "")
+               + (f"; {summary.pool_restarts} lost workers replaced" if summary.pool_restarts else ""))
     keys = {s.key() for s in specs}
-    with TrialStore(db) as store:
-        rows = [r for r in store.rows() if tuple(r[c] for c in KEY_COLUMNS) in keys]
+    rows = [r for r in read_rows(db) if tuple(r[c] for c in KEY_COLUMNS) in keys]
     click.echo("success   theta_w  theta_l  cv     rate")
     for (w, l_, c), (k, n) in success_table(rows).items():
         click.echo(f"          {w:7g}  {l_:7g}  {c:5g}  {k:3d}/{n:<3d}")
