@@ -130,6 +130,34 @@ def start_orientation(robot: Robot, pose: Pose, theta_w_deg: float | None, theta
     return local_descent(pose, 0.0, 0.0)
 
 
+BYTES_PER_CELL = 72
+"""Peak memory of :func:`compute` per landscape grid cell, bytes (energies, the flood's levels, parents and
+heap; tracemalloc, any method; checked by tests/landscape/test_computation.py)."""
+MEMORY_BUDGET_BYTES = 2 * 2**30
+"""Default memory budget of one computation, bytes (2 GiB: a 0.05 deg grid needs about 3.7 GB)."""
+
+
+def landscape_memory_bytes(step_deg: float) -> float:
+    """Estimated peak memory of :func:`compute` on a grid of ``step_deg``, bytes.
+
+    Examples
+    --------
+    >>> round(landscape_memory_bytes(0.1) / 2**20)
+    890
+    """
+    return BYTES_PER_CELL * cells_per_turn(step_deg) ** 2
+
+
+def check_memory(step_deg: float, budget_bytes: float = MEMORY_BUDGET_BYTES) -> None:
+    """Refuse up front a grid whose estimated memory exceeds ``budget_bytes``, saying what it would need."""
+    need = landscape_memory_bytes(step_deg)
+    if need > budget_bytes:
+        n = cells_per_turn(step_deg)
+        raise UsageError(f"a {step_deg:g} deg grid needs about {need / 1e9:.1f} GB ({n} x {n} cells x "
+                         f"{BYTES_PER_CELL} bytes), more than the {budget_bytes / 2**30:.3g} GiB budget; use a coarser "
+                         "--step or raise the budget (LANDSCAPE_MEMORY_GIB)")
+
+
 COM_OUTSIDE_HULL = ("the CoM {com} m lies {dist:.3g} m outside the convex hull of the body, so it would rest "
                     "below the ground; check the masses and <inertial> origins (or --com)")
 
@@ -150,7 +178,8 @@ def _check_com_inside(pose: Pose) -> None:
 def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float | None = 0.0,
             step_deg: float = 1.0, start_pitch_deg: float | None = None, start_roll_deg: float | None = None,
             connectivity: int = 8, method: str = DEFAULT_METHOD, g_m_s2: float = G_M_S2,
-            start_deg: tuple[float, float] | None = None) -> Computation:
+            start_deg: tuple[float, float] | None = None,
+            memory_budget_bytes: float = MEMORY_BUDGET_BYTES) -> Computation:
     """Landscape, start minimum and barriers of a robot at (theta_w, theta_l).
 
     Parameters
@@ -175,6 +204,8 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
         (landscape/barriers/sphere.py).
     start_deg : (float, float), optional
         A start orientation already found (used by sweeps that continue along theta); skips the search.
+    memory_budget_bytes : float
+        Refuse a grid whose estimated peak memory (:func:`landscape_memory_bytes`) exceeds this, bytes.
 
     Raises
     ------
@@ -182,7 +213,7 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
         For angles outside the joint limits, a step not dividing 360, or a non-finite start.
     """
     solver = barrier_method(method)
-    cells_per_turn(step_deg)
+    check_memory(step_deg, memory_budget_bytes)
     warm_up()
     timing = {}
     t0 = time.perf_counter()
@@ -246,7 +277,8 @@ class BarrierMap:
     theta_w_deg, theta_l_deg : tuple of float
         The grid's axes, degrees.
     computations : tuple of Computation
-        One per (theta_w, theta_l), theta_l varying fastest.
+        One per (theta_w, theta_l), theta_l varying fastest, without their landscape grids and poses (a map
+        of many poses would otherwise hold every grid in memory).
     righting_j : ndarray of shape (W, L)
         Minimal righting barrier, J (nan where the robot cannot right).
     """
@@ -258,7 +290,8 @@ class BarrierMap:
 
 
 def barrier_map(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float], *, step_deg: float = 1.0,
-                method: str = DEFAULT_METHOD, progress=None) -> BarrierMap:
+                method: str = DEFAULT_METHOD, progress=None,
+                memory_budget_bytes: float = MEMORY_BUDGET_BYTES) -> BarrierMap:
     """Start minimum and barriers at every (theta_w, theta_l), the starts from one shared continuation.
 
     Parameters
@@ -290,17 +323,17 @@ def barrier_map(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float]
         for leg in ls_:
             robot.joint_values_rad(w, leg)
     barrier_method(method)
-    cells_per_turn(step_deg)
+    check_memory(step_deg, memory_budget_bytes)
     starts = sweep_starts(robot, ws, ls_)
     out = []
     grid = np.full((len(ws), len(ls_)), np.nan)
     for i, w in enumerate(ws):
         for j, leg in enumerate(ls_):
             c = compute(robot, theta_w_deg=w, theta_l_deg=leg, step_deg=step_deg, start_deg=starts[(w, leg)],
-                        method=method)
+                        method=method, memory_budget_bytes=memory_budget_bytes)
             if c.barrier.righting is not None:
                 grid[i, j] = c.barrier.righting.barrier_j
-            out.append(c)
+            out.append(replace(c, landscape=None, pose=None))
             if progress is not None:
                 progress(1)
     return BarrierMap(tuple(ws), tuple(ls_), tuple(out), grid)

@@ -14,6 +14,7 @@ from landscape.cli.options import (
     MM,
     finite,
     grid_step,
+    memory_budget_bytes,
     method_option,
     parse_values,
     robot_from,
@@ -84,7 +85,8 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
         writable_dir(out, "--out")
     robot = robot_from(kw)
     c = run(robot, theta_w_deg=theta_w, theta_l_deg=theta_l, step_deg=step, start_pitch_deg=start_pitch,
-            start_roll_deg=start_roll, connectivity=int(connectivity), method=method)
+            start_roll_deg=start_roll, connectivity=int(connectivity), method=method,
+            memory_budget_bytes=memory_budget_bytes())
     s = files.summary(c, robot_name=robot.name, robot_source=str(robot.source) if robot.source else None,
                       robot_hash=robot.robot_hash, com_source=robot.com_source,
                       description_hash=robot.description_hash)
@@ -126,7 +128,8 @@ def barrier_map(theta_w, theta_l, step, method, out, **kw):
     robot = robot_from(kw)
     t0 = time.perf_counter()
     with tqdm(total=len(ws) * len(ls_), desc="barrier-map", unit="pose", file=sys.stderr, disable=None) as bar:
-        bm = run(robot, ws, ls_, step_deg=step, method=method, progress=bar.update)
+        bm = run(robot, ws, ls_, step_deg=step, method=method, progress=bar.update,
+                 memory_budget_bytes=memory_budget_bytes())
     rows = files.barrier_map_rows(bm)
     outd = Path(out)
     csv_path = files.write_rows_csv(rows, outd / "barrier_map.csv")

@@ -76,12 +76,33 @@ def finite(value: float | None, name: str) -> float | None:
     return value
 
 
+def memory_budget_bytes() -> float:
+    """The memory budget of one landscape computation: ``LANDSCAPE_MEMORY_GIB`` GiB if set, else the library's
+    default (:data:`landscape.computation.MEMORY_BUDGET_BYTES`)."""
+    import os
+
+    text = os.environ.get("LANDSCAPE_MEMORY_GIB")
+    if not text:
+        from landscape.computation import MEMORY_BUDGET_BYTES
+
+        return MEMORY_BUDGET_BYTES
+    try:
+        gib = float(text)
+    except ValueError:
+        raise UsageError(f"LANDSCAPE_MEMORY_GIB must be a number of GiB; got {text!r}") from None
+    if not (math.isfinite(gib) and gib > 0):
+        raise UsageError(f"LANDSCAPE_MEMORY_GIB must be a positive number of GiB; got {text!r}")
+    return gib * 2**30
+
+
 def grid_step(step_deg: float) -> float:
     """``--step`` checked before any robot is loaded: finite and dividing 360 (:func:`landscape.grid.cells_per_turn`)."""
+    from landscape.computation import check_memory
     from landscape.grid import cells_per_turn
 
     finite(step_deg, "step")
     cells_per_turn(step_deg)
+    check_memory(step_deg, memory_budget_bytes())
     return step_deg
 
 

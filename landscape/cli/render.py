@@ -9,7 +9,15 @@ from __future__ import annotations
 import click
 
 from landscape.barriers import EXITS
-from landscape.cli.options import finite, grid_step, method_option, robot_from, robot_options, writable_dir
+from landscape.cli.options import (
+    finite,
+    grid_step,
+    memory_budget_bytes,
+    method_option,
+    robot_from,
+    robot_options,
+    writable_dir,
+)
 
 
 @click.command()
@@ -32,7 +40,8 @@ def render(theta_w, theta_l, step, method, exit_kind, out, **kw):
     grid_step(step)
     writable_dir(out, "--out")
     robot = robot_from(kw)
-    c = run(robot, theta_w_deg=theta_w, theta_l_deg=theta_l, step_deg=step, method=method)
+    c = run(robot, theta_w_deg=theta_w, theta_l_deg=theta_l, step_deg=step, method=method,
+            memory_budget_bytes=memory_budget_bytes())
     written, notes = render_computation(c, out, robot_name=robot.name, exit_kind=exit_kind)
     for note in notes:
         click.echo(f"landscape: note: {note}", err=True)
