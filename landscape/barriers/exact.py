@@ -279,32 +279,28 @@ def exact_landscape(pose: Pose, *, g_m_s2: float = G_M_S2) -> ExactLandscape:
                   float(pose.mass_kg), float(g_m_s2))
 
 
-def _build(pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g_m_s2: float) -> ExactLandscape:
-    diam = float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0)))
-    tol_m = LENGTH_RTOL * max(diam, np.finfo(float).tiny)
+def _merged_faces(pts: NDArray[np.float64], com: NDArray[np.float64], tol_m: float):
+    """The hull's merged faces: triangles, neighbours, face of each triangle, outward normals, and the CoM
+    checked inside (:data:`COM_OUTSIDE`)."""
     eq, tri, nb, tri_face = _faces(pts, tol_m)
     n_f = int(tri_face.max()) + 1
-    k_v = len(pts)
     # outward normal of each merged face: area-weighted mean of its triangles' normals
     cross = np.cross(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
     area = 0.5 * np.linalg.norm(cross, axis=1)
     normal = np.zeros((n_f, 3))
     np.add.at(normal, tri_face, eq[:, :3] * (area[:, None] + 1e-300))
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
-    d = com[None, :] - pts
-    face_up = -normal
     inside = -(eq[:, :3] @ com + eq[:, 3])                   # distance of the CoM inside each triangle plane
     if inside.min() < -tol_m:
         k = int(np.argmin(inside))
         raise ExactMethodError(COM_OUTSIDE.format(com=np.round(com, 6).tolist(), dist=-float(inside[k])))
-    # faces' vertices and the faces at each vertex
-    fr = np.repeat(tri_face, 3)
-    face_ptr, face_idx = _csr(n_f, fr, tri.ravel())
-    # CoM height resting on each face: its vertices are the lowest there
-    face_h = np.maximum.reduceat(np.einsum("ij,ij->i", face_up[np.repeat(np.arange(n_f), np.diff(face_ptr))],
-                                           d[face_idx]), face_ptr[:-1])
-    vface_ptr, vface_idx = _csr(k_v, tri.ravel(), fr)
-    # boundary edges between different faces (each once), grouped by face pair
+    return tri, nb, tri_face, n_f, normal
+
+
+def _arcs(pts: NDArray[np.float64], tri, nb, tri_face, n_f: int):
+    """Boundary edges between different faces (each once), grouped by face pair into arcs; each arc's full
+    segment of collinear sub-edges (its extreme vertices), and the (vertex pair -> arc) lookup."""
+    k_v = len(pts)
     t_i = np.repeat(np.arange(len(tri)), 3)
     t_j = nb.ravel()
     opp = np.tile(np.arange(3), len(tri))
@@ -340,7 +336,12 @@ def _build(pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g
     keys = np.minimum(pa, pb) * k_v + np.maximum(pa, pb)
     keys, first_k = np.unique(keys, return_index=True)
     pair_arc = (keys, np.concatenate([inv, np.arange(n_a)])[first_k].astype(np.int64))
-    # arc geometry
+    return arc_faces, arc_a, arc_b, pair_arc
+
+
+def _arc_geometry(pts, com, face_up, face_h, arc_faces, arc_a, arc_b):
+    """Each arc between two face normals: its angle, tangent, the CoM height along it (amplitude and phase of a
+    sinusoid), where it peaks, and the peak's height and up-direction."""
     u0 = face_up[arc_faces[:, 0]]
     u1 = face_up[arc_faces[:, 1]]
     cos_t = np.clip(np.einsum("ij,ij->i", u0, u1), -1.0, 1.0)
@@ -362,7 +363,12 @@ def _build(pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g
     arc_max = np.where(on_arc, np.maximum(np.hypot(amp_a, amp_b), h_ends), h_ends)
     end_up = np.where((face_h[arc_faces[:, 0]] >= face_h[arc_faces[:, 1]])[:, None], u0, u1)
     peak_up = np.where(on_arc[:, None], np.cos(peak_s)[:, None] * u0 + np.sin(peak_s)[:, None] * t, end_up)
-    # faces' boundaries as half-edges, the CoM's projection and its margin inside
+    return theta, t, seg_len, foot, w, peak_s, arc_max, peak_up
+
+
+def _half_edges(arc_faces, arc_a, arc_b, n_f: int):
+    """Faces' boundaries as half-edges sorted by face (CSR): pointer, arc and end vertices of each."""
+    n_a = len(arc_faces)
     half_face = np.concatenate([arc_faces[:, 0], arc_faces[:, 1]])
     half_arc = np.concatenate([np.arange(n_a), np.arange(n_a)])
     half_a = np.concatenate([arc_a, arc_a])
@@ -371,18 +377,16 @@ def _build(pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g
     half_face, half_arc, half_a, half_b = half_face[order], half_arc[order], half_a[order], half_b[order]
     half_ptr = np.zeros(n_f + 1, dtype=np.int64)
     np.cumsum(np.bincount(half_face, minlength=n_f), out=half_ptr[1:])
-    face_proj = com[None, :] - face_h[:, None] * face_up  # c + h n: the foot on the face plane
-    margin = _face_margins(pts, normal, face_proj, face_ptr, face_idx, half_face, half_a, half_b, n_f)
-    nbr_ptr, nbr_idx = _csr(k_v, np.concatenate([tri[:, [0, 1, 2]].ravel(), tri[:, [1, 2, 0]].ravel()]),
-                            np.concatenate([tri[:, [1, 2, 0]].ravel(), tri[:, [0, 1, 2]].ravel()]))
-    face_next = _face_exits(pts, face_proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, tol_m)
-    g = _Graph(d, nbr_ptr, nbr_idx, face_ptr, face_idx, vface_ptr, vface_idx, face_proj, half_ptr, half_arc,
-               half_a, half_b, t, theta, w, peak_s, foot, seg_len, pair_arc, face_next)
-    ang_tol = tol_m / max(float(np.linalg.norm(d, axis=1).max()), tol_m)
-    scale = mass_kg * g_m_s2
-    # critical points
-    is_min = margin > tol_m
-    minima_face = np.flatnonzero(is_min).astype(np.int64)
+    return half_ptr, half_face, half_arc, half_a, half_b
+
+
+def _critical_points(partial: ExactLandscape, d, nbr_ptr, nbr_idx, margin, peak_s, theta, foot, seg_len,
+                     ang_tol: float) -> CriticalPoints:
+    """Minima (faces the CoM projects strictly inside), saddles (arc peaks strictly inside their arc and
+    edge), maxima (vertices higher than all their neighbours), and the two minima each saddle joins."""
+    tol_m, scale, k_v = partial.tol_m, partial.mass_kg * partial.g_m_s2, len(d)
+    face_up, face_h, arc_max, peak_up = partial.face_up, partial.face_height_m, partial.arc_max_m, partial.arc_peak_up
+    minima_face = np.flatnonzero(margin > tol_m).astype(np.int64)
     saddle = (peak_s > ang_tol) & (peak_s < theta - ang_tol) & (foot > tol_m) & (foot < seg_len - tol_m)
     saddles_arc = np.flatnonzero(saddle).astype(np.int64)
     dn = d / np.linalg.norm(d, axis=1, keepdims=True)
@@ -391,18 +395,48 @@ def _build(pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g
     worst = np.full(k_v, np.inf)
     np.minimum.at(worst, src, gap)
     maxima_vertex = np.flatnonzero(worst > tol_m).astype(np.int64)
-    partial = ExactLandscape(mass_kg, g_m_s2, com, pts, tol_m, face_up, face_h, margin, arc_faces,
-                             np.stack([arc_a, arc_b], axis=1), arc_max, peak_up, None, g)
-    row = np.full(n_f, -1, dtype=np.int64)
+    row = np.full(len(face_up), -1, dtype=np.int64)
     row[minima_face] = np.arange(len(minima_face))
-    joins = np.array([[row[_descend_face(partial, int(f))] for f in arc_faces[s]] for s in saddles_arc],
+    joins = np.array([[row[_descend_face(partial, int(f))] for f in partial.arc_faces[s]] for s in saddles_arc],
                      dtype=np.int64).reshape(-1, 2)
-    crit = CriticalPoints(
+    return CriticalPoints(
         minima_face, _deg(face_up[minima_face]), scale * face_h[minima_face],
         saddles_arc, _deg(peak_up[saddles_arc]), scale * arc_max[saddles_arc], joins,
         maxima_vertex, _deg(dn[maxima_vertex]), scale * np.linalg.norm(d[maxima_vertex], axis=1))
-    return ExactLandscape(mass_kg, g_m_s2, com, pts, tol_m, face_up, face_h, margin, arc_faces,
-                          np.stack([arc_a, arc_b], axis=1), arc_max, peak_up, crit, g)
+
+
+def _build(pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g_m_s2: float) -> ExactLandscape:
+    diam = float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0)))
+    tol_m = LENGTH_RTOL * max(diam, np.finfo(float).tiny)
+    k_v = len(pts)
+    tri, nb, tri_face, n_f, normal = _merged_faces(pts, com, tol_m)
+    d = com[None, :] - pts
+    face_up = -normal
+    # faces' vertices and the faces at each vertex
+    fr = np.repeat(tri_face, 3)
+    face_ptr, face_idx = _csr(n_f, fr, tri.ravel())
+    # CoM height resting on each face: its vertices are the lowest there
+    face_h = np.maximum.reduceat(np.einsum("ij,ij->i", face_up[np.repeat(np.arange(n_f), np.diff(face_ptr))],
+                                           d[face_idx]), face_ptr[:-1])
+    vface_ptr, vface_idx = _csr(k_v, tri.ravel(), fr)
+    arc_faces, arc_a, arc_b, pair_arc = _arcs(pts, tri, nb, tri_face, n_f)
+    theta, t, seg_len, foot, w, peak_s, arc_max, peak_up = _arc_geometry(pts, com, face_up, face_h, arc_faces,
+                                                                          arc_a, arc_b)
+    half_ptr, half_face, half_arc, half_a, half_b = _half_edges(arc_faces, arc_a, arc_b, n_f)
+    face_proj = com[None, :] - face_h[:, None] * face_up  # c + h n: the foot on the face plane
+    margin = _face_margins(pts, normal, face_proj, face_ptr, face_idx, half_face, half_a, half_b, n_f)
+    nbr_ptr, nbr_idx = _csr(k_v, np.concatenate([tri[:, [0, 1, 2]].ravel(), tri[:, [1, 2, 0]].ravel()]),
+                            np.concatenate([tri[:, [1, 2, 0]].ravel(), tri[:, [0, 1, 2]].ravel()]))
+    face_next = _face_exits(pts, face_proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, tol_m)
+    g = _Graph(d, nbr_ptr, nbr_idx, face_ptr, face_idx, vface_ptr, vface_idx, face_proj, half_ptr, half_arc,
+               half_a, half_b, t, theta, w, peak_s, foot, seg_len, pair_arc, face_next)
+    ang_tol = tol_m / max(float(np.linalg.norm(d, axis=1).max()), tol_m)
+    arcs_ab = np.stack([arc_a, arc_b], axis=1)
+    partial = ExactLandscape(mass_kg, g_m_s2, com, pts, tol_m, face_up, face_h, margin, arc_faces, arcs_ab, arc_max,
+                             peak_up, None, g)
+    crit = _critical_points(partial, d, nbr_ptr, nbr_idx, margin, peak_s, theta, foot, seg_len, ang_tol)
+    return ExactLandscape(mass_kg, g_m_s2, com, pts, tol_m, face_up, face_h, margin, arc_faces, arcs_ab, arc_max,
+                          peak_up, crit, g)
 
 
 def _face_margins(pts, normal, proj, face_ptr, face_idx, half_face, half_a, half_b, n_f):
@@ -766,31 +800,76 @@ def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_rol
     p0, r0 = canonical_pitch_roll_deg(p0, r0)
     start = Minimum(p0, r0, ex.energy_scale_j * h0, h0)
     start_deg = (p0, r0)
-    g = ex._g
+    escape = _escape_exit(ex, int(f0), h0, start_deg)
+    upright = ex.face_up[:, 2] <= UPRIGHT_Z_TOL  # faces with u_z <= tol are upright
+    if upright[f0]:
+        zero = Exit(0.0, p0, r0, "roll", np.array([start_deg], dtype=np.float64))
+        return ExactBarrier(start, int(f0), Barrier(zero, zero, zero, escape), ex)
+    rg = _righting_graph(ex, upright)
+    righting = rg.exit(ex, np.ones(len(rg.eu), dtype=bool), int(f0), h0, start_deg, None)
+    if not sectors:
+        return ExactBarrier(start, int(f0), Barrier(righting, None, None, escape), ex)
+    pitch_wise, roll_wise = _sector_exits(ex, rg, int(f0), h0, start_deg)
+    return ExactBarrier(start, int(f0), Barrier(righting, pitch_wise, roll_wise, escape), ex)
+
+
+def _escape_exit(ex: ExactLandscape, f0: int, h0: float, start_deg) -> Exit | None:
+    """Escape: the bottleneck path from the start face to any other minimum over the whole graph."""
     n_f = len(ex.face_up)
     fa, fb = ex.arc_faces[:, 0], ex.arc_faces[:, 1]
-
-    # escape: bottleneck to any other minimum over the whole graph
     goal = np.zeros(n_f, dtype=bool)
     goal[ex.critical.minima_face] = True
     goal[f0] = False
     lev, par, first = _minimax(n_f, fa, fb, ex.arc_max_m, [f0], goal, True)
-    escape = None
-    if first >= 0:
-        pieces = [_piece(ex, e, bool(fb[e] == x)) for e, x in _chain(par, fa, fb, first)]
-        k = _escape_saddle(ex, pieces, int(f0), float(lev[first]))
-        escape = _exit(ex, float(lev[first]), h0, start_deg, pieces, None, peak=k)
+    if first < 0:
+        return None
+    pieces = [_piece(ex, e, bool(fb[e] == x)) for e, x in _chain(par, fa, fb, first)]
+    k = _escape_saddle(ex, pieces, f0, float(lev[first]))
+    return _exit(ex, float(lev[first]), h0, start_deg, pieces, None, peak=k)
 
-    # righting: faces with u_z <= tol are upright; arcs leaving the upper hemisphere end at the crossing
-    up_z = ex.face_up[:, 2]
-    upright = up_z <= UPRIGHT_Z_TOL
-    if upright[f0]:
-        zero = Exit(0.0, p0, r0, "roll", np.array([start_deg], dtype=np.float64))
-        return ExactBarrier(start, int(f0), Barrier(zero, zero, zero, escape), ex)
-    both_up = ~upright[fa] & ~upright[fb]
-    leave = upright[fa] != upright[fb]
-    arcs_in = np.flatnonzero(both_up)
-    arcs_out = np.flatnonzero(leave)
+
+@dataclass(frozen=True)
+class _RightingGraph:
+    """The face graph above the equator plus one target node: arcs between two faces above it (``arcs_in``),
+    and arcs leaving it, cut where they cross the equator and joined to the target (``arcs_out``)."""
+
+    eu: NDArray[np.int64]
+    ev: NDArray[np.int64]
+    ew: NDArray[np.float64]
+    goal: NDArray[np.bool_]
+    arcs_in: NDArray[np.int64]
+    arcs_out: NDArray[np.int64]
+    pieces_out: list
+
+    @property
+    def target(self) -> int:
+        return len(self.goal) - 1
+
+    def edge_pieces(self, ex: ExactLandscape, e: int, toward: int):
+        n_in = len(self.arcs_in)
+        if e >= n_in:
+            return self.pieces_out[e - n_in]
+        arc = int(self.arcs_in[e])
+        return _piece(ex, arc, bool(ex.arc_faces[arc, 1] == toward))
+
+    def exit(self, ex: ExactLandscape, keep: NDArray[np.bool_], f0: int, h0: float, start_deg,
+             kind: str | None) -> Exit | None:
+        """The bottleneck exit to upright over the edges ``keep``; None if upright is out of reach."""
+        idx = np.flatnonzero(keep)
+        eu, ev, ew = self.eu[idx], self.ev[idx], self.ew[idx]
+        lev, par, first = _minimax(len(self.goal), eu, ev, ew, [f0], self.goal, True)
+        if first < 0:
+            return None
+        pieces = [self.edge_pieces(ex, int(idx[e]), x) for e, x in _chain(par, eu, ev, self.target)]
+        return _exit(ex, float(lev[self.target]), h0, start_deg, pieces, kind)
+
+
+def _righting_graph(ex: ExactLandscape, upright: NDArray[np.bool_]) -> _RightingGraph:
+    g = ex._g
+    n_f = len(ex.face_up)
+    fa, fb = ex.arc_faces[:, 0], ex.arc_faces[:, 1]
+    arcs_in = np.flatnonzero(~upright[fa] & ~upright[fb])
+    arcs_out = np.flatnonzero(upright[fa] != upright[fb])
     src = np.where(upright[fa[arcs_out]], fb[arcs_out], fa[arcs_out])  # the face above the equator
     fwd = ~upright[fa[arcs_out]]                                       # leaving from face 0 toward face 1
     u0z = ex.face_up[fa[arcs_out], 2]
@@ -799,32 +878,23 @@ def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_rol
     # z(s) = u0_z cos s + t_z sin s crosses 0 at s_c; forward arcs run 0 -> s_c, backward ones theta -> s_c
     s_c = np.clip(np.where(fwd, np.arctan2(u0z, -tz), np.arctan2(-u0z, tz)), 0.0, theta_out)
     pieces_out = _pieces(ex, arcs_out, np.where(fwd, 0.0, theta_out), s_c)
-    t_node = n_f
     eu = np.concatenate([fa[arcs_in], src]).astype(np.int64)
-    ev = np.concatenate([fb[arcs_in], np.full(len(arcs_out), t_node)]).astype(np.int64)
+    ev = np.concatenate([fb[arcs_in], np.full(len(arcs_out), n_f)]).astype(np.int64)
     ew = np.concatenate([ex.arc_max_m[arcs_in], [pc[3] for pc in pieces_out]]).astype(np.float64)
     goal = np.zeros(n_f + 1, dtype=bool)
-    goal[t_node] = True
+    goal[n_f] = True
     goal[:n_f] = upright  # never entered: isolated, all their arcs are cut
-    lev_s, par_s, first = _minimax(n_f + 1, eu, ev, ew, [f0], goal, True)
-    n_in = len(arcs_in)
+    return _RightingGraph(eu, ev, ew, goal, arcs_in, arcs_out, pieces_out)
 
-    def edge_pieces(e: int, toward: int):
-        if e >= n_in:
-            return pieces_out[e - n_in]
-        arc = int(arcs_in[e])
-        return _piece(ex, arc, bool(fb[arc] == toward))
 
-    righting = None
-    if first >= 0:
-        pieces = [edge_pieces(e, x) for e, x in _chain(par_s, eu, ev, t_node)]
-        righting = _exit(ex, float(lev_s[t_node]), h0, start_deg, pieces, None)
-    if not sectors:
-        return ExactBarrier(start, int(f0), Barrier(righting, None, None, escape), ex)
-    # pitch-wise and roll-wise: the same search on the arcs lying wholly inside the sector around the start
-    lo = np.concatenate([np.zeros(n_in), [min(pc[1], pc[2]) for pc in pieces_out]])
-    hi = np.concatenate([g.arc_theta[arcs_in], [max(pc[1], pc[2]) for pc in pieces_out]])
-    arc_of = np.concatenate([arcs_in, arcs_out]).astype(np.int64)
+def _sector_exits(ex: ExactLandscape, rg: _RightingGraph, f0: int, h0: float, start_deg):
+    """Pitch-wise and roll-wise: the righting search on the arcs lying wholly inside the sector around the
+    start (sampled every ``PATH_STEP_DEG``)."""
+    g = ex._g
+    fa = ex.arc_faces[:, 0]
+    lo = np.concatenate([np.zeros(len(rg.arcs_in)), [min(pc[1], pc[2]) for pc in rg.pieces_out]])
+    hi = np.concatenate([g.arc_theta[rg.arcs_in], [max(pc[1], pc[2]) for pc in rg.pieces_out]])
+    arc_of = np.concatenate([rg.arcs_in, rg.arcs_out]).astype(np.int64)
     n_s = np.maximum(2, np.ceil((hi - lo) / np.deg2rad(PATH_STEP_DEG)).astype(np.int64) + 1)
     owner = np.repeat(np.arange(len(arc_of)), n_s)
     frac = (np.arange(len(owner)) - np.repeat(np.cumsum(n_s) - n_s, n_s)) / np.repeat(n_s - 1, n_s)
@@ -832,19 +902,12 @@ def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_rol
     u_all = (np.cos(s_all)[:, None] * ex.face_up[fa[arc_of[owner]]]
              + np.sin(s_all)[:, None] * g.arc_t[arc_of[owner]])
     in_pitch, in_roll = _in_sectors(u_all, start_deg)
-    sectors = []
+    out = []
     for kind, inside in (("pitch", in_pitch), ("roll", in_roll)):
         ok = np.ones(len(arc_of), dtype=bool)
         np.logical_and.at(ok, owner, inside)
-        keep = np.flatnonzero(ok)
-        lev_k, par_k, first_k = _minimax(n_f + 1, eu[keep], ev[keep], ew[keep], [f0], goal, True)
-        if first_k < 0:
-            sectors.append(None)
-            continue
-        pieces = [edge_pieces(int(keep[e]), x) for e, x in _chain(par_k, eu[keep], ev[keep], t_node)]
-        sectors.append(_exit(ex, float(lev_k[t_node]), h0, start_deg, pieces, kind))
-    return ExactBarrier(start, int(f0), Barrier(righting, sectors[0], sectors[1], escape), ex)
-
+        out.append(rg.exit(ex, ok, f0, h0, start_deg, kind))
+    return out[0], out[1]
 
 SECTORS = False
 
