@@ -27,7 +27,7 @@ def test_import_contracts_catch_an_upward_import(tmp_path):
         (pkg / sub).mkdir(parents=True)
         (pkg / sub / "__init__.py").write_text("")
     (pkg / "landscape" / "energy.py").write_text("import sim\n")
-    for sub in ("barriers", "analysis", "viz", "cli"):
+    for sub in ("barriers", "analysis", "viz", "cli", "service"):
         (pkg / "landscape" / sub).mkdir()
         (pkg / "landscape" / sub / "__init__.py").write_text("")
     for name in ("_kernels", "grid", "minima", "computation"):
