@@ -43,7 +43,8 @@ def test_import_contracts_catch_an_upward_import(tmp_path):
 
 
 @pytest.mark.parametrize("module, heavy", [
-    ("landscape.cli", ("pybullet", "scipy.stats", "matplotlib", "pyvista", "distributed", "numba", "trimesh")),
+    ("landscape.cli", ("pybullet", "scipy.stats", "matplotlib", "pyvista", "distributed", "numba", "trimesh",
+                       "fastapi", "uvicorn")),
     ("landscape.computation", ("pybullet", "matplotlib", "pyvista", "click", "sim")),
 ])
 def test_light_imports(module, heavy):

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import asyncio
 import hmac
+import json
 import logging
 import re
 import shutil
@@ -88,19 +89,38 @@ class _BodyLimit:
             )
             return await resp(scope, receive, send)
         seen = 0
+        over = False
+        message = f"request body is over the limit of {limit:,} bytes; send a smaller file"
 
         async def limited():
-            nonlocal seen
+            nonlocal seen, over
             msg = await receive()
             if msg["type"] == "http.request":
                 seen += len(msg.get("body", b""))
                 if seen > limit:
-                    raise TooLargeError(
-                        f"request body is over the limit of {limit:,} bytes; send a smaller file"
-                    )
+                    over = True
+                    raise TooLargeError(message)
             return msg
 
-        return await self.app(scope, limited, send)
+        async def answer(msg):
+            # whatever the app made of the interrupted body (a parser's 400), the answer is 413
+            if not over:
+                return await send(msg)
+            if msg["type"] == "http.response.start":
+                body = json.dumps({"detail": message}).encode()
+                await send(
+                    {
+                        "type": "http.response.start",
+                        "status": 413,
+                        "headers": [
+                            (b"content-type", b"application/json"),
+                            (b"content-length", str(len(body)).encode()),
+                        ],
+                    }
+                )
+                await send({"type": "http.response.body", "body": body})
+
+        return await self.app(scope, limited, answer)
 
 
 def create_app(config: ServiceConfig) -> FastAPI:

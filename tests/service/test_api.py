@@ -446,3 +446,24 @@ def test_serve_refuses_a_public_address_without_a_token(monkeypatch):
     monkeypatch.delenv("LANDSCAPE_TOKEN", raising=False)
     assert main(["serve", "--host", "0.0.0.0", "--port", "0"]) == 2
     assert main(["serve", "--workers", "2", "--scheduler", "tcp://127.0.0.1:1"]) == 2
+
+
+def test_a_streamed_upload_without_length_is_cut_at_the_limit(make_app):
+    """No Content-Length to refuse up front: the body is counted as it streams and answered 413 (was a 400 from
+    the multipart parser before the middleware rewrote the answer)."""
+    from fastapi.testclient import TestClient
+
+    def body():
+        yield (
+            b'--b\r\nContent-Disposition: form-data; name="file"; filename="a.stl"\r\n'
+            b"Content-Type: application/octet-stream\r\n\r\n"
+        )
+        for _ in range(100):
+            yield b"\0" * 100_000
+        yield b"\r\n--b--\r\n"
+
+    with TestClient(
+        make_app(limits=make_app.Limits(max_upload_bytes=4000)), raise_server_exceptions=False
+    ) as c:
+        r = c.post("/api/robots", content=body(), headers={"Content-Type": "multipart/form-data; boundary=b"})
+    assert r.status_code == 413 and "over the limit" in r.json()["detail"]
