@@ -27,7 +27,7 @@ def test_import_contracts_catch_an_upward_import(tmp_path):
         (pkg / sub).mkdir(parents=True)
         (pkg / sub / "__init__.py").write_text("")
     (pkg / "landscape" / "energy.py").write_text("import sim\n")
-    for sub in ("barriers", "analysis", "viz", "cli"):
+    for sub in ("barriers", "analysis", "viz", "cli", "service"):
         (pkg / "landscape" / sub).mkdir()
         (pkg / "landscape" / sub / "__init__.py").write_text("")
     for name in ("_kernels", "grid", "minima", "computation"):
@@ -43,7 +43,8 @@ def test_import_contracts_catch_an_upward_import(tmp_path):
 
 
 @pytest.mark.parametrize("module, heavy", [
-    ("landscape.cli", ("pybullet", "scipy.stats", "matplotlib", "pyvista", "distributed", "numba", "trimesh")),
+    ("landscape.cli", ("pybullet", "scipy.stats", "matplotlib", "pyvista", "distributed", "numba", "trimesh",
+                       "fastapi", "uvicorn")),
     ("landscape.computation", ("pybullet", "matplotlib", "pyvista", "click", "sim")),
 ])
 def test_light_imports(module, heavy):

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-if TYPE_CHECKING:  # type hints only: writing JSON must not load the numerics
+if TYPE_CHECKING:  # annotations only: writing JSON loads neither the numerics nor the engine
     from landscape.barriers import Exit
     from landscape.computation import BarrierMap, Computation
 

@@ -1,0 +1,276 @@
+// The page of `landscape serve`: every number comes from the service's /api (the library computes it); this
+// script only asks and draws. A token given as #token=T in the address is kept for this tab and sent as
+// "Authorization: Bearer T".
+"use strict";
+
+const $ = (id) => document.getElementById(id);
+const state = { robot: "builtin", seq: 0, shown: 0, timer: null, info: null };
+
+(function keepToken() {
+  const m = /token=([^&]+)/.exec(location.hash);
+  if (m) {
+    sessionStorage.setItem("landscape-token", decodeURIComponent(m[1]));
+    history.replaceState(null, "", location.pathname + location.search);
+  }
+})();
+
+async function api(path, opts = {}) {
+  const headers = Object.assign({}, opts.headers || {});
+  const token = sessionStorage.getItem("landscape-token");
+  if (token) headers["Authorization"] = "Bearer " + token;
+  const resp = await fetch(path, Object.assign({}, opts, { headers }));
+  const text = await resp.text();
+  let body = null;
+  try { body = text ? JSON.parse(text) : null; } catch (e) { body = text; }
+  if (!resp.ok) {
+    const detail = body && body.detail ? body.detail : resp.status + " " + resp.statusText;
+    const err = new Error(detail);
+    err.status = resp.status;
+    throw err;
+  }
+  return { status: resp.status, body };
+}
+
+function say(text, isError = false) {
+  const s = $("status");
+  s.textContent = text;
+  s.className = isError ? "error" : "";
+}
+
+const fmt = (x, digits = 3) => (x === null || x === undefined ? "none" : Number(x).toFixed(digits));
+
+// ------------------------------------------------------------------------------------------------ robots
+async function loadRobots(select) {
+  const { body } = await api("/api/robots");
+  const sel = $("robot");
+  sel.innerHTML = "";
+  for (const r of body) {
+    const o = document.createElement("option");
+    o.value = r.id;
+    o.textContent = r.id === "builtin" ? `built-in (${r.description_hash})` : `${r.name} (${r.id})`;
+    sel.appendChild(o);
+  }
+  sel.value = select || state.robot;
+  await chooseRobot(sel.value);
+}
+
+async function chooseRobot(id) {
+  const { body } = await api("/api/robots/" + encodeURIComponent(id));
+  state.robot = id;
+  state.info = body;
+  $("robot-info").textContent = `${body.name}: ${fmt(body.mass_kg * 1e3, 1)} g, ${body.vertices} vertices` +
+    (body.has_joints ? "" : " (rigid: the sliders do nothing)");
+  for (const [key, el] of [["theta_w", $("theta-w")], ["theta_l", $("theta-l")]]) {
+    const lim = body.theta_limits_deg && body.theta_limits_deg[key];
+    el.disabled = !body.has_joints;
+    if (lim) {
+      el.min = Math.ceil(lim[0] === null ? -180 : Math.max(lim[0], -180));
+      el.max = Math.floor(lim[1] === null ? 180 : Math.min(lim[1], 180));
+      if (Number(el.value) > Number(el.max) || Number(el.value) < Number(el.min)) el.value = el.min;
+    }
+  }
+  requestLandscape(0);
+}
+
+$("robot").addEventListener("change", (e) => chooseRobot(e.target.value).catch((err) => say(err.message, true)));
+
+$("upload-form").addEventListener("submit", async (e) => {
+  e.preventDefault();
+  const f = $("upload-file").files[0];
+  if (!f) { say("choose a file to upload first", true); return; }
+  const data = new FormData(e.target);
+  if (!data.get("com")) data.delete("com");
+  say("uploading " + f.name + " ...");
+  try {
+    const { status, body } = await api("/api/robots", { method: "POST", body: data });
+    say((status === 201 ? "stored " : "already stored: ") + body.name + " (" + body.id + ")");
+    await loadRobots(body.id);
+  } catch (err) { say(err.message, true); }
+});
+
+// ------------------------------------------------------------------------------------------------ landscape
+function query() {
+  const p = new URLSearchParams({
+    robot: state.robot, theta_w: $("theta-w").value, theta_l: $("theta-l").value,
+    method: $("method").value, step: $("step").value, grid: "1",
+  });
+  return p.toString();
+}
+
+function requestLandscape(delayMs = 60) {
+  $("theta-w-value").textContent = $("theta-w").value;
+  $("theta-l-value").textContent = $("theta-l").value;
+  clearTimeout(state.timer);
+  state.timer = setTimeout(fetchLandscape, delayMs);
+}
+
+async function fetchLandscape() {
+  const seq = ++state.seq;
+  say("computing ...");
+  try {
+    const { body } = await api("/api/landscape?" + query());
+    if (seq < state.shown) return;  // an older answer arriving late
+    state.shown = seq;
+    showNumbers(body);
+    draw(body);
+    say(`theta_w ${fmt(body.theta_w_deg, 0)}°, theta_l ${fmt(body.theta_l_deg, 0)}°: ` +
+        `righting barrier ${fmt(body.barrier.righting_j === null ? null : body.barrier.righting_j * 1e3)} mJ`);
+  } catch (err) {
+    if (seq >= state.shown) say(err.message, true);
+  }
+}
+
+function showNumbers(s) {
+  const mg = s.mass_kg * s.grid.g_m_s2;
+  $("minimum-mj").textContent = fmt(s.minimum.energy_j * 1e3);
+  $("minimum-mm").textContent = fmt(s.minimum.height_m * 1e3);
+  $("minimum-deg").textContent = `(${fmt(s.minimum.pitch_deg, 1)}, ${fmt(s.minimum.roll_deg, 1)})`;
+  for (const k of ["righting", "pitch_wise", "roll_wise", "escape"]) {
+    const x = s.paths[k];
+    $(k + "-mj").textContent = x ? fmt(x.barrier_j * 1e3) : "none";
+    $(k + "-mm").textContent = x ? fmt(x.barrier_j / mg * 1e3) : "none";
+    $(k + "-deg").textContent = x ? `(${fmt(x.saddle_pitch_deg, 1)}, ${fmt(x.saddle_roll_deg, 1)}) ${x.direction}` : "";
+  }
+}
+
+function energyAt(g, pitch, roll) {
+  const step = g.pitch_deg[1] - g.pitch_deg[0];
+  const wrap = (a) => ((((a + 180) % 360) + 360) % 360) - 180;
+  const i = Math.round((wrap(pitch) + 180) / step), j = Math.round((wrap(roll) + 180) / step);
+  return g.energy_mj[Math.min(i, g.pitch_deg.length - 1)][Math.min(j, g.roll_deg.length - 1)];
+}
+
+const hasWebGL = (() => {
+  try { const c = document.createElement("canvas"); return !!(c.getContext("webgl") || c.getContext("experimental-webgl")); }
+  catch (e) { return false; }
+})();
+
+function draw(s) {
+  const g = s.grid;
+  const minE = s.minimum.energy_j * 1e3;
+  const r = s.paths.righting;
+  const path = r ? r.path_deg : [];
+  const saddleE = r ? minE + r.barrier_j * 1e3 : null;
+  const marks = {
+    min: { x: [s.minimum.roll_deg], y: [s.minimum.pitch_deg], name: "start minimum" },
+    saddle: r ? { x: [r.saddle_roll_deg], y: [r.saddle_pitch_deg], name: "saddle" } : null,
+    path: { x: path.map((p) => p[1]), y: path.map((p) => p[0]), name: "righting path" },
+  };
+  const contour = [
+    { type: "contour", x: g.roll_deg, y: g.pitch_deg, z: g.energy_mj, colorscale: "Viridis", ncontours: 30,
+      colorbar: { title: { text: "mJ" } } },
+    Object.assign({ type: "scatter", mode: "lines", line: { color: "white", width: 2 } }, marks.path),
+    Object.assign({ type: "scatter", mode: "markers", marker: { color: "cyan", size: 10, symbol: "circle" } }, marks.min),
+  ];
+  if (marks.saddle) {
+    contour.push(Object.assign({ type: "scatter", mode: "markers", marker: { color: "red", size: 11, symbol: "x" } },
+      marks.saddle));
+  }
+  const axes = { xaxis: { title: { text: "roll (°)" } }, yaxis: { title: { text: "pitch (°)" } } };
+  Plotly.react("contour", contour, Object.assign({ margin: { t: 30 }, title: { text: "energy (mJ)" },
+    showlegend: false, uirevision: "keep" }, axes), { responsive: true });
+  if (!hasWebGL) {
+    $("surface").textContent = "The 3-D surface needs WebGL, which this browser does not offer; the contour map shows the same landscape.";
+    return;
+  }
+  const surface = [
+    { type: "surface", x: g.roll_deg, y: g.pitch_deg, z: g.energy_mj, colorscale: "Viridis", showscale: false,
+      opacity: 0.95 },
+    Object.assign({ type: "scatter3d", mode: "lines", line: { color: "white", width: 6 },
+      z: path.map((p) => energyAt(g, p[0], p[1])) }, marks.path),
+    Object.assign({ type: "scatter3d", mode: "markers", marker: { color: "cyan", size: 5 }, z: [minE] }, marks.min),
+  ];
+  if (marks.saddle) {
+    surface.push(Object.assign({ type: "scatter3d", mode: "markers", marker: { color: "red", size: 5 },
+      z: [saddleE] }, marks.saddle));
+  }
+  Plotly.react("surface", surface, { margin: { t: 30, l: 0, r: 0, b: 0 }, showlegend: false, uirevision: "keep",
+    title: { text: "landscape" },
+    scene: { xaxis: { title: { text: "roll (°)" } }, yaxis: { title: { text: "pitch (°)" } },
+      zaxis: { title: { text: "mJ" } } } }, { responsive: true });
+}
+
+for (const id of ["theta-w", "theta-l"]) $(id).addEventListener("input", () => requestLandscape());
+for (const id of ["method", "step"]) $(id).addEventListener("change", () => requestLandscape(0));
+
+// ------------------------------------------------------------------------------------------------ barrier map
+function drawMap(rows) {
+  const ws = [...new Set(rows.map((r) => r.theta_w_deg))], ls = [...new Set(rows.map((r) => r.theta_l_deg))];
+  const z = ls.map((l) => ws.map((w) => {
+    const r = rows.find((q) => q.theta_w_deg === w && q.theta_l_deg === l);
+    return r && r.righting_j !== null ? r.righting_j * 1e3 : null;
+  }));
+  Plotly.react("map", [{ type: "heatmap", x: ws, y: ls, z, colorscale: "Viridis", colorbar: { title: { text: "mJ" } } }],
+    { margin: { t: 30 }, title: { text: "minimal righting barrier (mJ)" },
+      xaxis: { title: { text: "θw (°)" } }, yaxis: { title: { text: "θl (°)" } } }, { responsive: true });
+}
+
+$("map-form").addEventListener("submit", async (e) => {
+  e.preventDefault();
+  const f = new FormData(e.target);
+  const p = new URLSearchParams({ robot: state.robot, theta_w: f.get("theta_w"), theta_l: f.get("theta_l"),
+    method: $("method").value, step: $("step").value });
+  $("map-status").textContent = "computing ...";
+  try {
+    let { status, body } = await api("/api/barrier-map?" + p.toString());
+    while (status === 202 || (body && body.status && body.status !== "done")) {
+      const job = body.job || body;
+      if (job.status === "failed" || job.status === "cancelled") throw new Error("barrier map " + job.status + ": " + (job.error || ""));
+      $("map-status").textContent = `${job.done}/${job.total} poses` + (job.eta_s ? `, ETA ${job.eta_s.toFixed(0)} s` : "");
+      await new Promise((res) => setTimeout(res, 1000));
+      ({ status, body } = await api("/api/barrier-map/jobs/" + job.id));
+    }
+    const rows = Array.isArray(body) ? body : body.rows;
+    $("map-status").textContent = rows.length + " poses";
+    drawMap(rows);
+  } catch (err) { $("map-status").textContent = err.message; $("map-status").className = "error"; }
+});
+
+// ------------------------------------------------------------------------------------------------ sweeps
+$("sweep-form").addEventListener("submit", async (e) => {
+  e.preventDefault();
+  const f = new FormData(e.target);
+  const req = { theta_w: f.get("theta_w"), theta_l: f.get("theta_l"), cv: f.get("cv"),
+    trials: parseInt(f.get("trials"), 10), duration: parseFloat(f.get("duration")), robot: state.robot };
+  if (f.get("dt")) req.dt = parseFloat(f.get("dt"));
+  try {
+    const { body } = await api("/api/sweeps", { method: "POST", headers: { "Content-Type": "application/json" },
+      body: JSON.stringify(req) });
+    say("sweep " + body.id + " queued: " + body.total + " trials");
+    refreshSweeps();
+  } catch (err) { say(err.message, true); }
+});
+
+async function refreshSweeps() {
+  let jobs;
+  try { ({ body: jobs } = await api("/api/sweeps")); } catch (err) { return; }
+  const tb = document.querySelector("#sweeps tbody");
+  tb.innerHTML = "";
+  for (const j of jobs.slice().reverse()) {
+    const tr = document.createElement("tr");
+    const cells = [j.id, j.status, "", j.rate_per_s ? j.rate_per_s.toFixed(2) + "/s" : "",
+      j.eta_s !== null && j.eta_s !== undefined ? j.eta_s.toFixed(0) + " s" : ""];
+    for (const c of cells) { const td = document.createElement("td"); td.textContent = c; tr.appendChild(td); }
+    const bar = document.createElement("progress");
+    bar.max = j.total; bar.value = j.done;
+    tr.children[2].appendChild(bar);
+    tr.children[2].appendChild(document.createTextNode(` ${j.done}/${j.total}`));
+    const act = document.createElement("td");
+    if (j.status === "queued" || j.status === "running") {
+      const b = document.createElement("button");
+      b.textContent = "cancel";
+      b.onclick = () => api("/api/sweeps/" + j.id, { method: "DELETE" }).then(refreshSweeps, (err) => say(err.message, true));
+      act.appendChild(b);
+    }
+    if (j.done > 0) {
+      const a = document.createElement("a");
+      a.href = j.report_url; a.target = "_blank"; a.textContent = "report";
+      act.appendChild(a);
+    }
+    tr.appendChild(act);
+    tb.appendChild(tr);
+  }
+}
+
+setInterval(refreshSweeps, 2000);
+loadRobots().then(refreshSweeps).catch((err) => say(err.message, true));
