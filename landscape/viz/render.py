@@ -37,7 +37,8 @@ PATH_COLOUR = "#ff2bd6"
 RELIEF = 0.3  # height of the 3-D relief as a fraction of the 360 deg base
 OFF_SCREEN_HINT = ("install the EGL libraries (Debian/Ubuntu: apt-get install libegl1 libegl-mesa0 "
                    "libgl1-mesa-dri) or OSMesa (libosmesa6, with VTK_DEFAULT_OPENGL_WINDOW=vtkOSOpenGLRenderWindow)")
-PYVISTA_MISSING = "3-D rendering needs pyvista and vtk; pip install 'selfrighting-landscape[render]'"
+PYVISTA_MISSING = ("3-D rendering needs pyvista and vtk, which the install brings; reinstall from the clone with "
+                   "`.venv/bin/pip install -e .` (or pip install pyvista vtk)")
 TRAME_MISSING = ("the interactive HTML export needs trame-pyvista and nest-asyncio2; "
                  "pip install trame-pyvista nest-asyncio2")
 

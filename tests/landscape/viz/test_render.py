@@ -31,7 +31,7 @@ def _importable(name: str) -> bool:
 
 HAS_PYVISTA = _importable("pyvista")
 HAS_TRAME = _importable("trame_pyvista") and _importable("nest_asyncio2")
-needs_pyvista = pytest.mark.skipif(not HAS_PYVISTA, reason="pyvista not installed (pip install '.[render]')")
+needs_pyvista = pytest.mark.skipif(not HAS_PYVISTA, reason="pyvista not installed (pip install -e .)")
 BOX_M = (0.04, 0.02, 0.01)
 
 
