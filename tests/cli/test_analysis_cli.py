@@ -134,3 +134,33 @@ def test_barrier_analysis_needs_the_trials_own_robot(capsys, tmp_path, robot):
     code, out, err = run(capsys, "analyze", "barrier", "--db", path, "--out", tmp_path / "a", "--robot", urdf)
     assert code == 0, err
     assert (tmp_path / "a" / "barrier_outcome.csv").is_file()
+
+
+def test_bench_runs_and_reports_positive_ratios(capsys):
+    """``landscape bench --repeat 1`` on the built-in robot: every timing and ratio a positive number, the two
+    methods agreeing, and the derived rows consistent with the rows they come from."""
+    import re
+
+    code, out, err = run(capsys, "bench", "--repeat", "1")
+    assert code == 0, err
+    rows = dict(re.findall(r"^\| (.+?) +\| (.+) \|$", out, flags=re.MULTILINE))
+
+    def number(key):
+        return float(
+            re.search(
+                r"\d+(?:\.\d+)?(?:e[-+]?\d+)?", next(v for k, v in rows.items() if k.startswith(key))
+            ).group()
+        )
+
+    speed_up = number("speed-up, lab / ours")
+    lab_ms, ours_ms = number("1° landscape, lab method"), number("1° landscape, ours")
+    assert lab_ms > 0 and ours_ms > 0 and speed_up > 0
+    assert speed_up == pytest.approx(lab_ms / ours_ms, rel=0.02, abs=0.5)  # rounded to whole times
+    assert 0 <= number("agreement") < 1e-9  # the hull walk and the all-vertex method are one landscape
+    grid_mj, exact_mj = number("righting barrier, 1° grid"), number("righting barrier, exact")
+    assert grid_mj > 0 and exact_mj > 0
+    assert number("1° grid error") == pytest.approx(100 * abs(grid_mj - exact_mj) / exact_mj, abs=0.1)
+    n_vertices = number("mesh vertices")
+    assert number("an orientations x vertices array") == pytest.approx(
+        3600**2 * n_vertices * 8 / 2**30, abs=0.5
+    )
