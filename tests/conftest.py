@@ -1,15 +1,62 @@
+"""Where the lab's reference files are, and the robots the tests simulate.
+
+The lab files live outside the repository, in ``../shared`` next to it; set the environment variable
+``LANDSCAPE_SHARED`` to another directory (``LANDSCAPE_SHARED=/nonexistent pytest`` runs the suite as a fresh
+clone sees it). Test modules import ``SHARED``, ``LAB_URDF`` and ``needs_lab`` from here (``from tests.conftest
+import ...``) instead of building the path themselves.
+"""
+
+import os
 from pathlib import Path
+from typing import NamedTuple
 
 import pytest
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
+REPO = Path(__file__).resolve().parents[1]
+SHARED = Path(os.environ.get("LANDSCAPE_SHARED") or REPO.parent / "shared")
 LAB_URDF = SHARED / "ref" / "lab_robot" / "lab_robot.urdf"
+HAVE_LAB = LAB_URDF.is_file()
+LAB_ABSENT = f"{LAB_URDF} is absent (set LANDSCAPE_SHARED to the directory holding ref/lab_robot)"
+
+#: mark for a test that needs the lab files
+needs_lab = pytest.mark.skipif(not HAVE_LAB, reason=LAB_ABSENT)
+
+
+class SimRobot(NamedTuple):
+    """A robot to simulate: its URDF file and ``label``, ``"lab"`` or ``"builtin"``."""
+
+    urdf: Path
+    label: str
+
+
+def builtin_robot() -> SimRobot:
+    from geometry.robots import robot_urdf_path
+
+    return SimRobot(robot_urdf_path(), "builtin")
+
+
+def lab_sim_robot() -> SimRobot:
+    if not HAVE_LAB:
+        pytest.skip(LAB_ABSENT)
+    return SimRobot(LAB_URDF, "lab")
 
 
 @pytest.fixture(scope="session")
 def lab_robot():
-    if not LAB_URDF.is_file():
-        pytest.skip("../shared/ref/lab_robot is absent")
+    """The lab robot as a :class:`geometry.Robot` (skips when the lab files are absent)."""
     from geometry import Robot
 
-    return Robot.from_urdf(LAB_URDF)
+    return Robot.from_urdf(lab_sim_robot().urdf)
+
+
+@pytest.fixture(scope="session")
+def sim_robot() -> SimRobot:
+    """The robot for tests whose assertions hold for any robot: the lab's when its files are here, else the
+    built-in one, so a fresh clone still runs them."""
+    return SimRobot(LAB_URDF, "lab") if HAVE_LAB else builtin_robot()
+
+
+@pytest.fixture(scope="session", params=["lab", "builtin"])
+def each_robot(request) -> SimRobot:
+    """Both robots in turn, for tests with robot-specific numbers (the lab case skips without its files)."""
+    return lab_sim_robot() if request.param == "lab" else builtin_robot()

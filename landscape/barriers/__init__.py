@@ -45,8 +45,12 @@ def method(name: str) -> ModuleType:
 
     Examples
     --------
-    >>> method("grid").SECTORS
-    True
+    >>> method("grid").__name__
+    'landscape.barriers.grid'
+    >>> method("gird")
+    Traceback (most recent call last):
+    ...
+    geometry.errors.UsageError: unknown barrier method 'gird'; choose one of exact, grid, sphere
     """
     if name not in METHODS:
         raise UsageError(f"unknown barrier method {name!r}; choose one of {', '.join(METHODS)}")

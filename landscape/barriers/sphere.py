@@ -47,8 +47,10 @@ def sphere_graph(subdivisions: int) -> SphereGraph:
     Examples
     --------
     >>> g = sphere_graph(3)
-    >>> len(g.u), round(g.spacing_deg, 1)
-    (642, 8.6)
+    >>> len(g.u), 10 * 4**3 + 2  # an icosphere's vertex count
+    (642, 642)
+    >>> round(sphere_graph(0).spacing_deg, 4), round(float(np.degrees(np.arctan(2.0))), 4)  # icosahedron edge
+    (63.4349, 63.4349)
     """
     ico = trimesh.creation.icosphere(subdivisions=subdivisions, radius=1.0)
     u = np.asarray(ico.vertices, dtype=np.float64)

@@ -20,12 +20,18 @@ from geometry.errors import UsageError
 from landscape.analysis import trials as an
 from landscape.viz.report import Figure, Section, Table, write_report
 
-PREDICTION_SWEEP = ("landscape sweep --theta-w 72 --theta-l 30 --cv 0 --phase 0:0.95:0.05 --trials 1 "
-                    "--wing-period 2,2.5,3 --leg-period 0.6,0.8,1,1.2,1.4 --db {db}")
-PHASE_MAP_SWEEP = ("landscape sweep --theta-w 70,72,74,76 --theta-l 20,30,40,50 --cv 0 --phase 0:0.95:0.05 "
-                   "--trials 1 --attempts 1 --db {db}")
-PHASE_MAP_TL_SWEEP = ("landscape sweep --theta-w 72 --theta-l 30 --cv 0 --phase 0:0.95:0.05 --trials 1 "
-                      "--attempts 1 --leg-period 0.6,1,1.2,1.4 --db {db}")
+PREDICTION_SWEEP = (
+    "landscape sweep --theta-w 72 --theta-l 30 --cv 0 --phase 0:0.95:0.05 --trials 1 "
+    "--wing-period 2,2.5,3 --leg-period 0.6,0.8,1,1.2,1.4 --db {db}"
+)
+PHASE_MAP_SWEEP = (
+    "landscape sweep --theta-w 70,72,74,76 --theta-l 20,30,40,50 --cv 0 --phase 0:0.95:0.05 "
+    "--trials 1 --attempts 1 --db {db}"
+)
+PHASE_MAP_TL_SWEEP = (
+    "landscape sweep --theta-w 72 --theta-l 30 --cv 0 --phase 0:0.95:0.05 --trials 1 "
+    "--attempts 1 --leg-period 0.6,1,1.2,1.4 --db {db}"
+)
 PAPER_SWEEP = "landscape sweep --db {db}"
 PAPER_PERIODS = (an.PAPER_WING_PERIOD_S, an.PAPER_LEG_PERIOD_S)
 
@@ -39,7 +45,9 @@ def _write_csv(path: Path, rows: list[dict]) -> Path:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         for r in rows:
-            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else ("" if v is None else v)) for k, v in r.items()})
+            w.writerow(
+                {k: (f"{v:.6g}" if isinstance(v, float) else ("" if v is None else v)) for k, v in r.items()}
+            )
     return path
 
 
@@ -56,8 +64,10 @@ def load_rows(db: Path) -> list[dict]:
         raise UsageError(str(exc)) from None
     hashes = sorted({r["robot_hash"] for r in rows})
     if len(hashes) > 1:
-        raise UsageError(f"'{db}' holds trials of {len(hashes)} robots ({', '.join(hashes)}); the analyses "
-                                 "compare settings of one robot: sweep each robot into its own database")
+        raise UsageError(
+            f"'{db}' holds trials of {len(hashes)} robots ({', '.join(hashes)}); the analyses "
+            "compare settings of one robot: sweep each robot into its own database"
+        )
     return rows
 
 
@@ -77,6 +87,16 @@ def _paper_cells(rows: list[dict], phase: float | None) -> tuple[list[an.Probabi
 
 
 # ---------------------------------------------------------------------------------------------- sections
+def _mixed_sentence(cells: list[an.ProbabilityCell]) -> str:
+    """What the data say about repeatability: how many settings righted in some trials and not in others."""
+    mixed = sum(0 < c.successes < c.n for c in cells)
+    return (
+        f"{mixed} of {len(cells)} settings righted in some of their trials and not in others (same setting, "
+        "different seeds), so a setting's outcome is a probability, estimated over its trials; the brackets "
+        "are Wilson 95 % intervals."
+    )
+
+
 def section_probability(rows: list[dict], out: Path, db: Path, *, phase: float | None = None) -> Section:
     """Fig. 6 analogue: P(self-right) over theta_w x theta_l per Cv, n and Wilson 95 % intervals."""
     from landscape.viz.analysis_plots import plot_probability
@@ -84,25 +104,38 @@ def section_probability(rows: list[dict], out: Path, db: Path, *, phase: float |
     title = "Self-righting probability over θw × θl for each noise level Cv"
     cells, phase = _paper_cells(rows, phase)
     if not cells:
-        return Section("probability", title, missing=f"no multi-attempt trials of the paper's protocol (Tw 2 s, "
-                       f"Tl 0.8 s); run `{PAPER_SWEEP.format(db=db)}`")
+        return Section(
+            "probability",
+            title,
+            missing=f"no multi-attempt trials of the paper's protocol (Tw 2 s, "
+            f"Tl 0.8 s); run `{PAPER_SWEEP.format(db=db)}`",
+        )
     csv_path = _write_csv(out / "probability.csv", [asdict(c) for c in cells])
-    png = plot_probability(cells, out / "probability.png",
-                           title=f"Self-righting probability (φ1 = {phase:g}, 10 s trials)")
+    png = plot_probability(
+        cells, out / "probability.png", title=f"Self-righting probability (φ1 = {phase:g}, 10 s trials)"
+    )
     n = sum(c.n for c in cells)
     wins = sum(c.successes for c in cells)
     by_cv = {}
     for c in cells:
         k, m = by_cv.get(c.cv, (0, 0))
         by_cv[c.cv] = (k + c.successes, m + c.n)
-    paras = (f"{n} trials ({len(cells)} settings, φ1 = {phase:g}): {wins} righted ({wins / n * 100:.1f} %).",
-             "Overall by Cv: " + "; ".join(f"Cv {cv * 100:g} %: {k}/{m} = {k / m * 100:.1f} %"
-                                            for cv, (k, m) in sorted(by_cv.items())) + ".",
-             "Near the success boundary the dynamics are chaotic (a change of 1e-3° in the settled pose can flip a "
-             "trial), so only probabilities over many trials mean anything; the brackets are Wilson 95 % "
-             "intervals.")
-    return Section("probability", title, paras, (Figure(png, "Self-righting probability per Cv", png.with_suffix(".svg")),),
-                   (Table("Probability per setting", csv_path),))
+    paras = (
+        f"{n} trials ({len(cells)} settings, φ1 = {phase:g}): {wins} righted ({wins / n * 100:.1f} %).",
+        "Overall by Cv: "
+        + "; ".join(
+            f"Cv {cv * 100:g} %: {k}/{m} = {k / m * 100:.1f} %" for cv, (k, m) in sorted(by_cv.items())
+        )
+        + ".",
+        _mixed_sentence(cells),
+    )
+    return Section(
+        "probability",
+        title,
+        paras,
+        (Figure(png, "Self-righting probability per Cv", png.with_suffix(".svg")),),
+        (Table("Probability per setting", csv_path),),
+    )
 
 
 def section_phase_map(rows: list[dict], out: Path, db: Path, *, leg_period_s: float = 0.8) -> Section:
@@ -113,28 +146,52 @@ def section_phase_map(rows: list[dict], out: Path, db: Path, *, leg_period_s: fl
     maps = an.phase_maps(rows)
     sel = [m for (_, tl), m in maps.items() if math.isclose(tl, leg_period_s)]
     if not sel:
-        return Section("phase-map", title, missing="no single-attempt trials without noise at Tl = "
-                       f"{leg_period_s:g} s; run `{PHASE_MAP_SWEEP.format(db=db)}`")
+        return Section(
+            "phase-map",
+            title,
+            missing="no single-attempt trials without noise at Tl = "
+            f"{leg_period_s:g} s; run `{PHASE_MAP_SWEEP.format(db=db)}`",
+        )
     recs = []
     for m in maps.values():
         for i, tl in enumerate(m.theta_l_deg):
             for j, ph in enumerate(m.phases):
                 if m.n[i, j]:
-                    recs.append({"theta_w_deg": m.theta_w_deg, "leg_period_s": m.leg_period_s, "theta_l_deg": tl,
-                                 "phase": ph, "n": int(m.n[i, j]), "success": float(m.success[i, j]),
-                                 "delay_s": float(m.delay_s[i, j])})
+                    recs.append(
+                        {
+                            "theta_w_deg": m.theta_w_deg,
+                            "leg_period_s": m.leg_period_s,
+                            "theta_l_deg": tl,
+                            "phase": ph,
+                            "n": int(m.n[i, j]),
+                            "success": float(m.success[i, j]),
+                            "delay_s": float(m.delay_s[i, j]),
+                        }
+                    )
     csv_path = _write_csv(out / "phase_map.csv", recs)
-    png = plot_phase_maps(sel, out / "phase_map.png",
-                          title=f"Outcome of one attempt against its phase (Tl = {leg_period_s:g} s, no noise)")
-    paras = ["Each cell is one single-attempt trial: the wings open once at phase φ of the leg cycle and the trial "
-             "ends one wing period later. Green: the robot righted."]
+    png = plot_phase_maps(
+        sel,
+        out / "phase_map.png",
+        title=f"Outcome of one attempt against its phase (Tl = {leg_period_s:g} s, no noise)",
+    )
+    paras = [
+        "Each cell is one single-attempt trial: the wings open once at phase φ of the leg cycle and the trial "
+        "ends one wing period later. Green: the robot righted."
+    ]
     for m in sel:
         for i, tl in enumerate(m.theta_l_deg):
             good = m.good_phases(tl)
-            paras.append(f"θw {m.theta_w_deg:g}°, θl {tl:g}°: {len(good)}/{int((m.n[i] > 0).sum())} phases right"
-                         + (f" (φ {', '.join(f'{g * 100:.0f}' for g in good)} %)" if 0 < len(good) < 8 else ""))
-    return Section("phase-map", title, tuple(paras), (Figure(png, "Single-attempt phase map", png.with_suffix(".svg")),),
-                   (Table("Single-attempt outcomes (all Tl)", csv_path),))
+            paras.append(
+                f"θw {m.theta_w_deg:g}°, θl {tl:g}°: {len(good)}/{int((m.n[i] > 0).sum())} phases right"
+                + (f" (φ {', '.join(f'{g * 100:.0f}' for g in good)} %)" if 0 < len(good) < 8 else "")
+            )
+    return Section(
+        "phase-map",
+        title,
+        tuple(paras),
+        (Figure(png, "Single-attempt phase map", png.with_suffix(".svg")),),
+        (Table("Single-attempt outcomes (all Tl)", csv_path),),
+    )
 
 
 def section_prediction(rows: list[dict], out: Path, db: Path) -> Section:
@@ -166,63 +223,101 @@ def section_prediction(rows: list[dict], out: Path, db: Path) -> Section:
         clean = [c for c in clean if (c.theta_w_deg, c.theta_l_deg) == study]
     noisy = [c for c in acc if c.cv > 0.0 and (c.wing_period_s, c.leg_period_s) == PAPER_PERIODS]
     if not clean and not noisy:
-        return Section("prediction", title, missing="no multi-attempt trials with a matching single-attempt phase map; "
-                       f"run `{PHASE_MAP_TL_SWEEP.format(db=db)}` and `{PREDICTION_SWEEP.format(db=db)}` (and "
-                       f"`{PHASE_MAP_SWEEP.format(db=db)}` for the noisy comparison)")
+        return Section(
+            "prediction",
+            title,
+            missing="no multi-attempt trials with a matching single-attempt phase map; "
+            f"run `{PHASE_MAP_TL_SWEEP.format(db=db)}` and `{PREDICTION_SWEEP.format(db=db)}` (and "
+            f"`{PHASE_MAP_SWEEP.format(db=db)}` for the noisy comparison)",
+        )
     _write_csv(out / "prediction_trials.csv", [{**asdict(p), "correct": p.correct} for p in pred])
     csv_path = _write_csv(out / "prediction_accuracy.csv", [asdict(c) for c in clean + noisy])
-    png = plot_prediction(clean, noisy, out / "prediction.png",
-                          title="Phase-based prediction against simulation")
-    paras = ["Prediction: attempt k opens at the time the actuation draws from the trial's own seed; its phase is "
-             "looked up in the single-attempt map of the same θw, θl and Tl (nearest mapped phase); the first good "
-             "phase that leaves time to right before the trial ends is the predicted attempt. Correct = same first "
-             "righting attempt as the simulation, or both never."]
+    png = plot_prediction(
+        clean, noisy, out / "prediction.png", title="Phase-based prediction against simulation"
+    )
+    paras = [
+        "Prediction: attempt k opens at the time the actuation draws from the trial's own seed; its phase is "
+        "looked up in the single-attempt map of the same θw, θl and Tl (nearest mapped phase); the first good "
+        "phase that leaves time to right before the trial ends is the predicted attempt. Correct = same first "
+        "righting attempt as the simulation, or both never."
+    ]
     if clean:
-        study_pred = [p for p in pred if p.cv == 0.0 and (p.theta_w_deg, p.theta_l_deg) == study
-                      and any((c.wing_period_s, c.leg_period_s) == (p.wing_period_s, p.leg_period_s) for c in clean)]
-        miss = {"the simulation rights later than predicted": 0, "earlier than predicted": 0,
-                "predicted to right, never does": 0, "predicted never, rights": 0}
+        study_pred = [
+            p
+            for p in pred
+            if p.cv == 0.0
+            and (p.theta_w_deg, p.theta_l_deg) == study
+            and any((c.wing_period_s, c.leg_period_s) == (p.wing_period_s, p.leg_period_s) for c in clean)
+        ]
+        miss = {
+            "the simulation rights later than predicted": 0,
+            "earlier than predicted": 0,
+            "predicted to right, never does": 0,
+            "predicted never, rights": 0,
+        }
         for p in study_pred:
             s_, p_ = p.simulated_attempt, p.predicted_attempt
             if s_ == p_:
                 continue
-            key = ("predicted to right, never does" if s_ is None else "predicted never, rights" if p_ is None
-                   else "the simulation rights later than predicted" if s_ > p_ else "earlier than predicted")
+            key = (
+                "predicted to right, never does"
+                if s_ is None
+                else "predicted never, rights"
+                if p_ is None
+                else "the simulation rights later than predicted"
+                if s_ > p_
+                else "earlier than predicted"
+            )
             miss[key] += 1
         a = np.array([c.accuracy for c in clean])
         sd = a.std(ddof=1) if len(a) > 1 else 0.0
-        paras.append(f"Without noise, θw {study[0]:g}°, θl {study[1]:g}°, {len(clean)} (Tw, Tl) pairs × "
-                     f"{clean[0].n} phases φ1: accuracy {a.mean() * 100:.0f} ± {sd * 100:.0f} % (mean ± s.d. over the "
-                     f"pairs; the paper: 91 ± 6 %). Range {a.min() * 100:.0f}–{a.max() * 100:.0f} %.")
-        paras.append("Misses: " + "; ".join(f"{k} {v}" for k, v in miss.items()) + ". The map assumes every attempt "
-                     "starts from rest; a failed attempt can leave the robot rocking, so a later attempt may right "
-                     "at a phase that fails from rest, or fail at one that rights from rest.")
+        paras.append(
+            f"Without noise, θw {study[0]:g}°, θl {study[1]:g}°, {len(clean)} (Tw, Tl) pairs × "
+            f"{clean[0].n} phases φ1: accuracy {a.mean() * 100:.0f} ± {sd * 100:.0f} % (mean ± s.d. over the "
+            f"pairs; the paper: 91 ± 6 %). Range {a.min() * 100:.0f}–{a.max() * 100:.0f} %."
+        )
+        paras.append(
+            "Misses: " + "; ".join(f"{k} {v}" for k, v in miss.items()) + ". The map assumes every attempt "
+            "starts from rest; a failed attempt can leave the robot rocking, so a later attempt may right "
+            "at a phase that fails from rest, or fail at one that rights from rest."
+        )
     if noisy:
         n_tr = sum(c.n for c in noisy)
         k_tr = sum(c.correct for c in noisy)
         rmse = float(np.sqrt(np.mean([(c.simulated_p - c.predicted_p) ** 2 for c in noisy])))
-        paras.append(f"With noise (paper sweep, Tw 2 s, Tl 0.8 s, {len(noisy)} settings, {n_tr} trials): the first "
-                     f"righting attempt is predicted in {k_tr}/{n_tr} trials ({k_tr / n_tr * 100:.0f} %); predicted "
-                     f"and simulated probability differ by {rmse:.2f} RMS.")
-    return Section("prediction", title, tuple(paras), (Figure(png, "Prediction accuracy and predicted vs simulated "
-                                                               "probability", png.with_suffix(".svg")),),
-                   (Table("Accuracy per setting", csv_path),))
+        paras.append(
+            f"With noise (paper sweep, Tw 2 s, Tl 0.8 s, {len(noisy)} settings, {n_tr} trials): the first "
+            f"righting attempt is predicted in {k_tr}/{n_tr} trials ({k_tr / n_tr * 100:.0f} %); predicted "
+            f"and simulated probability differ by {rmse:.2f} RMS."
+        )
+    return Section(
+        "prediction",
+        title,
+        tuple(paras),
+        (Figure(png, "Prediction accuracy and predicted vs simulated probability", png.with_suffix(".svg")),),
+        (Table("Accuracy per setting", csv_path),),
+    )
 
 
-def _study_setting(rows: list[dict], maps: dict) -> tuple[float, float] | None:
+def _study_setting(
+    rows: list[dict], maps: dict, leg_period_s: float = an.PAPER_LEG_PERIOD_S
+) -> tuple[float, float] | None:
     """(theta_w, theta_l) of the prediction study: the mapped setting with the most multi-attempt (Tw, Tl) pairs
-    at Cv 0, else the mapped setting whose single-attempt outcomes are the most mixed."""
+    at Cv 0, else the setting mapped at leg period ``leg_period_s`` whose single-attempt outcomes are the most
+    mixed; None if nothing is mapped."""
     pairs: dict[tuple[float, float], set] = {}
     for r in rows:
         if r["status"] == "ok" and r["attempts"] == 0 and r["cv"] == 0.0:
-            pairs.setdefault((r["theta_w_deg"], r["theta_l_deg"]), set()).add((r["wing_period_s"], r["leg_period_s"]))
+            pairs.setdefault((r["theta_w_deg"], r["theta_l_deg"]), set()).add(
+                (r["wing_period_s"], r["leg_period_s"])
+            )
     mapped = {(w, float(tl)) for (w, _), m in maps.items() for tl in m.theta_l_deg}
     cands = [k for k in pairs if k in mapped]
     if cands:
         return max(cands, key=lambda k: (len(pairs[k]), k))
     best, score = None, -1.0
     for (w, tl_s), m in sorted(maps.items()):
-        if tl_s != an.PAPER_LEG_PERIOD_S:
+        if not math.isclose(tl_s, leg_period_s):
             continue
         for i, tl in enumerate(m.theta_l_deg):
             frac = float(np.nanmean(m.success[i] >= 0.5))
@@ -231,94 +326,217 @@ def _study_setting(rows: list[dict], maps: dict) -> tuple[float, float] | None:
     return best
 
 
-def section_evolution(rows: list[dict], out: Path, db: Path, *, theta_w_deg: float | None = None,
-                      theta_l_deg: float | None = None, phase: float | None = None, cv: float = 0.15, seed: int = 1, wing_period_s: float = 2.0,
-                      leg_period_s: float = 0.8, attempts: int = 12) -> Section:
-    """Fig. 9 analogue: phases visited over attempts without and with noise, over the single-attempt map."""
+def section_evolution(
+    rows: list[dict],
+    out: Path,
+    db: Path,
+    *,
+    theta_w_deg: float | None = None,
+    theta_l_deg: float | None = None,
+    phase: float | None = None,
+    cv: float = 0.15,
+    seed: int = 1,
+    wing_period_s: float = 2.0,
+    leg_period_s: float = 0.8,
+    attempts: int = 12,
+) -> Section:
+    """Fig. 9 analogue: phases visited over attempts without and with noise, over the single-attempt map.
+
+    ``theta_w_deg``, ``theta_l_deg`` None: the prediction study's setting found in the data (the mapped setting
+    with the most multi-attempt (Tw, Tl) pairs at Cv 0, else the most mixed mapped setting). ``phase`` None: a
+    mapped phase from which the noise-free sequence never meets a good phase, else the most common phi_1 of
+    the multi-attempt trials at that setting, else the map's first phase. ``cv`` and ``seed`` drive the noisy
+    sequence; ``attempts`` is how many attempts are drawn."""
     from landscape.viz.analysis_plots import plot_evolution
 
     title = "Phase evolution over attempts"
     maps = an.phase_maps(rows)
     if theta_w_deg is None or theta_l_deg is None:
-        study = _study_setting(rows, maps) or (72.0, 30.0)
+        study = _study_setting(rows, maps, leg_period_s)
+        if study is None:
+            return Section(
+                "evolution",
+                title,
+                missing=f"no single-attempt phase map at Tl {leg_period_s:g} s; run "
+                f"`{PHASE_MAP_SWEEP.format(db=db)}`",
+            )
         theta_w_deg = study[0] if theta_w_deg is None else theta_w_deg
         theta_l_deg = study[1] if theta_l_deg is None else theta_l_deg
     pm = maps.get((theta_w_deg, leg_period_s))
     if pm is None or not np.isclose(pm.theta_l_deg, theta_l_deg).any():
-        return Section("evolution", title, missing=f"no single-attempt phase map for θw {theta_w_deg:g}°, θl "
-                       f"{theta_l_deg:g}°, Tl {leg_period_s:g} s; run `{PHASE_MAP_SWEEP.format(db=db)}`")
+        return Section(
+            "evolution",
+            title,
+            missing=f"no single-attempt phase map for θw {theta_w_deg:g}°, θl "
+            f"{theta_l_deg:g}°, Tl {leg_period_s:g} s; run `{PHASE_MAP_SWEEP.format(db=db)}`",
+        )
     n_distinct = an.distinct_phases(wing_period_s, leg_period_s)
     if phase is None:  # a start from which the noise-free sequence never meets a good phase, if there is one
-        phase = 0.7
-        for ph in pm.phases:
-            seq = [(ph + k * wing_period_s / leg_period_s) % 1.0 for k in range(n_distinct)]
-            if not any(pm.lookup(theta_l_deg, s)[0] for s in seq):
-                phase = float(ph)
-                break
-    duration = phase * leg_period_s + attempts * wing_period_s * 1.6
+        phase = next(
+            (
+                float(ph)
+                for ph in pm.phases
+                if not any(
+                    pm.lookup(theta_l_deg, (ph + k * wing_period_s / leg_period_s) % 1.0)[0]
+                    for k in range(n_distinct)
+                )
+            ),
+            None,
+        )
+    if (
+        phase is None
+    ):  # every start meets a good phase: the trials' own phi_1 at this setting, else the map's first
+        used = [
+            r["phase"]
+            for r in rows
+            if r["status"] == "ok"
+            and r["attempts"] == 0
+            and (r["theta_w_deg"], r["theta_l_deg"]) == (theta_w_deg, theta_l_deg)
+        ]
+        phase = max(set(used), key=lambda ph: (used.count(ph), -ph)) if used else float(pm.phases[0])
     recs, seqs = [], []
     for label, c in (("no noise", 0.0), (f"Cv = {cv * 100:g} %, seed {seed}", cv)):
-        starts, phs = an.attempt_sequence(theta_w_deg, theta_l_deg, phase=phase, cv=c, seed=seed,
-                                          duration_s=duration, wing_period_s=wing_period_s, leg_period_s=leg_period_s)
+        duration = phase * leg_period_s + attempts * wing_period_s
+        while (
+            True
+        ):  # noise can lengthen the holds: extend (same seed, same prefix) until there are enough attempts
+            starts, phs = an.attempt_sequence(
+                theta_w_deg,
+                theta_l_deg,
+                phase=phase,
+                cv=c,
+                seed=seed,
+                duration_s=duration,
+                wing_period_s=wing_period_s,
+                leg_period_s=leg_period_s,
+            )
+            if len(starts) >= attempts:
+                break
+            duration *= 2.0
         starts, phs = starts[:attempts], phs[:attempts]
         good = [pm.lookup(theta_l_deg, float(p))[0] for p in phs]
         first = next((k + 1 for k, g in enumerate(good) if g), None)
-        seqs.append((f"{label}: {len(set(np.round(phs, 6)))} distinct phases in {len(phs)} attempts", phs, first))
-        recs += [{"noise_cv": c, "attempt": k + 1, "start_s": float(t), "phase": float(p), "good": bool(g)}
-                 for k, (t, p, g) in enumerate(zip(starts, phs, good, strict=True))]
+        seqs.append(
+            (f"{label}: {len(set(np.round(phs, 6)))} distinct phases in {len(phs)} attempts", phs, first)
+        )
+        recs += [
+            {"noise_cv": c, "attempt": k + 1, "start_s": float(t), "phase": float(p), "good": bool(g)}
+            for k, (t, p, g) in enumerate(zip(starts, phs, good, strict=True))
+        ]
     csv_path = _write_csv(out / "evolution.csv", recs)
-    png = plot_evolution(pm, theta_l_deg, seqs, out / "evolution.png",
-                         title=f"θw {theta_w_deg:g}°, θl {theta_l_deg:g}°, Tw {wing_period_s:g} s, Tl "
-                               f"{leg_period_s:g} s, φ1 = {phase:g}")
-    paras = (f"Without noise the phase advances by Tw/Tl = {wing_period_s / leg_period_s:g} (mod 1) per attempt and "
-             f"visits LCM(Tw, Tl)/Tw = {n_distinct} distinct phases; a start whose phases are all bad never rights. "
-             "With noise the phase wanders and eventually lands on a good one.",
-             f"First good phase: no noise {seqs[0][2] or 'never'}; with noise attempt {seqs[1][2] or 'never'} "
-             f"(within {attempts} attempts).")
-    return Section("evolution", title, paras, (Figure(png, "Phases visited over attempts", png.with_suffix(".svg")),),
-                   (Table("Phases per attempt", csv_path),))
+    png = plot_evolution(
+        pm,
+        theta_l_deg,
+        seqs,
+        out / "evolution.png",
+        title=f"θw {theta_w_deg:g}°, θl {theta_l_deg:g}°, Tw {wing_period_s:g} s, Tl "
+        f"{leg_period_s:g} s, φ1 = {phase:g}",
+    )
+    paras = (
+        f"Without noise the phase advances by Tw/Tl = {wing_period_s / leg_period_s:g} (mod 1) per attempt and "
+        f"visits LCM(Tw, Tl)/Tw = {n_distinct} distinct phases; a start whose phases are all bad never rights. "
+        "With noise the phase wanders and eventually lands on a good one.",
+        f"First good phase: no noise {seqs[0][2] or 'never'}; with noise attempt {seqs[1][2] or 'never'} "
+        f"(within {attempts} attempts).",
+    )
+    return Section(
+        "evolution",
+        title,
+        paras,
+        (Figure(png, "Phases visited over attempts", png.with_suffix(".svg")),),
+        (Table("Phases per attempt", csv_path),),
+    )
 
 
-def section_barrier(rows: list[dict], out: Path, db: Path, *, robot: str | Path | None = None, step_deg: float = 1.0,
-                    phase: float | None = None) -> Section:
+def section_barrier(
+    rows: list[dict],
+    out: Path,
+    db: Path,
+    *,
+    robot: str | Path | None = None,
+    step_deg: float = 1.0,
+    phase: float | None = None,
+) -> Section:
     """Barrier against outcome: Spearman rho with bootstrap intervals and a logistic fit, per Cv."""
     from landscape.viz.analysis_plots import plot_barrier_outcome
 
     title = "Barrier against outcome"
     cells, phase = _paper_cells(rows, phase)
     if not cells:
-        return Section("barrier", title, missing="no multi-attempt trials of the paper's protocol; run "
-                       f"`{PAPER_SWEEP.format(db=db)}`")
-    robot = _robot_of([r for r in rows if r["attempts"] == 0
-                       and (r["wing_period_s"], r["leg_period_s"]) == PAPER_PERIODS], robot)
-    barriers = an.landscape_barriers(robot, {(c.theta_w_deg, c.theta_l_deg) for c in cells}, step_deg=step_deg,
-                                     progress=True)
+        return Section(
+            "barrier",
+            title,
+            missing=f"no multi-attempt trials of the paper's protocol; run `{PAPER_SWEEP.format(db=db)}`",
+        )
+    robot = _robot_of(
+        [r for r in rows if r["attempts"] == 0 and (r["wing_period_s"], r["leg_period_s"]) == PAPER_PERIODS],
+        robot,
+    )
+    barriers = an.landscape_barriers(
+        robot, {(c.theta_w_deg, c.theta_l_deg) for c in cells}, step_deg=step_deg, progress=True
+    )
     res = an.barrier_outcome(cells, barriers)
     recs = []
     for r in res:
         for c, e, g in zip(r.cells, r.exact_mj, r.grid_mj, strict=True):
-            recs.append({"theta_w_deg": c.theta_w_deg, "theta_l_deg": c.theta_l_deg, "cv": c.cv, "n": c.n,
-                         "successes": c.successes, "p": c.p, "ci_low": c.ci_low, "ci_high": c.ci_high,
-                         "exact_barrier_mj": float(e), "grid_barrier_mj": float(g),
-                         "mean_time_to_right_s": c.mean_time_to_right_s})
-    stats = [{"cv": r.cv, "settings": len(r.cells), "spearman_rho": r.rho, "rho_ci_low": r.rho_low,
-              "rho_ci_high": r.rho_high, "rho_p": r.rho_p, "rho_grid": r.rho_grid,
-              "rho_time_to_right": r.rho_time, "rho_time_ci_low": r.rho_time_low,
-              "rho_time_ci_high": r.rho_time_high, "logistic_a": r.fit.a, "logistic_b_per_mj": r.fit.b,
-              "e50_mj": r.fit.e50_mj, "separated": r.fit.separated} for r in res]
+            recs.append(
+                {
+                    "theta_w_deg": c.theta_w_deg,
+                    "theta_l_deg": c.theta_l_deg,
+                    "cv": c.cv,
+                    "n": c.n,
+                    "successes": c.successes,
+                    "p": c.p,
+                    "ci_low": c.ci_low,
+                    "ci_high": c.ci_high,
+                    "exact_barrier_mj": float(e),
+                    "grid_barrier_mj": float(g),
+                    "mean_time_to_right_s": c.mean_time_to_right_s,
+                }
+            )
+    stats = [
+        {
+            "cv": r.cv,
+            "settings": len(r.cells),
+            "spearman_rho": r.rho,
+            "rho_ci_low": r.rho_low,
+            "rho_ci_high": r.rho_high,
+            "rho_p": r.rho_p,
+            "rho_grid": r.rho_grid,
+            "rho_time_to_right": r.rho_time,
+            "rho_time_ci_low": r.rho_time_low,
+            "rho_time_ci_high": r.rho_time_high,
+            "logistic_a": r.fit.a,
+            "logistic_b_per_mj": r.fit.b,
+            "e50_mj": r.fit.e50_mj,
+            "separated": r.fit.separated,
+        }
+        for r in res
+    ]
     table = _write_csv(out / "barrier_outcome.csv", recs)
     stats_csv = _write_csv(out / "barrier_stats.csv", stats)
-    png = plot_barrier_outcome(res, out / "barrier_outcome.png",
-                               title=f"Minimal righting barrier against outcome (φ1 = {phase:g})")
-    paras = [f"Barriers: exact (hull face–edge graph) and the 1° grid search, at θl on the +θl side, for "
-             f"{len(barriers)} settings; outcomes: the paper-protocol trials at φ1 = {phase:g}."]
+    png = plot_barrier_outcome(
+        res, out / "barrier_outcome.png", title=f"Minimal righting barrier against outcome (φ1 = {phase:g})"
+    )
+    paras = [
+        f"Barriers: exact (hull face–edge graph) and the 1° grid search, at θl on the +θl side, for "
+        f"{len(barriers)} settings; outcomes: the paper-protocol trials at φ1 = {phase:g}."
+    ]
     for s in stats:
-        paras.append(f"Cv {s['cv'] * 100:g} %: Spearman ρ(barrier, P) = {s['spearman_rho']:.2f} "
-                     f"[{s['rho_ci_low']:.2f}, {s['rho_ci_high']:.2f}] (p = {s['rho_p']:.2g}; grid barrier "
-                     f"{s['rho_grid']:.2f}); logistic E50 = {s['e50_mj']:.2f} mJ"
-                     + (" (outcomes separated by the barrier)" if s["separated"] else "") + ".")
-    return Section("barrier", title, tuple(paras), (Figure(png, "Barrier against outcome", png.with_suffix(".svg")),),
-                   (Table("Barrier and outcome per setting", table), Table("Statistics per Cv", stats_csv)))
+        paras.append(
+            f"Cv {s['cv'] * 100:g} %: Spearman ρ(barrier, P) = {s['spearman_rho']:.2f} "
+            f"[{s['rho_ci_low']:.2f}, {s['rho_ci_high']:.2f}] (p = {s['rho_p']:.2g}; grid barrier "
+            f"{s['rho_grid']:.2f}); logistic E50 = {s['e50_mj']:.2f} mJ"
+            + (" (outcomes separated by the barrier)" if s["separated"] else "")
+            + "."
+        )
+    return Section(
+        "barrier",
+        title,
+        tuple(paras),
+        (Figure(png, "Barrier against outcome", png.with_suffix(".svg")),),
+        (Table("Barrier and outcome per setting", table), Table("Statistics per Cv", stats_csv)),
+    )
 
 
 def _robot_of(rows: list[dict], robot: str | Path | None = None):
@@ -331,8 +549,10 @@ def _robot_of(rows: list[dict], robot: str | Path | None = None):
     if robot is not None:
         cand = Robot.from_urdf(Path(robot))
         if hashes and cand.description_hash not in hashes:
-            raise UsageError(f"--robot {robot} (hash {cand.description_hash}) is not the robot of the trials "
-                                     f"({', '.join(sorted(hashes))}); give the URDF the sweep ran on")
+            raise UsageError(
+                f"--robot {robot} (hash {cand.description_hash}) is not the robot of the trials "
+                f"({', '.join(sorted(hashes))}); give the URDF the sweep ran on"
+            )
         return cand
     for path, h in sorted({(r["robot"], r["robot_hash"]) for r in rows if r.get("robot")}):
         if Path(path).is_file():
@@ -342,13 +562,20 @@ def _robot_of(rows: list[dict], robot: str | Path | None = None):
     builtin = load_builtin_robot()
     if not hashes or builtin.description_hash in hashes:
         return builtin
-    raise UsageError(f"the trials' robot file ({sorted({r['robot'] for r in rows})[0]}) is missing or "
-                             "changed; give the URDF the sweep ran on with --robot FILE.urdf")
+    raise UsageError(
+        f"the trials' robot file ({sorted({r['robot'] for r in rows})[0]}) is missing or "
+        "changed; give the URDF the sweep ran on with --robot FILE.urdf"
+    )
 
 
 #: the report's sections in page order; a new analysis is one ``section_*`` function and one entry here
-SECTIONS = {"probability": section_probability, "phase map": section_phase_map, "prediction": section_prediction,
-            "phase evolution": section_evolution, "barrier vs outcome": section_barrier}
+SECTIONS = {
+    "probability": section_probability,
+    "phase map": section_phase_map,
+    "prediction": section_prediction,
+    "phase evolution": section_evolution,
+    "barrier vs outcome": section_barrier,
+}
 
 
 def build_report(db: Path, out: Path, *, robot: str | Path | None = None) -> tuple[Path, list[Section]]:
@@ -363,7 +590,6 @@ def build_report(db: Path, out: Path, *, robot: str | Path | None = None) -> tup
     """
     from importlib.metadata import PackageNotFoundError, version
 
-
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     rows = load_rows(db)
@@ -374,18 +600,27 @@ def build_report(db: Path, out: Path, *, robot: str | Path | None = None) -> tup
         sections.append(fn(rows, out, db, robot=robot) if fn is section_barrier else fn(rows, out, db))
         timings[name] = time.perf_counter() - t0
     ok = [r for r in rows if r["status"] == "ok"]
-    inputs = {"database": str(Path(db).resolve()), "trials": str(len(rows)),
-              "diverged": str(sum(r["status"] == "diverged" for r in rows)),
-              "robots": ", ".join(sorted({f"{Path(r['robot']).name} ({r['robot_hash']})" for r in rows})),
-              "time steps (s)": ", ".join(f"{x:g}" for x in sorted({r["dt_s"] for r in rows})),
-              "trial CPU time (s)": f"{sum(r['cpu_s'] or 0.0 for r in ok):.0f}",
-              "package versions in the database": ", ".join(sorted({str(r["version"]) for r in rows}))}
+    inputs = {
+        "database": str(Path(db).resolve()),
+        "trials": str(len(rows)),
+        "diverged": str(sum(r["status"] == "diverged" for r in rows)),
+        "robots": ", ".join(sorted({f"{Path(r['robot']).name} ({r['robot_hash']})" for r in rows})),
+        "time steps (s)": ", ".join(f"{x:g}" for x in sorted({r["dt_s"] for r in rows})),
+        "trial CPU time (s)": f"{sum(r['cpu_s'] or 0.0 for r in ok):.0f}",
+        "package versions in the database": ", ".join(sorted({str(r["version"]) for r in rows})),
+    }
     versions = {"python": platform.python_version(), "platform": platform.platform()}
     for pkg in ("selfrighting-landscape", "numpy", "scipy", "numba", "pybullet", "matplotlib", "trimesh"):
         try:
             versions[pkg] = version(pkg)
         except PackageNotFoundError:  # a missing optional package is reported, not fatal
             versions[pkg] = "not installed"
-    page = write_report(sections, out, title="Self-righting: barrier, coordination and randomness",
-                        inputs=inputs, versions=versions, timings_s=timings)
+    page = write_report(
+        sections,
+        out,
+        title="Self-righting: barrier, coordination and randomness",
+        inputs=inputs,
+        versions=versions,
+        timings_s=timings,
+    )
     return page, sections

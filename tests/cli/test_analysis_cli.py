@@ -30,7 +30,9 @@ def db(tmp_path_factory):
     path = tmp_path_factory.mktemp("analysis") / "t.sqlite"
     phases = (0.0, 0.25, 0.5, 0.75)
     specs = sweep_specs((74.0,), (20.0, 30.0), (0.0,), phase=phases, attempts=1, duration_s=10.0, **FAST)
-    specs += sweep_specs((74.0,), (30.0,), (0.0,), phase=phases, wing_period_s=(2.0, 2.5), duration_s=5.0, **FAST)
+    specs += sweep_specs(
+        (74.0,), (30.0,), (0.0,), phase=phases, wing_period_s=(2.0, 2.5), duration_s=5.0, **FAST
+    )
     specs += sweep_specs((74.0,), (20.0, 30.0), (0.1,), phase=(0.7,), duration_s=4.0, dt_s=1e-3, trials=3)
     run_sweep(specs, db=path, workers=1, progress=False)
     return path
@@ -42,8 +44,13 @@ def test_report_builds_every_analysis_from_a_real_database(capsys, db, tmp_path)
     assert code == 0, err
     assert "5/5 analyses" in stdout
     html = (out / "index.html").read_text()
-    for title in ("Self-righting probability", "Single-attempt phase map", "Phase-based prediction",
-                  "Phase evolution", "Barrier against outcome"):
+    for title in (
+        "Self-righting probability",
+        "Single-attempt phase map",
+        "Phase-based prediction",
+        "Phase evolution",
+        "Barrier against outcome",
+    ):
         assert title in html
     assert "Not enough data" not in html
     for stem in ("probability", "phase_map", "prediction", "evolution", "barrier_outcome"):
@@ -95,20 +102,28 @@ def test_report_page_passes_a_headless_browser_check(capsys, db, tmp_path):
     assert "console errors 0" in stdout and (out / "screenshot.png").stat().st_size > 0
 
 
-def test_barrier_analysis_needs_the_trials_own_robot(capsys, tmp_path):
+@pytest.mark.parametrize("robot", ["lab", "modified builtin"])
+def test_barrier_analysis_needs_the_trials_own_robot(capsys, tmp_path, robot):
     import sqlite3
-    from pathlib import Path
+    from dataclasses import replace
 
-    from geometry.builtin import builtin_urdf_path
+    from geometry.builtin import builtin_parameters, builtin_urdf_path
+    from tests.conftest import lab_sim_robot
 
-    lab = Path(__file__).resolve().parents[2].parent / "shared" / "ref" / "lab_robot" / "lab_robot.urdf"
-    if not lab.is_file():
-        pytest.skip("../shared/ref/lab_robot is absent")
-    path = tmp_path / "lab.sqlite"
-    specs = sweep_specs((80.0,), (30.0,), (0.1,), phase=(0.7,), duration_s=1.0, dt_s=1e-3, trials=2, robot=lab)
+    if robot == "lab":
+        urdf = lab_sim_robot().urdf
+    else:  # any robot other than the built-in one will do: the generator's with a heavier head
+        urdf = builtin_urdf_path(
+            cache_dir=tmp_path / "other", params=replace(builtin_parameters(), head_kg=0.02)
+        )
+    path = tmp_path / "other.sqlite"
+    specs = sweep_specs(
+        (80.0,), (30.0,), (0.1,), phase=(0.7,), duration_s=1.0, dt_s=1e-3, trials=2, robot=urdf
+    )
     run_sweep(specs, db=path, workers=1, progress=False)
-    code, out, err = run(capsys, "analyze", "barrier", "--db", path, "--out", tmp_path / "a",
-                         "--robot", builtin_urdf_path())
+    code, out, err = run(
+        capsys, "analyze", "barrier", "--db", path, "--out", tmp_path / "a", "--robot", builtin_urdf_path()
+    )
     assert code == 2 and "is not the robot of the trials" in err
     con = sqlite3.connect(path)
     con.execute("UPDATE trials SET robot = ?", (str(tmp_path / "moved.urdf"),))
@@ -116,6 +131,36 @@ def test_barrier_analysis_needs_the_trials_own_robot(capsys, tmp_path):
     con.close()
     code, out, err = run(capsys, "analyze", "barrier", "--db", path, "--out", tmp_path / "a")
     assert code == 2 and "--robot FILE.urdf" in err and len(err.strip().splitlines()) == 1
-    code, out, err = run(capsys, "analyze", "barrier", "--db", path, "--out", tmp_path / "a", "--robot", lab)
+    code, out, err = run(capsys, "analyze", "barrier", "--db", path, "--out", tmp_path / "a", "--robot", urdf)
     assert code == 0, err
     assert (tmp_path / "a" / "barrier_outcome.csv").is_file()
+
+
+def test_bench_runs_and_reports_positive_ratios(capsys):
+    """``landscape bench --repeat 1`` on the built-in robot: every timing and ratio a positive number, the two
+    methods agreeing, and the derived rows consistent with the rows they come from."""
+    import re
+
+    code, out, err = run(capsys, "bench", "--repeat", "1")
+    assert code == 0, err
+    rows = dict(re.findall(r"^\| (.+?) +\| (.+) \|$", out, flags=re.MULTILINE))
+
+    def number(key):
+        return float(
+            re.search(
+                r"\d+(?:\.\d+)?(?:e[-+]?\d+)?", next(v for k, v in rows.items() if k.startswith(key))
+            ).group()
+        )
+
+    speed_up = number("speed-up, lab / ours")
+    lab_ms, ours_ms = number("1° landscape, lab method"), number("1° landscape, ours")
+    assert lab_ms > 0 and ours_ms > 0 and speed_up > 0
+    assert speed_up == pytest.approx(lab_ms / ours_ms, rel=0.02, abs=0.5)  # rounded to whole times
+    assert 0 <= number("agreement") < 1e-9  # the hull walk and the all-vertex method are one landscape
+    grid_mj, exact_mj = number("righting barrier, 1° grid"), number("righting barrier, exact")
+    assert grid_mj > 0 and exact_mj > 0
+    assert number("1° grid error") == pytest.approx(100 * abs(grid_mj - exact_mj) / exact_mj, abs=0.1)
+    n_vertices = number("mesh vertices")
+    assert number("an orientations x vertices array") == pytest.approx(
+        3600**2 * n_vertices * 8 / 2**30, abs=0.5
+    )

@@ -1,15 +1,12 @@
+"""The simulation commands end to end, on the lab robot when ../shared holds it, else the built-in one."""
+
 import contextlib
 import io
 import json
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
-
-SHARED = Path(__file__).resolve().parents[2].parent / "shared"
-LAB_URDF = SHARED / "ref" / "lab_robot" / "lab_robot.urdf"
-pytestmark = pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
 
 pytest.importorskip("pybullet")
 
@@ -23,61 +20,127 @@ def invoke(cmd, *args):
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         code = main([cmd, *(str(a) for a in args)])
-    return SimpleNamespace(exit_code=code, output=out.getvalue() + err.getvalue(), stdout=out.getvalue(),
-                           stderr=err.getvalue())
+    return SimpleNamespace(
+        exit_code=code, output=out.getvalue() + err.getvalue(), stdout=out.getvalue(), stderr=err.getvalue()
+    )
 
 
-def test_simulate_json_and_trace(tmp_path):
+def test_simulate_json_and_trace(tmp_path, sim_robot):
     trace = tmp_path / "t.csv"
-    r = invoke(simulate, "--theta-w", 80, "--theta-l", 50, "--phase", 0.7, "--cv", 0.1, "--seed", 1,
-               "--dt", 1e-3, "--duration", 4, "--robot", LAB_URDF, "--json", "--trace", trace)
+    r = invoke(
+        simulate,
+        "--theta-w",
+        80,
+        "--theta-l",
+        50,
+        "--phase",
+        0.7,
+        "--cv",
+        0.1,
+        "--seed",
+        1,
+        "--dt",
+        1e-3,
+        "--duration",
+        4,
+        "--robot",
+        sim_robot.urdf,
+        "--json",
+        "--trace",
+        trace,
+    )
     assert r.exit_code == 0, r.output
     d = json.loads(r.stdout)
     assert d["success"] is True and d["attempt"] == 1 and d["mode"] == "roll"
-    assert d["phases"] == pytest.approx([0.7]) and d["seed"] == 1 and d["theta_w_deg"] == 80.0 and d["dt_s"] == 1e-3
+    assert (
+        d["phases"] == pytest.approx([0.7])
+        and d["seed"] == 1
+        and d["theta_w_deg"] == 80.0
+        and d["dt_s"] == 1e-3
+    )
     assert set(d) >= {"time_to_right_s", "wall_s", "cv", "phase", "theta_l_deg", "robot"}
     a = np.loadtxt(trace, delimiter=",", skiprows=1)
     assert a.shape[1] == 10 and a[0, 0] == pytest.approx(0.01)
     assert a[-1, 0] == pytest.approx(d["time_to_right_s"] + 0.3, abs=0.011)
 
 
-def test_simulate_human_summary():
-    r = invoke(simulate, "--theta-w", 70, "--theta-l", 20, "--phase", 0.2, "--seed", 3, "--dt", 1e-3,
-               "--duration", 2, "--robot", LAB_URDF)
+def test_simulate_human_summary(sim_robot):
+    r = invoke(
+        simulate,
+        "--theta-w",
+        70,
+        "--theta-l",
+        20,
+        "--phase",
+        0.2,
+        "--seed",
+        3,
+        "--dt",
+        1e-3,
+        "--duration",
+        2,
+        "--robot",
+        sim_robot.urdf,
+    )
     assert r.exit_code == 0, r.output
     assert "not righted in 2 s (1 attempts)" in r.output and "seed 3" in r.output
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--theta-w", "80", "--theta-l", "30", "--phase", "1.2"], "phase must be in [0, 1)"),
-    (["--theta-w", "120", "--theta-l", "30"], "theta_w = 120 deg is outside"),
-    (["--theta-w", "80", "--theta-l", "30", "--robot", "/nonexistent.urdf"], "not found"),
-    (["--theta-w", "80", "--theta-l", "30", "--dt", "0"], "dt must be in"),
-])
-def test_simulate_bad_input_one_line_exit_2(args, message):
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--theta-w", "80", "--theta-l", "30", "--phase", "1.2"], "phase must be in [0, 1)"),
+        (["--theta-w", "120", "--theta-l", "30"], "theta_w = 120 deg is outside"),
+        (["--theta-w", "80", "--theta-l", "30", "--robot", "/nonexistent.urdf"], "not found"),
+        (["--theta-w", "80", "--theta-l", "30", "--dt", "0"], "dt must be in"),
+    ],
+)
+def test_simulate_bad_input_one_line_exit_2(sim_robot, args, message):
     if "--robot" not in args:
-        args = [*args, "--robot", str(LAB_URDF)]
+        args = [*args, "--robot", str(sim_robot.urdf)]
     r = invoke(simulate, *args)
     assert r.exit_code == 2
     assert message in r.output and len(r.output.strip().splitlines()) == 1 and "Traceback" not in r.output
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--theta-w", ""], "--theta-w is empty"),
-    (["--theta-l", "a,b"], "is not a list of numbers"),
-    (["--cv", "-0.1"], "--cv values must be >= 0"),
-    (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
-])
-def test_sweep_bad_input(tmp_path, args, message):
-    r = invoke(sweep, "--db", tmp_path / "x.sqlite", "--robot", LAB_URDF, *args)
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--theta-w", ""], "--theta-w is empty"),
+        (["--theta-l", "a,b"], "is not a list of numbers"),
+        (["--cv", "-0.1"], "--cv values must be >= 0"),
+        (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
+    ],
+)
+def test_sweep_bad_input(tmp_path, sim_robot, args, message):
+    r = invoke(sweep, "--db", tmp_path / "x.sqlite", "--robot", sim_robot.urdf, *args)
     assert r.exit_code == 2, r.output
     assert message in r.output and len(r.output.strip().splitlines()) == 1
 
 
-def test_sweep_and_export(tmp_path):
+def test_sweep_and_export(tmp_path, sim_robot):
     db, out = tmp_path / "s.sqlite", tmp_path / "s.csv"
-    args = ["--theta-w", "80", "--theta-l", "50", "--cv", "0,0.2", "--trials", "1", "--db", db,
-            "--duration", "1.5", "--dt", "1e-3", "--workers", "1", "--robot", LAB_URDF, "--no-progress"]
+    args = [
+        "--theta-w",
+        "80",
+        "--theta-l",
+        "50",
+        "--cv",
+        "0,0.2",
+        "--trials",
+        "1",
+        "--db",
+        db,
+        "--duration",
+        "1.5",
+        "--dt",
+        "1e-3",
+        "--workers",
+        "1",
+        "--robot",
+        sim_robot.urdf,
+        "--no-progress",
+    ]
     r = invoke(sweep, *args, "--json")
     assert r.exit_code == 0, r.output
     s = json.loads(r.stdout)

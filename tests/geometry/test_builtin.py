@@ -1,3 +1,9 @@
+import hashlib
+import os
+import subprocess
+import sys
+from dataclasses import replace
+
 import numpy as np
 import pytest
 import yourdfpy
@@ -7,8 +13,17 @@ from geometry.builtin import builtin_description, builtin_parameters, builtin_ur
 from landscape import compute
 
 # the paper's Table 1, kg
-PAPER_KG = {"head": 0.0134, "wing1": 0.0287, "wing2": 0.0287, "base_link": 0.0286, "motor3": 0.028,
-            "motor4": 0.028, "motor1": 0.0244, "motor2": 0.0244, "pendulum": 0.0043 + 0.0515}
+PAPER_KG = {
+    "head": 0.0134,
+    "wing1": 0.0287,
+    "wing2": 0.0287,
+    "base_link": 0.0286,
+    "motor3": 0.028,
+    "motor4": 0.028,
+    "motor1": 0.0244,
+    "motor2": 0.0244,
+    "pendulum": 0.0043 + 0.0515,
+}
 
 
 @pytest.fixture(scope="module")
@@ -22,19 +37,46 @@ def test_masses(robot):
     assert builtin_parameters().total_mass_kg == pytest.approx(0.260, abs=1e-12)
 
 
-def test_deterministic_and_cached(tmp_path):
-    assert builtin_description() == builtin_description()
+def _digest(files):
+    return hashlib.sha256(b"".join(k.encode() + v for k, v in sorted(files.items()))).hexdigest()
+
+
+def test_deterministic_across_processes_and_cached(tmp_path):
+    """A fresh process (another hash seed, no cache) generates byte-identical files; the cache directory is
+    named by their content and is written once."""
+    code = (
+        "import hashlib; from geometry.builtin import builtin_description as d; "
+        "f = d(); print(hashlib.sha256(b''.join(k.encode() + v for k, v in sorted(f.items()))).hexdigest())"
+    )
+    env = {**os.environ, "PYTHONHASHSEED": "12345"}
+    out = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+    ).stdout
+    files = builtin_description()
+    assert out.strip() == _digest(files)
     a = builtin_urdf_path(tmp_path)
-    b = builtin_urdf_path(tmp_path)
-    assert a == b and a.read_bytes() == builtin_description()["robot.urdf"]
+    assert a.parent.name == f"builtin-{_digest(files)[:16]}" and a.read_bytes() == files["robot.urdf"]
+    assert {f.name for f in a.parent.iterdir()} == set(files)
+    written_ns = a.stat().st_mtime_ns
+    assert builtin_urdf_path(tmp_path) == a and a.stat().st_mtime_ns == written_ns  # cached: not rewritten
+    other = builtin_urdf_path(tmp_path, params=replace(builtin_parameters(), head_kg=0.02))
+    assert other.parent != a.parent  # other parameters, other files, another directory
 
 
 def test_urdf_valid_and_joints(robot):
     u = yourdfpy.URDF.load(str(robot.source))
     assert u.validate()
-    assert set(u.actuated_joint_names) == {"wing_pitch_left", "wing_pitch_right", "wing_roll_left",
-                                           "wing_roll_right", "leg"}
-    assert robot.theta_limits_deg() == {"theta_w": pytest.approx((-10, 95)), "theta_l": pytest.approx((-90, 90))}
+    assert set(u.actuated_joint_names) == {
+        "wing_pitch_left",
+        "wing_pitch_right",
+        "wing_roll_left",
+        "wing_roll_right",
+        "leg",
+    }
+    assert robot.theta_limits_deg() == {
+        "theta_w": pytest.approx((-10, 95)),
+        "theta_l": pytest.approx((-90, 90)),
+    }
 
 
 def test_closed_form_inertias(robot):
@@ -42,7 +84,8 @@ def test_closed_form_inertias(robot):
     # leg motor: solid box 30 x 20 x 23 mm (link axes)
     m, (a, b, c) = 0.0286, (0.030, 0.020, 0.023)
     assert np.diag(parts["base_link"].inertia_kg_m2) == pytest.approx(
-        [m * (b * b + c * c) / 12, m * (a * a + c * c) / 12, m * (a * a + b * b) / 12], rel=1e-6)
+        [m * (b * b + c * c) / 12, m * (a * a + c * c) / 12, m * (a * a + b * b) / 12], rel=1e-6
+    )
     # pendulum: rod (70 x 8 x 1.6 mm at x = -35 mm) + solid sphere r = 14 mm at x = -64.5 mm
     pend = parts["pendulum"]
     x = (0.0043 * -0.035 + 0.0515 * -0.0645) / 0.0558
@@ -69,8 +112,10 @@ def test_pybullet_loads_it(robot):
     cid = pb.connect(pb.DIRECT)
     try:
         body = pb.loadURDF(str(robot.source), flags=pb.URDF_USE_INERTIA_FROM_FILE, physicsClientId=cid)
-        total = sum(pb.getDynamicsInfo(body, k, physicsClientId=cid)[0]
-                    for k in range(-1, pb.getNumJoints(body, physicsClientId=cid)))
+        total = sum(
+            pb.getDynamicsInfo(body, k, physicsClientId=cid)[0]
+            for k in range(-1, pb.getNumJoints(body, physicsClientId=cid))
+        )
     finally:
         pb.disconnect(cid)
     assert total == pytest.approx(0.260, abs=1e-9)
@@ -78,17 +123,27 @@ def test_pybullet_loads_it(robot):
 
 def test_trends(robot):
     by_w = [compute(robot, theta_w_deg=w, theta_l_deg=0).barrier.righting.barrier_j for w in (60, 70, 80, 90)]
-    by_l = [compute(robot, theta_w_deg=74, theta_l_deg=tl).barrier.righting.barrier_j for tl in (20, 30, 40, 50)]
+    by_l = [
+        compute(robot, theta_w_deg=74, theta_l_deg=tl).barrier.righting.barrier_j for tl in (20, 30, 40, 50)
+    ]
     assert np.all(np.diff(by_w) < 0) and np.all(np.diff(by_l) < 0)
     c = compute(robot, theta_w_deg=74, theta_l_deg=30)
     assert c.barrier.righting.direction == "roll"
 
 
 # agreement with the lab URDF reached by this model (figures/builtin_vs_lab.py); tolerances are what it achieves
-@pytest.mark.parametrize("tw, tl, pitch_tol, barrier_rtol", [
-    (30, 0, 1.0, 0.05), (60, 0, 1.0, 0.03), (70, 0, 1.0, 0.02), (74, 0, 1.0, 0.02), (80, 0, 1.0, 0.25),
-    (74, 20, 1.0, 0.07), (74, 50, 1.0, 0.25),
-])
+@pytest.mark.parametrize(
+    "tw, tl, pitch_tol, barrier_rtol",
+    [
+        (30, 0, 1.0, 0.05),
+        (60, 0, 1.0, 0.03),
+        (70, 0, 1.0, 0.02),
+        (74, 0, 1.0, 0.02),
+        (80, 0, 1.0, 0.25),
+        (74, 20, 1.0, 0.07),
+        (74, 50, 1.0, 0.25),
+    ],
+)
 def test_close_to_lab_robot(robot, lab_robot, tw, tl, pitch_tol, barrier_rtol):
     a = compute(robot, theta_w_deg=tw, theta_l_deg=tl)
     b = compute(lab_robot, theta_w_deg=tw, theta_l_deg=tl)

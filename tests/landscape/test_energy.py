@@ -123,6 +123,14 @@ def test_inclusive_grid():
     assert e.shape == (13, 13) and np.array_equal(e[-1], e[0]) and np.array_equal(e[:, -1], e[:, 0])
 
 
-def test_fine_step_runs():
-    ls = energy_landscape(_cube().pose(), step_deg=0.1)
+def test_fine_step_matches_the_closed_form():
+    """The finest supported grid (0.1 deg, 3600 x 3600 cells): cube of half-side a, z_com = a (|cos p| + |sin p|)
+    along roll 0 and, by symmetry, along pitch 0."""
+    a = 0.05
+    ls = energy_landscape(_cube(a).pose(), step_deg=0.1, g_m_s2=1.0)
     assert ls.energy_j.shape == (3600, 3600)
+    t = np.deg2rad(ls.angles_deg)
+    j0 = np.flatnonzero(np.isclose(ls.angles_deg, 0.0))[0]
+    closed = a * (np.abs(np.cos(t)) + np.abs(np.sin(t)))
+    assert ls.energy_j[:, j0] == pytest.approx(closed, rel=1e-12)
+    assert ls.energy_j[j0, :] == pytest.approx(closed, rel=1e-12)

@@ -1,21 +1,21 @@
+"""Trials (sim/trial.py) on the lab robot when ../shared holds it, else on the built-in robot; tests with
+robot-specific numbers run on both (the lab case skips without its files)."""
+
 import json
 import subprocess
 import sys
+import xml.etree.ElementTree as ET
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
-
-SHARED = Path(__file__).resolve().parents[2].parent / "shared"
-LAB_URDF = SHARED / "ref" / "lab_robot" / "lab_robot.urdf"
-pytestmark = pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
 
 pytest.importorskip("pybullet")
 
 from sim import Contact, SimulationDiverged, TrialInputError, run_trial  # noqa: E402
 from sim.model import sim_model  # noqa: E402
 from sim.world import World  # noqa: E402
+from tests.conftest import builtin_robot, lab_sim_robot  # noqa: E402
 
 FAST_DT = 1e-3
 
@@ -27,17 +27,37 @@ def _strip(r):
     return d
 
 
-def test_model_hulls_are_simplified():
-    m = sim_model(LAB_URDF)
+def _urdf_links(urdf):
+    """Links, fixed joints and collision elements counted in the URDF file itself (not through sim.model)."""
+    root = ET.parse(urdf).getroot()
+    fixed = [j for j in root.findall("joint") if j.get("type") == "fixed"]
+    return len(root.findall("link")), len(fixed), len(root.findall("link/collision"))
+
+
+def test_model_hulls_are_simplified(each_robot):
+    from geometry import Robot
+    from landscape.energy import height_at
+
+    m = sim_model(each_robot.urdf)
     assert max(k for _, k in m.vertex_counts.values()) <= 96
-    assert m.vertex_counts["head_0"][0] == 1002
+    assert len(m.vertex_counts) == _urdf_links(each_robot.urdf)[2]  # one hull per collision element
+    assert all(k <= n for n, k in m.vertex_counts.values())
     assert m.max_gap_m < 1e-3
-    assert m.rest_pitch_deg == pytest.approx(-6.3, abs=0.2)  # the lab robot's rest pitch at theta_w = 0
     assert m.description_hash and len(m.model_hash) == 16
+    # rest pitch: the lowest CoM at roll 0, wings closed, found independently by the landscape's height_at
+    pitch_deg = np.arange(-45.0, 45.0 + 1e-9, 0.1)
+    pose = Robot.from_urdf(each_robot.urdf).pose(0.0, 0.0)
+    lowest = pitch_deg[np.argmin(height_at(pose, pitch_deg, 0.0))]
+    assert m.rest_pitch_deg == pytest.approx(lowest, abs=0.11)
+    if each_robot.label == "lab":
+        assert m.vertex_counts["head_0"][0] == 1002
+        assert m.rest_pitch_deg == pytest.approx(-6.3, abs=0.2)  # the lab robot's rest pitch at theta_w = 0
 
 
-def test_strong_setting_rights_by_rolling_on_first_attempt():
-    r = run_trial(80.0, 50.0, phase=0.7, cv=0.0, rng=1, robot=LAB_URDF, dt_s=FAST_DT, trace=True)
+def test_strong_setting_rights_by_rolling_on_first_attempt(each_robot):
+    from geometry import Robot
+
+    r = run_trial(80.0, 50.0, phase=0.7, cv=0.0, rng=1, robot=each_robot.urdf, dt_s=FAST_DT, trace=True)
     assert r.success and r.attempt == 1 and r.mode == "roll"
     t1 = 0.7 * 0.8
     assert t1 < r.time_to_right_s < t1 + 2.0
@@ -45,13 +65,15 @@ def test_strong_setting_rights_by_rolling_on_first_attempt():
     tr = r.trace
     # metastable: wings lift the body to a steep pitch before it rolls over
     opened = (tr.t_s > t1 + 0.35) & (tr.t_s < r.time_to_right_s - 0.3)
-    assert np.median(tr.pitch_deg[opened]) > 60.0
+    assert opened.sum() >= 10 and np.median(tr.pitch_deg[opened]) > 60.0
     assert tr.up_z[0] > 0.99 and tr.up_z[-1] < 0.0
-    assert tr.energy_j == pytest.approx(0.26 * 9.81 * tr.com_height_m, rel=1e-9)
+    mass_kg = Robot.from_urdf(each_robot.urdf).pose(0.0, 0.0).mass_kg
+    assert mass_kg == pytest.approx(0.26, abs=1e-9)  # both robots weigh the paper's 260 g
+    assert tr.energy_j == pytest.approx(mass_kg * 9.81 * tr.com_height_m, rel=1e-9)
 
 
-def test_weak_setting_fails_after_several_attempts():
-    r = run_trial(70.0, 20.0, phase=0.7, cv=0.1, rng=1, robot=LAB_URDF, dt_s=FAST_DT)
+def test_weak_setting_fails_after_several_attempts(each_robot):
+    r = run_trial(70.0, 20.0, phase=0.7, cv=0.1, rng=1, robot=each_robot.urdf, dt_s=FAST_DT)
     assert not r.success and r.time_to_right_s is None and r.attempt is None and r.mode is None
     assert r.sim_s == pytest.approx(10.0)
     assert len(r.phases) == len(r.attempt_starts_s) == 5
@@ -59,9 +81,10 @@ def test_weak_setting_fails_after_several_attempts():
     assert np.all(np.diff(r.attempt_starts_s) > 1.35)
 
 
-def test_tracking_error_is_bounded():
-    r = run_trial(76.0, 50.0, phase=0.2, cv=0.0, rng=2, robot=LAB_URDF, dt_s=FAST_DT, duration_s=3.0,
-                  trace=True)
+def test_tracking_error_is_bounded(sim_robot):
+    r = run_trial(
+        76.0, 50.0, phase=0.2, cv=0.0, rng=2, robot=sim_robot.urdf, dt_s=FAST_DT, duration_s=3.0, trace=True
+    )
     assert r.max_tracking_error_deg < 4.0
     tr = r.trace
     assert np.abs(tr.wing_deg - tr.wing_cmd_deg).max() < 4.0
@@ -69,8 +92,8 @@ def test_tracking_error_is_bounded():
     assert np.abs(tr.wing_deg - tr.wing_cmd_deg).mean() < 0.5
 
 
-def test_deterministic_in_process_and_seed_is_kept():
-    kw = dict(phase=0.45, cv=0.2, robot=LAB_URDF, dt_s=FAST_DT, duration_s=4.0)
+def test_deterministic_in_process_and_seed_is_kept(sim_robot):
+    kw = dict(phase=0.45, cv=0.2, robot=sim_robot.urdf, dt_s=FAST_DT, duration_s=4.0)
     a = run_trial(74.0, 40.0, rng=11, **kw)
     b = run_trial(74.0, 40.0, rng=11, **kw)
     assert _strip(a) == _strip(b) and a.seed == 11
@@ -80,32 +103,37 @@ def test_deterministic_in_process_and_seed_is_kept():
     assert g.seed == int(np.random.default_rng(5).integers(0, 2**63 - 1))
 
 
-def test_deterministic_across_processes():
-    kw = dict(phase=0.45, cv=0.2, robot=str(LAB_URDF), dt_s=FAST_DT, duration_s=4.0)
-    code = ("import json, sys; from sim import run_trial; "
-            f"r = run_trial(74.0, 40.0, rng=11, **{kw!r}); d = r.to_dict(); d.pop('wall_s'); d.pop('cpu_s'); "
-            "print(json.dumps(d))")
+def test_deterministic_across_processes(sim_robot):
+    kw = dict(phase=0.45, cv=0.2, robot=str(sim_robot.urdf), dt_s=FAST_DT, duration_s=4.0)
+    code = (
+        "import json, sys; from sim import run_trial; "
+        f"r = run_trial(74.0, 40.0, rng=11, **{kw!r}); d = r.to_dict(); d.pop('wall_s'); d.pop('cpu_s'); "
+        "print(json.dumps(d))"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
-    here = _strip(run_trial(74.0, 40.0, rng=11, **{**kw, "robot": LAB_URDF}))
+    here = _strip(run_trial(74.0, 40.0, rng=11, **{**kw, "robot": sim_robot.urdf}))
     assert json.loads(out.strip().splitlines()[-1]) == json.loads(json.dumps(here))
 
 
-@pytest.mark.parametrize("kw, err, match", [
-    (dict(theta_w_deg=120.0), "JointLimitError", "theta_w = 120"),
-    (dict(phase=1.0), "TrialInputError", "phase must be in"),
-    (dict(cv=-0.1), "TrialInputError", "cv must be >= 0"),
-    (dict(dt_s=0.0), "TrialInputError", "dt must be"),
-    (dict(rng=-3), "TrialInputError", "rng must be"),
-])
-def test_bad_input(kw, err, match):
-    args = dict(theta_w_deg=74.0, theta_l_deg=30.0, phase=0.2, cv=0.0, robot=LAB_URDF)
+@pytest.mark.parametrize(
+    "kw, err, match",
+    [
+        (dict(theta_w_deg=120.0), "JointLimitError", "theta_w = 120"),
+        (dict(phase=1.0), "TrialInputError", "phase must be in"),
+        (dict(cv=-0.1), "TrialInputError", "cv must be >= 0"),
+        (dict(dt_s=0.0), "TrialInputError", "dt must be"),
+        (dict(rng=-3), "TrialInputError", "rng must be"),
+    ],
+)
+def test_bad_input(sim_robot, kw, err, match):
+    args = dict(theta_w_deg=74.0, theta_l_deg=30.0, phase=0.2, cv=0.0, robot=sim_robot.urdf)
     with pytest.raises(ValueError, match=match) as info:
         run_trial(**{**args, **kw})
     assert type(info.value).__name__ == err
 
 
-def test_diverged_state_raises():
-    m = sim_model(LAB_URDF)
+def test_diverged_state_raises(sim_robot):
+    m = sim_model(sim_robot.urdf)
     with World(m, dt_s=FAST_DT) as w:
         w.place(0.0, 0.0, joints_rad=np.zeros(len(w.driven)))
         w.check_finite(0.0)
@@ -122,9 +150,18 @@ def test_diverged_state_raises():
         pb.getNumBodies(physicsClientId=cid)  # the client was disconnected
 
 
-def test_rigid_contact_option_runs():
-    r = run_trial(80.0, 50.0, phase=0.7, cv=0.0, rng=1, robot=LAB_URDF, dt_s=FAST_DT, duration_s=1.0,
-                  contact=replace(Contact.rigid(), restitution=0.1))
+def test_rigid_contact_option_runs(sim_robot):
+    r = run_trial(
+        80.0,
+        50.0,
+        phase=0.7,
+        cv=0.0,
+        rng=1,
+        robot=sim_robot.urdf,
+        dt_s=FAST_DT,
+        duration_s=1.0,
+        contact=replace(Contact.rigid(), restitution=0.1),
+    )
     assert r.sim_s == pytest.approx(1.0)
 
 
@@ -139,7 +176,9 @@ def _mass_properties_in_base_frame(world: World):
     cid, body = world.cid, world.body
     pos, orn = pb.getBasePositionAndOrientation(body, physicsClientId=cid)
     info = pb.getDynamicsInfo(body, -1, physicsClientId=cid)
-    link_pos, link_orn = pb.multiplyTransforms(pos, orn, *pb.invertTransform(info[3], info[4]), physicsClientId=cid)
+    link_pos, link_orn = pb.multiplyTransforms(
+        pos, orn, *pb.invertTransform(info[3], info[4]), physicsClientId=cid
+    )
     inv = pb.invertTransform(link_pos, link_orn)
     frames = [(pos, orn)] + [pb.getLinkState(body, j, physicsClientId=cid)[:2] for j in range(world.n_joints)]
     masses, coms, inertias = [], [], []
@@ -152,19 +191,22 @@ def _mass_properties_in_base_frame(world: World):
         inertias.append(r @ np.diag(d[2]) @ r.T)
     m = np.array(masses)
     com = (m[:, None] * np.array(coms)).sum(axis=0) / m.sum()
-    inertia = sum(i + mk * ((c - com) @ (c - com) * np.eye(3) - np.outer(c - com, c - com))
-                  for mk, c, i in zip(m, coms, inertias, strict=True))
+    inertia = sum(
+        i + mk * ((c - com) @ (c - com) * np.eye(3) - np.outer(c - com, c - com))
+        for mk, c, i in zip(m, coms, inertias, strict=True)
+    )
     return m.sum(), com, inertia
 
 
-def test_merged_fixed_links_keep_mass_properties_shapes_and_joints():
+def test_merged_fixed_links_keep_mass_properties_shapes_and_joints(each_robot):
     from geometry import Robot
 
     theta_w, theta_l = 40.0, 25.0
-    pose = Robot.from_urdf(LAB_URDF).pose(theta_w, theta_l)
+    urdf = each_robot.urdf
+    pose = Robot.from_urdf(urdf).pose(theta_w, theta_l)
     out = {}
     for merge in (False, True):
-        m = sim_model(LAB_URDF, merge_fixed=merge)
+        m = sim_model(urdf, merge_fixed=merge)
         with World(m, dt_s=FAST_DT) as w:
             import pybullet as pb
 
@@ -174,19 +216,23 @@ def test_merged_fixed_links_keep_mass_properties_shapes_and_joints():
             shapes = sum(len(pb.getCollisionShapeData(w.body, k, physicsClientId=w.cid)) for k in w.links)
             out[merge] = (len(w.links), shapes, names, w.up_in_body(), *_mass_properties_in_base_frame(w))
     (n0, s0, names0, up0, m0, c0, i0), (n1, s1, names1, up1, m1, c1, i1) = out[False], out[True]
-    assert (n0, n1) == (9, 6)  # head, motor3 and motor4 hang on fixed joints
-    assert s0 == s1 == 10  # every collision shape survives the merge
-    assert names0 == names1 == [*sim_model(LAB_URDF).joint_map.wing, *sim_model(LAB_URDF).joint_map.leg]
+    n_links, n_fixed, n_collisions = _urdf_links(urdf)
+    assert n_fixed > 0 and (n0, n1) == (n_links, n_links - n_fixed)  # each fixed joint's child merges away
+    assert s0 == s1 == n_collisions  # every collision shape survives the merge
+    if each_robot.label == "lab":
+        assert (n0, n1, s0) == (9, 6, 10)  # head, motor3 and motor4 hang on fixed joints
+    joint_map = sim_model(urdf).joint_map
+    assert names0 == names1 == [*joint_map.wing, *joint_map.leg]
     assert up1 == pytest.approx(up0, abs=1e-6)  # the body frame is the base link's, not its inertial frame
     assert m0 == m1 == pytest.approx(pose.mass_kg, rel=1e-12) == pytest.approx(0.26)
     assert c0 == pytest.approx(pose.com_m, abs=1e-7) and c1 == pytest.approx(pose.com_m, abs=1e-7)  # 0.1 um
     assert np.abs(i1 - i0).max() < 1e-5 * np.abs(i0).max()  # pybullet parses the URDF with ~1e-7 rounding
 
 
-def test_engine_substeps_equal_single_steps():
+def test_engine_substeps_equal_single_steps(sim_robot):
     """Sub-stepping inside pybullet (one call per 1 ms servo period) is the same physics as one call per step:
     the motor force limit is rescaled, because pybullet caps the impulse at force x the whole call's time."""
-    kw = dict(phase=0.45, cv=0.2, rng=11, robot=LAB_URDF, dt_s=5e-4, duration_s=1.5, trace=True)
+    kw = dict(phase=0.45, cv=0.2, rng=11, robot=sim_robot.urdf, dt_s=5e-4, duration_s=1.5, trace=True)
     a = run_trial(74.0, 40.0, engine_substeps=True, **kw)
     b = run_trial(74.0, 40.0, engine_substeps=False, **kw)
     assert _strip(a) == _strip(b)
@@ -194,8 +240,8 @@ def test_engine_substeps_equal_single_steps():
     assert len(a.trace.t_s) == 150 and a.trace.t_s[-1] == pytest.approx(1.5)
 
 
-def test_servo_commanded_per_step_when_asked():
-    kw = dict(phase=0.2, cv=0.0, rng=2, robot=LAB_URDF, dt_s=5e-4, duration_s=2.0, trace=True)
+def test_servo_commanded_per_step_when_asked(sim_robot):
+    kw = dict(phase=0.2, cv=0.0, rng=2, robot=sim_robot.urdf, dt_s=5e-4, duration_s=2.0, trace=True)
     per_step = run_trial(76.0, 50.0, control_period_s=None, **kw)
     per_ms = run_trial(76.0, 50.0, **kw)
     for r in (per_step, per_ms):  # both servo schedules track the profile
@@ -204,23 +250,43 @@ def test_servo_commanded_per_step_when_asked():
     assert _strip(per_step) != _strip(per_ms)
 
 
-def test_single_attempt_trial_ends_one_wing_period_after_its_opening():
+def test_single_attempt_trial_ends_one_wing_period_after_its_opening(sim_robot):
     from sim.actuation import Actuation
 
     act = Actuation(74.0, 30.0, wing_period_s=2.5, leg_period_s=1.0)
-    r = run_trial(74.0, 30.0, phase=0.5, cv=0.2, rng=3, duration_s=10.0, dt_s=1e-3, robot=LAB_URDF, actuation=act,
-                  attempts=1)
+    r = run_trial(
+        74.0,
+        30.0,
+        phase=0.5,
+        cv=0.2,
+        rng=3,
+        duration_s=10.0,
+        dt_s=1e-3,
+        robot=sim_robot.urdf,
+        actuation=act,
+        attempts=1,
+    )
     assert r.attempt_starts_s == (0.5,) and r.phases == (0.5,)
     assert r.duration_s == pytest.approx(3.0) and r.sim_s <= 3.0 + 1e-9
     with pytest.raises(TrialInputError, match="attempts"):
-        run_trial(74.0, 30.0, phase=0.5, cv=0.0, rng=3, duration_s=1.0, dt_s=1e-3, robot=LAB_URDF, attempts=0)
+        run_trial(
+            74.0, 30.0, phase=0.5, cv=0.0, rng=3, duration_s=1.0, dt_s=1e-3, robot=sim_robot.urdf, attempts=0
+        )
 
 
-def test_default_time_step_is_the_builtin_robots_and_smaller_for_other_robots():
-    from sim.trial import DEFAULT_DT_S, OTHER_ROBOT_DT_S, default_dt_s
+@pytest.mark.parametrize("other", ["lab", "modified builtin"])
+def test_default_time_step_is_the_builtin_robots_and_smaller_for_other_robots(other, tmp_path):
+    from geometry.builtin import builtin_parameters, builtin_urdf_path
+    from sim.trial import default_dt_s
 
-    assert default_dt_s() == DEFAULT_DT_S == 5e-4
-    assert default_dt_s(LAB_URDF) == OTHER_ROBOT_DT_S == 2e-4
+    assert (
+        default_dt_s() == default_dt_s(builtin_robot().urdf) == 5e-4
+    )  # the built-in robot's step (issue #9)
+    if other == "lab":
+        urdf = lab_sim_robot().urdf
+    else:  # the same generator with a heavier head: another robot, so the conservative step
+        urdf = builtin_urdf_path(cache_dir=tmp_path, params=replace(builtin_parameters(), head_kg=0.02))
+    assert default_dt_s(urdf) == 2e-4
 
 
 def test_a_copy_of_the_builtin_robot_gets_the_builtin_time_step(tmp_path):
@@ -230,12 +296,22 @@ def test_a_copy_of_the_builtin_robot_gets_the_builtin_time_step(tmp_path):
     assert default_dt_s(builtin_urdf_path(cache_dir=tmp_path)) == DEFAULT_DT_S
 
 
-def test_wing_and_leg_periods_change_the_simulated_motion():
+def test_wing_and_leg_periods_change_the_simulated_motion(sim_robot):
     from sim.actuation import Actuation
 
     act = Actuation(74.0, 30.0, wing_period_s=2.5, leg_period_s=1.0)
-    r = run_trial(74.0, 30.0, phase=0.0, cv=0.0, rng=1, duration_s=2.6, dt_s=1e-3, robot=LAB_URDF, actuation=act,
-                  trace=True)
+    r = run_trial(
+        74.0,
+        30.0,
+        phase=0.0,
+        cv=0.0,
+        rng=1,
+        duration_s=2.6,
+        dt_s=1e-3,
+        robot=sim_robot.urdf,
+        actuation=act,
+        trace=True,
+    )
     tr = r.trace
     k = int(round(1.0 / 0.01))  # trace every 10 ms; leg period 1 s
     assert np.allclose(tr.leg_cmd_deg[k:], tr.leg_cmd_deg[:-k], atol=1e-9)

@@ -10,33 +10,61 @@ from landscape.analysis import trials as an
 
 
 def _row(**kw):
-    base = dict(status="ok", attempts=0, theta_w_deg=74.0, theta_l_deg=30.0, cv=0.0, phase=0.7, wing_period_s=2.0,
-                leg_period_s=0.8, duration_s=10.0, seed=1, success=False, time_to_right_s=None, attempt=None,
-                mode=None, attempt_starts_s=[], robot_hash="h")
+    base = dict(
+        status="ok",
+        attempts=0,
+        theta_w_deg=74.0,
+        theta_l_deg=30.0,
+        cv=0.0,
+        phase=0.7,
+        wing_period_s=2.0,
+        leg_period_s=0.8,
+        duration_s=10.0,
+        seed=1,
+        success=False,
+        time_to_right_s=None,
+        attempt=None,
+        mode=None,
+        attempt_starts_s=[],
+        robot_hash="h",
+    )
     base.update(kw)
     return base
 
 
 @pytest.mark.parametrize("k,n", [(0, 40), (1, 40), (20, 40), (39, 40), (40, 40), (3, 7)])
-def test_wilson_interval_matches_the_closed_form_and_contains_the_estimate(k, n):
+def test_wilson_interval_bounds_are_the_roots_of_the_score_equation(k, n):
+    """The Wilson bounds are the two roots q of (p - q)^2 = z^2 q (1 - q) / n (p = k/n): each bound is checked
+    against that equation, not against the closed form the code evaluates, and no clamping is assumed."""
     lo, hi = an.wilson_interval(k, n)
     z = stats.norm.ppf(0.975)
     p = k / n
-    centre = (p + z**2 / (2 * n)) / (1 + z**2 / n)
-    half = z / (1 + z**2 / n) * math.sqrt(p * (1 - p) / n + z**2 / (4 * n**2))
-    assert lo == pytest.approx(max(0.0, centre - half), abs=1e-12)
-    assert hi == pytest.approx(min(1.0, centre + half), abs=1e-12)
-    assert lo <= p <= hi
-    if k == 0:
-        assert hi == pytest.approx(z**2 / (n + z**2))
+    # the quadratic (1 + z^2/n) q^2 - (2p + z^2/n) q + p^2 = 0 has roots q1 + q2 = (2p + z^2/n) / (1 + z^2/n)
+    # and q1 q2 = p^2 / (1 + z^2/n); both lie in [0, 1]
+    assert lo < hi
+    for q in (lo, hi):
+        assert (p - q) ** 2 == pytest.approx(z**2 * q * (1 - q) / n, abs=1e-12)
+    assert lo + hi == pytest.approx((2 * p + z**2 / n) / (1 + z**2 / n), abs=1e-12)
+    assert lo * hi == pytest.approx(p**2 / (1 + z**2 / n), abs=1e-12)
+
+
+def test_wilson_interval_known_values():
+    """0 of 40 and 40 of 40 (z = 1.959964): the far bound is z^2 / (n + z^2) from the edge, 0.08762."""
+    z2 = stats.norm.ppf(0.975) ** 2
+    assert an.wilson_interval(0, 40) == pytest.approx((0.0, z2 / (40 + z2)), abs=1e-12)
+    assert an.wilson_interval(40, 40) == pytest.approx((40 / (40 + z2), 1.0), abs=1e-12)
+    assert z2 / (40 + z2) == pytest.approx(0.08762, abs=1e-5)
 
 
 def test_probability_table_groups_by_setting_and_ignores_other_protocols_and_divergence():
-    rows = [_row(success=True, time_to_right_s=1.0, attempt=1, mode="roll"),
-            _row(success=True, time_to_right_s=3.0, attempt=2, mode="somersault"),
-            _row(), _row(status="diverged", success=None),
-            _row(attempts=1, success=True, time_to_right_s=1.0),  # single attempt: not a multi-attempt trial
-            _row(cv=0.1, success=True, time_to_right_s=2.0, attempt=1, mode="roll")]
+    rows = [
+        _row(success=True, time_to_right_s=1.0, attempt=1, mode="roll"),
+        _row(success=True, time_to_right_s=3.0, attempt=2, mode="somersault"),
+        _row(),
+        _row(status="diverged", success=None),
+        _row(attempts=1, success=True, time_to_right_s=1.0),  # single attempt: not a multi-attempt trial
+        _row(cv=0.1, success=True, time_to_right_s=2.0, attempt=1, mode="roll"),
+    ]
     cells = an.probability_table(rows)
     assert [(c.cv, c.n, c.successes) for c in cells] == [(0.0, 3, 2), (0.1, 1, 1)]
     c = cells[0]
@@ -45,9 +73,18 @@ def test_probability_table_groups_by_setting_and_ignores_other_protocols_and_div
 
 
 def _map(good: set[float], *, delay=0.8, theta_w=74.0, tl_s=0.8):
-    rows = [_row(attempts=1, theta_w_deg=theta_w, leg_period_s=tl_s, phase=ph, success=ph in good,
-                 time_to_right_s=(ph * tl_s + delay) if ph in good else None, attempt_starts_s=[ph * tl_s])
-            for ph in np.round(np.arange(0, 1, 0.05), 2)]
+    rows = [
+        _row(
+            attempts=1,
+            theta_w_deg=theta_w,
+            leg_period_s=tl_s,
+            phase=ph,
+            success=ph in good,
+            time_to_right_s=(ph * tl_s + delay) if ph in good else None,
+            attempt_starts_s=[ph * tl_s],
+        )
+        for ph in np.round(np.arange(0, 1, 0.05), 2)
+    ]
     return an.phase_maps(rows)[(theta_w, tl_s)]
 
 
@@ -72,9 +109,11 @@ def test_prediction_without_noise_follows_the_phase_advance_tw_over_tl():
 
 def test_predict_trials_scores_agreement_per_setting():
     maps = {(74.0, 0.8): _map({0.2})}
-    rows = [_row(phase=0.7, success=True, attempt=2, time_to_right_s=3.0),  # predicted 2: correct
-            _row(phase=0.2, success=True, attempt=2, time_to_right_s=3.0),  # predicted 1: wrong
-            _row(phase=0.45, success=False)]  # never visits a good phase: predicted None, correct
+    rows = [
+        _row(phase=0.7, success=True, attempt=2, time_to_right_s=3.0),  # predicted 2: correct
+        _row(phase=0.2, success=True, attempt=2, time_to_right_s=3.0),  # predicted 1: wrong
+        _row(phase=0.45, success=False),
+    ]  # never visits a good phase: predicted None, correct
     pred = an.predict_trials(rows, maps)
     assert [p.predicted_attempt for p in pred] == [2, 1, None]
     acc = an.prediction_accuracy(pred)
@@ -82,7 +121,9 @@ def test_predict_trials_scores_agreement_per_setting():
     assert acc[0].simulated_p == pytest.approx(2 / 3) and acc[0].predicted_p == pytest.approx(2 / 3)
 
 
-@pytest.mark.parametrize("tw,tl,n", [(2.0, 0.8, 2), (2.0, 0.6, 3), (2.5, 1.2, 12), (3.0, 1.0, 1), (2.5, 1.4, 14)])
+@pytest.mark.parametrize(
+    "tw,tl,n", [(2.0, 0.8, 2), (2.0, 0.6, 3), (2.5, 1.2, 12), (3.0, 1.0, 1), (2.5, 1.4, 14)]
+)
 def test_distinct_phases_is_lcm_over_tw(tw, tl, n):
     assert an.distinct_phases(tw, tl) == n
     starts = np.arange(4 * n) * tw
@@ -96,17 +137,26 @@ def test_attempt_sequence_is_the_simulations_own():
 
     act = Actuation(74.0, 20.0, wing_period_s=2.5, leg_period_s=1.0)
     r = run_trial(74.0, 20.0, phase=0.35, cv=0.25, rng=11, duration_s=6.0, dt_s=1e-3, actuation=act)
-    starts, phases = an.attempt_sequence(74.0, 20.0, phase=0.35, cv=0.25, seed=11, duration_s=6.0,
-                                         wing_period_s=2.5, leg_period_s=1.0)
+    starts, phases = an.attempt_sequence(
+        74.0, 20.0, phase=0.35, cv=0.25, seed=11, duration_s=6.0, wing_period_s=2.5, leg_period_s=1.0
+    )
     n = len(r.attempt_starts_s)
     assert n >= 2 and np.allclose(starts[:n], r.attempt_starts_s) and np.allclose(phases[:n], r.phases)
 
 
-def test_upright_hold_agrees_with_the_simulation():
+def test_upright_hold_is_the_time_the_simulation_needs_after_righting():
+    """predict_attempt counts an attempt only if righting plus the upright hold fits in the trial. Check that rule
+    against the simulation itself: a trial that ends just before time_to_right_s + UPRIGHT_HOLD_S is not a success,
+    one that ends just after is (built-in robot, a setting that rights on its first attempt)."""
     pytest.importorskip("pybullet")
-    from sim.trial import UPRIGHT_HOLD_S
+    from sim.trial import run_trial
 
-    assert an.UPRIGHT_HOLD_S == UPRIGHT_HOLD_S
+    kw = dict(phase=0.7, cv=0.0, rng=1, dt_s=1e-3)
+    done = run_trial(80.0, 50.0, duration_s=4.0, **kw)
+    assert done.success and done.attempt == 1
+    t_right = done.time_to_right_s
+    assert not run_trial(80.0, 50.0, duration_s=t_right + an.UPRIGHT_HOLD_S - 0.02, **kw).success
+    assert run_trial(80.0, 50.0, duration_s=t_right + an.UPRIGHT_HOLD_S + 0.02, **kw).success
 
 
 def test_spearman_bootstrap():
@@ -143,8 +193,11 @@ def test_barrier_outcome_correlates_per_cv():
         for cv in (0.0, 0.1):
             k = min(40, 6 * i + (2 if cv else 0))
             lo, hi = an.wilson_interval(k, 40)
-            cells.append(an.ProbabilityCell(float(w), float(leg), cv, 0.7, 2.0, 0.8, 40, k, k / 40, lo, hi,
-                                            5.0 - 0.5 * i, 1.0, 1.0))
+            cells.append(
+                an.ProbabilityCell(
+                    float(w), float(leg), cv, 0.7, 2.0, 0.8, 40, k, k / 40, lo, hi, 5.0 - 0.5 * i, 1.0, 1.0
+                )
+            )
     res = an.barrier_outcome(cells, barriers, n_boot=200)
     assert [r.cv for r in res] == [0.0, 0.1]
     for r in res:
@@ -165,5 +218,7 @@ def test_logistic_fit_solves_the_score_equations():
     p = f.p(e)
     assert f.converged
     assert abs(np.sum(n * p - k)) < 1e-6
-    ridge_term = 2 * an.RIDGE * f.b * e.std() ** 2  # d/db of the penalty on the standardised slope, per unit E
+    ridge_term = (
+        2 * an.RIDGE * f.b * e.std() ** 2
+    )  # d/db of the penalty on the standardised slope, per unit E
     assert abs(np.sum((n * p - k) * e) + ridge_term) < 1e-5

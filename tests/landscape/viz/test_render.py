@@ -55,7 +55,7 @@ def _rgb(path):
 
 
 def _hex(colour):
-    return np.array([int(colour[i:i + 2], 16) for i in (1, 3, 5)])
+    return np.array([int(colour[i : i + 2], 16) for i in (1, 3, 5)])
 
 
 def _pixels_near(img, colour, tol=45):
@@ -70,8 +70,17 @@ def bowl():
     e = 0.1 + 0.02 * (1 - np.cos(p)) + 0.01 * (1 - np.cos(2 * r))  # J; minimum 0.1 J at (0, 0)
     path = np.array([[0.0, 0.0], [0.0, 20.0], [0.0, 45.0], [0.0, 70.0]])
     path_j = 0.1 + 0.01 * (1 - np.cos(2 * np.deg2rad(path[:, 1])))
-    return {"energy_j": e, "pitch_deg": a, "roll_deg": a, "minimum_deg": (0.0, 0.0), "minimum_j": 0.1,
-            "saddle_deg": (0.0, 45.0), "saddle_j": 0.12, "path_deg": path, "path_j": path_j}
+    return {
+        "energy_j": e,
+        "pitch_deg": a,
+        "roll_deg": a,
+        "minimum_deg": (0.0, 0.0),
+        "minimum_j": 0.1,
+        "saddle_deg": (0.0, 45.0),
+        "saddle_j": 0.12,
+        "path_deg": path,
+        "path_j": path_j,
+    }
 
 
 @pytest.fixture()
@@ -100,12 +109,15 @@ def test_nearest_twin_is_the_same_orientation(p, r):
         np.testing.assert_allclose(np.cos(np.deg2rad(got)), np.cos(np.deg2rad(want)), atol=1e-12)
 
 
-@pytest.mark.parametrize(("p", "r", "height_m"), [
-    (0.0, 0.0, BOX_M[2] / 2),                  # on its back: up is body z
-    (0.0, 90.0, BOX_M[1] / 2),                 # on its side: up is body y
-    (90.0, 0.0, BOX_M[0] / 2),                 # on its end: up is -x
-    (30.0, 0.0, BOX_M[0] / 2 * 0.5 + BOX_M[2] / 2 * np.sqrt(3) / 2),  # balanced on an edge
-])
+@pytest.mark.parametrize(
+    ("p", "r", "height_m"),
+    [
+        (0.0, 0.0, BOX_M[2] / 2),  # on its back: up is body z
+        (0.0, 90.0, BOX_M[1] / 2),  # on its side: up is body y
+        (90.0, 0.0, BOX_M[0] / 2),  # on its end: up is -x
+        (30.0, 0.0, BOX_M[0] / 2 * 0.5 + BOX_M[2] / 2 * np.sqrt(3) / 2),  # balanced on an edge
+    ],
+)
 def test_posed_box_rests_on_the_ground(p, r, height_m):
     pose = Robot.from_trimesh(trimesh.creation.box(extents=BOX_M)).pose()
     meshes, com = posed_meshes_world(pose, p, r)
@@ -115,7 +127,14 @@ def test_posed_box_rests_on_the_ground(p, r, height_m):
     assert com[2] == pytest.approx(float(height_at(pose, p, r)), rel=1e-12)
     np.testing.assert_allclose(com[:2], 0.0, atol=1e-15)
     extent = np.ptp(np.concatenate([v for v, _ in meshes]), axis=0)
-    assert sorted(extent) == pytest.approx(sorted(BOX_M) if p in (0.0, 90.0) else sorted(extent))
+    a, b, c = (
+        BOX_M  # at roll 0 pitch turns x into z about y: extents a|cos p| + c|sin p|, b, a|sin p| + c|cos p|
+    )
+    cp, sp = abs(np.cos(np.deg2rad(p))), abs(np.sin(np.deg2rad(p)))
+    want = (
+        sorted(BOX_M) if r else sorted([a * cp + c * sp, b, a * sp + c * cp])
+    )  # roll 90 at pitch 0: a permutation
+    assert sorted(extent) == pytest.approx(want, rel=1e-12)
 
 
 def test_posed_lab_robot_com_height_is_the_minimum_height(lab_robot):
@@ -180,16 +199,24 @@ def test_landscape_png_size_content_and_marks(pv, tmp_path, bowl):
     scene = img[100:]  # below the title and legend
     for colour in (rd.START_COLOUR, rd.SADDLE_COLOUR, rd.PATH_COLOUR):
         assert _pixels_near(scene, colour) > 5, colour
-    plain = _rgb(rd.render_landscape(bowl["energy_j"], bowl["pitch_deg"], bowl["roll_deg"], tmp_path / "p.png",
-                                     window_size=(480, 360)))
+    plain = _rgb(
+        rd.render_landscape(
+            bowl["energy_j"], bowl["pitch_deg"], bowl["roll_deg"], tmp_path / "p.png", window_size=(480, 360)
+        )
+    )
     assert _pixels_near(plain[100:], rd.PATH_COLOUR) == 0
 
 
 def test_robot_png_shows_parts_on_the_ground(pv, tmp_path):
     box = trimesh.creation.box(extents=(0.04, 0.02, 0.01))
     v = np.asarray(box.vertices) + [0.0, 0.0, 0.005]
-    f = rd.render_robot([(v, box.faces), (v + [0.0, 0.0, 0.01], box.faces)], tmp_path / "r.png",
-                        com_m=(0.0, 0.0, 0.01), window_size=(400, 300), title="two boxes")
+    f = rd.render_robot(
+        [(v, box.faces), (v + [0.0, 0.0, 0.01], box.faces)],
+        tmp_path / "r.png",
+        com_m=(0.0, 0.0, 0.01),
+        window_size=(400, 300),
+        title="two boxes",
+    )
     img = _rgb(f)
     assert img.shape == (300, 400, 3)
     assert img.std() > 20
@@ -219,7 +246,14 @@ def test_cli_render_writes_every_figure(pv, capsys, box_stl, tmp_path):
     code = main(["render", "--mesh", str(box_stl), "--units", "mm", "--step", "10", "--out", str(out)])
     stdout, stderr = capsys.readouterr()
     assert code == 0, stderr
-    names = ["landscape.png", "landscape.vts", "contour.png", "contour.svg", "robot_start.png", "robot_saddle.png"]
+    names = [
+        "landscape.png",
+        "landscape.vts",
+        "contour.png",
+        "contour.svg",
+        "robot_start.png",
+        "robot_saddle.png",
+    ]
     for name in names:
         assert (out / name).stat().st_size > 0, name
     assert _rgb(out / "landscape.png").shape == (960, 1280, 3)
@@ -249,8 +283,9 @@ def test_cli_render_without_off_screen_gl_fails_in_one_line(monkeypatch, capsys,
     assert (out / "contour.svg").is_file() and not (out / "landscape.png").exists()
 
 
-def test_cli_render_without_pyvista_writes_the_contour_map_and_fails_in_one_line(monkeypatch, capsys, box_stl,
-                                                                                  tmp_path):
+def test_cli_render_without_pyvista_writes_the_contour_map_and_fails_in_one_line(
+    monkeypatch, capsys, box_stl, tmp_path
+):
     def missing():
         raise rd.MissingDependencyError(rd.PYVISTA_MISSING)
 
@@ -259,15 +294,22 @@ def test_cli_render_without_pyvista_writes_the_contour_map_and_fails_in_one_line
     code = main(["render", "--mesh", str(box_stl), "--units", "mm", "--step", "30", "--out", str(out)])
     _, stderr = capsys.readouterr()
     assert code == 2
-    assert stderr.count("\n") == 1 and "needs pyvista" in stderr and "wrote only contour.png, contour.svg in" in stderr
+    assert (
+        stderr.count("\n") == 1
+        and "needs pyvista" in stderr
+        and "wrote only contour.png, contour.svg in" in stderr
+    )
     assert (out / "contour.png").is_file() and not (out / "landscape.vts").exists()
 
 
-@pytest.mark.parametrize(("args", "message"), [
-    (["--step", "7"], "does not divide 360"),
-    (["--theta-w", "nan"], "--theta-w must be a finite number"),
-    (["--exit", "sideways"], "'sideways' is not one of"),
-])
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--step", "7"], "does not divide 360"),
+        (["--theta-w", "nan"], "--theta-w must be a finite number"),
+        (["--exit", "sideways"], "'sideways' is not one of"),
+    ],
+)
 def test_cli_render_bad_input_exits_2_with_one_line(capsys, box_stl, tmp_path, args, message):
     code = main(["render", "--mesh", str(box_stl), "--units", "mm", *args, "--out", str(tmp_path / "o")])
     _, stderr = capsys.readouterr()

@@ -1,0 +1,108 @@
+"""Report sections (landscape/viz/sections.py) on synthetic trial rows: every sentence and choice from the data."""
+
+import csv
+
+import numpy as np
+import pytest
+
+from landscape.viz import sections
+
+
+def _row(**kw):
+    base = dict(
+        status="ok",
+        attempts=0,
+        theta_w_deg=74.0,
+        theta_l_deg=30.0,
+        cv=0.1,
+        phase=0.7,
+        wing_period_s=2.0,
+        leg_period_s=0.8,
+        duration_s=10.0,
+        seed=1,
+        success=False,
+        time_to_right_s=None,
+        attempt=None,
+        mode=None,
+        attempt_starts_s=[],
+        robot_hash="h",
+        robot="r.urdf",
+    )
+    base.update(kw)
+    return base
+
+
+def _won(**kw):
+    return _row(success=True, time_to_right_s=2.0, attempt=1, mode="roll", **kw)
+
+
+def _map_rows(good_phases, theta_w=74.0, theta_l=30.0):
+    """A single-attempt phase map without noise at Tl 0.8 s: phases 0, 0.05, ..., 0.95."""
+    return [
+        _row(
+            attempts=1,
+            cv=0.0,
+            theta_w_deg=theta_w,
+            theta_l_deg=theta_l,
+            phase=ph,
+            success=ph in good_phases,
+            time_to_right_s=ph * 0.8 + 0.8 if ph in good_phases else None,
+            attempt_starts_s=[ph * 0.8],
+        )
+        for ph in np.round(np.arange(0, 1, 0.05), 2)
+    ]
+
+
+def _csv(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_probability_section_counts_the_settings_whose_trials_disagree(tmp_path):
+    rows = [
+        _won(seed=1),
+        _row(seed=2),  # (74, 30): one righted, one not
+        _won(theta_l_deg=40.0, seed=1),
+        _won(theta_l_deg=40.0, seed=2),  # (74, 40): both righted
+        _row(theta_l_deg=50.0, seed=1),
+        _row(theta_l_deg=50.0, seed=2),
+        _won(theta_l_deg=50.0, seed=3),
+    ]
+    sec = sections.section_probability(rows, tmp_path, tmp_path / "t.sqlite")
+    text = " ".join(sec.paragraphs)
+    assert "2 of 3 settings righted in some of their trials and not in others" in text
+    assert "1e-3" not in text  # no claim the data do not support
+
+
+def test_evolution_without_a_phase_map_says_what_to_run(tmp_path):
+    rows = [_won(seed=1), _row(seed=2)]
+    sec = sections.section_evolution(rows, tmp_path, tmp_path / "t.sqlite")
+    assert (
+        sec.missing
+        and "no single-attempt phase map at Tl 0.8 s" in sec.missing
+        and "landscape sweep" in sec.missing
+    )
+
+
+def test_evolution_takes_the_trials_phase_when_every_start_meets_a_good_phase(tmp_path):
+    """Tw/Tl = 2.5 alternates phi and phi + 0.5: with good phases 0.0-0.45 every start meets one, so the section
+    takes phi_1 from the multi-attempt trials at that setting (0.35, their most common) and the study setting
+    from the map (74, 30), not from fixed defaults."""
+    good = set(np.round(np.arange(0, 0.5, 0.05), 2))
+    rows = _map_rows(good) + [_row(cv=0.0, phase=0.35, seed=s) for s in (1, 2, 3)] + [_row(cv=0.0, phase=0.6)]
+    sec = sections.section_evolution(rows, tmp_path, tmp_path / "t.sqlite", attempts=4)
+    assert not sec.missing
+    recs = _csv(tmp_path / "evolution.csv")
+    first = [r for r in recs if r["attempt"] == "1"]
+    assert [float(r["phase"]) for r in first] == pytest.approx([0.35, 0.35])
+    assert float(first[0]["start_s"]) == pytest.approx(0.35 * 0.8)
+
+
+def test_evolution_draws_every_requested_attempt_under_heavy_noise(tmp_path):
+    rows = _map_rows({0.2})
+    sec = sections.section_evolution(rows, tmp_path, tmp_path / "t.sqlite", cv=3.0, seed=7, attempts=12)
+    assert not sec.missing
+    recs = _csv(tmp_path / "evolution.csv")
+    assert sorted({float(r["noise_cv"]) for r in recs}) == [0.0, 3.0]
+    for cv in (0.0, 3.0):
+        assert [int(r["attempt"]) for r in recs if float(r["noise_cv"]) == cv] == list(range(1, 13))
