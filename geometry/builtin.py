@@ -398,7 +398,7 @@ def builtin_description(params: BuiltinParameters | None = None) -> dict[str, by
     Examples
     --------
     >>> files = builtin_description()
-    >>> sorted(files)[:3], files == builtin_description()
+    >>> sorted(files)[:3], b'<joint name="wing_pitch_left"' in files["robot.urdf"]
     (['base_link.obj', 'head_left.obj', 'head_right.obj'], True)
     """
     return dict(_description(params or builtin_parameters()))
