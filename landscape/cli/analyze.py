@@ -19,6 +19,11 @@ def _out(out: Path) -> Path:
     return out
 
 
+def _check_phase(phase: float | None) -> None:
+    if phase is not None and not 0 <= phase < 1:  # also refuses nan
+        raise UsageError(f"--phase must be a fraction of the leg period in [0, 1); got {phase}")
+
+
 def _sections():
     from landscape.viz import sections
 
@@ -53,6 +58,7 @@ def analyze():
 @click.option("--phase", type=float, default=None, help="phi_1 of the trials to use (default: the most common).")
 def probability_cmd(db, out, phase):
     """Self-righting probability over theta_w x theta_l per Cv, with Wilson 95 % intervals (Fig. 6)."""
+    _check_phase(phase)
     _echo_section(_sections().section_probability(_sections().load_rows(db), _out(out), db, phase=phase))
 
 
@@ -86,8 +92,7 @@ def prediction_cmd(db, out):
 @click.option("--attempts", type=click.IntRange(min=1), default=12, show_default=True)
 def evolution_cmd(db, out, theta_w, theta_l, phase, cv, seed, wing_period, leg_period, attempts):
     """Phases visited over attempts, without and with noise, over the phase map (Fig. 9)."""
-    if phase is not None and not 0 <= phase < 1:
-        raise UsageError(f"--phase must be in [0, 1); got {phase}")
+    _check_phase(phase)
     if cv < 0:
         raise UsageError(f"--cv must be >= 0; got {cv}")
     _echo_section(_sections().section_evolution(_sections().load_rows(db), _out(out), db, theta_w_deg=theta_w, theta_l_deg=theta_l,
@@ -104,6 +109,7 @@ def evolution_cmd(db, out, theta_w, theta_l, phase, cv, seed, wing_period, leg_p
               help="URDF the trials ran on, if its stored path moved (default: the stored path or the built-in).")
 def barrier_cmd(db, out, step, phase, robot):
     """Minimal barrier against self-righting probability and time to right: Spearman rho, logistic fit."""
+    _check_phase(phase)
     _echo_section(_sections().section_barrier(_sections().load_rows(db), _out(out), db, step_deg=step, phase=phase, robot=robot))
 
 

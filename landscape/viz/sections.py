@@ -11,7 +11,7 @@ import csv
 import math
 import platform
 import time
-from dataclasses import asdict
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
@@ -53,15 +53,11 @@ def _write_csv(path: Path, rows: list[dict]) -> Path:
 
 def load_rows(db: Path) -> list[dict]:
     """Every trial of a database of one robot (one-line errors for a missing or foreign file, or mixed robots)."""
-    from sim.store import StoreError, TrialStore
+    from sim.store import read_rows
 
     if not Path(db).is_file():
         raise UsageError(f"database '{db}' not found; run `landscape sweep --db {db}` first")
-    try:
-        with TrialStore(db) as store:
-            rows = store.rows()
-    except StoreError as exc:
-        raise UsageError(str(exc)) from None
+    rows = read_rows(db)  # reads without writing: a read-only or older store is analysed as it is
     hashes = sorted({r["robot_hash"] for r in rows})
     if len(hashes) > 1:
         raise UsageError(
@@ -71,19 +67,59 @@ def load_rows(db: Path) -> list[dict]:
     return rows
 
 
-def _paper_cells(rows: list[dict], phase: float | None) -> tuple[list[an.ProbabilityCell], float | None]:
-    """Probability cells of the paper protocol (Tw 2 s, Tl 0.8 s) at one phi_1 (default: the one with most
-    trials)."""
-    cells = [c for c in an.probability_table(rows) if (c.wing_period_s, c.leg_period_s) == PAPER_PERIODS]
-    if not cells:
-        return [], None
+@dataclass(frozen=True)
+class PaperCells:
+    """The probability cells of the paper protocol's multi-attempt trials, of one trial protocol and one phi_1.
+
+    ``cells`` is empty when there are none; ``missing`` then says why and what to run. ``duration_s`` and
+    ``dt_s`` are the protocol kept; ``other_protocol_trials`` counts trials of other durations or time steps,
+    which are never pooled with them.
+    """
+
+    cells: list
+    phase: float | None
+    duration_s: float | None = None
+    dt_s: float | None = None
+    other_protocol_trials: int = 0
+    missing: str = ""
+
+    @property
+    def protocol_text(self) -> str:
+        return f"{self.duration_s:g} s trials, dt {self.dt_s:g} s"
+
+
+def _paper_cells(rows: list[dict], phase: float | None, db) -> PaperCells:
+    """Probability cells of the paper protocol (Tw 2 s, Tl 0.8 s, no attempt limit) at one phi_1 (default: the
+    one with most trials), of the trial protocol (duration, time step) with most trials."""
+    paper = [r for r in rows if r["status"] == "ok" and r["attempts"] == 0
+             and (r["wing_period_s"], r["leg_period_s"]) == PAPER_PERIODS]
+    if not paper:
+        return PaperCells([], None, missing="no multi-attempt trials of the paper's protocol (Tw 2 s, Tl 0.8 s); "
+                          f"run `{PAPER_SWEEP.format(db=db)}`")
+    protocols: dict[tuple[float, float], int] = {}
+    for r in paper:
+        protocols[(r["duration_s"], r["dt_s"])] = protocols.get((r["duration_s"], r["dt_s"]), 0) + 1
+    duration_s, dt_s = max(protocols, key=lambda k: (protocols[k], k))
+    kept = [r for r in paper if (r["duration_s"], r["dt_s"]) == (duration_s, dt_s)]
+    cells = an.probability_table(kept)
+    counts: dict[float, int] = {}
+    for c in cells:
+        counts[c.phase] = counts.get(c.phase, 0) + c.n
     if phase is None:
-        counts: dict[float, int] = {}
-        for c in cells:
-            counts[c.phase] = counts.get(c.phase, 0) + c.n
         phase = max(counts, key=lambda k: (counts[k], -k))
+    elif phase not in counts:
+        have = ", ".join(f"{x:g}" for x in sorted(counts))
+        return PaperCells([], phase, duration_s, dt_s, len(paper) - len(kept),
+                          missing=f"no multi-attempt trials at φ1 = {phase:g}; the database has φ1 = {have}")
+    at_phase = [c for c in cells if c.phase == phase]
     # a setting swept over phi_1 with one trial each (the prediction sweep) is not a probability estimate
-    return [c for c in cells if c.phase == phase and c.n > 1], phase
+    several = [c for c in at_phase if c.n > 1]
+    if not several:
+        return PaperCells([], phase, duration_s, dt_s, len(paper) - len(kept),
+                          missing=f"the {len(at_phase)} settings at φ1 = {phase:g} have one trial each "
+                          f"({sum(c.n for c in at_phase)} trials): a probability needs several; sweep again "
+                          f"with --trials 2 or more (`{PAPER_SWEEP.format(db=db)} --trials 2 ...`)")
+    return PaperCells(several, phase, duration_s, dt_s, len(paper) - len(kept))
 
 
 # ---------------------------------------------------------------------------------------------- sections
@@ -102,17 +138,13 @@ def section_probability(rows: list[dict], out: Path, db: Path, *, phase: float |
     from landscape.viz.analysis_plots import plot_probability
 
     title = "Self-righting probability over θw × θl for each noise level Cv"
-    cells, phase = _paper_cells(rows, phase)
+    pc = _paper_cells(rows, phase, db)
+    cells, phase = pc.cells, pc.phase
     if not cells:
-        return Section(
-            "probability",
-            title,
-            missing=f"no multi-attempt trials of the paper's protocol (Tw 2 s, "
-            f"Tl 0.8 s); run `{PAPER_SWEEP.format(db=db)}`",
-        )
+        return Section("probability", title, missing=pc.missing)
     csv_path = _write_csv(out / "probability.csv", [asdict(c) for c in cells])
     png = plot_probability(
-        cells, out / "probability.png", title=f"Self-righting probability (φ1 = {phase:g}, 10 s trials)"
+        cells, out / "probability.png", title=f"Self-righting probability (φ1 = {phase:g}, {pc.protocol_text})"
     )
     n = sum(c.n for c in cells)
     wins = sum(c.successes for c in cells)
@@ -121,7 +153,10 @@ def section_probability(rows: list[dict], out: Path, db: Path, *, phase: float |
         k, m = by_cv.get(c.cv, (0, 0))
         by_cv[c.cv] = (k + c.successes, m + c.n)
     paras = (
-        f"{n} trials ({len(cells)} settings, φ1 = {phase:g}): {wins} righted ({wins / n * 100:.1f} %).",
+        f"{n} trials ({len(cells)} settings, φ1 = {phase:g}, {pc.protocol_text}): {wins} righted "
+        f"({wins / n * 100:.1f} %)."
+        + (f" {pc.other_protocol_trials} trials of other durations or time steps are not pooled with them."
+           if pc.other_protocol_trials else ""),
         "Overall by Cv: "
         + "; ".join(
             f"Cv {cv * 100:g} %: {k}/{m} = {k / m * 100:.1f} %" for cv, (k, m) in sorted(by_cv.items())
@@ -461,13 +496,10 @@ def section_barrier(
     from landscape.viz.analysis_plots import plot_barrier_outcome
 
     title = "Barrier against outcome"
-    cells, phase = _paper_cells(rows, phase)
+    pc = _paper_cells(rows, phase, db)
+    cells, phase = pc.cells, pc.phase
     if not cells:
-        return Section(
-            "barrier",
-            title,
-            missing=f"no multi-attempt trials of the paper's protocol; run `{PAPER_SWEEP.format(db=db)}`",
-        )
+        return Section("barrier", title, missing=pc.missing)
     robot = _robot_of(
         [r for r in rows if r["attempts"] == 0 and (r["wing_period_s"], r["leg_period_s"]) == PAPER_PERIODS],
         robot,

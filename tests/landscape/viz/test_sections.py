@@ -19,6 +19,7 @@ def _row(**kw):
         wing_period_s=2.0,
         leg_period_s=0.8,
         duration_s=10.0,
+        dt_s=5e-4,
         seed=1,
         success=False,
         time_to_right_s=None,
@@ -106,3 +107,23 @@ def test_evolution_draws_every_requested_attempt_under_heavy_noise(tmp_path):
     assert sorted({float(r["noise_cv"]) for r in recs}) == [0.0, 3.0]
     for cv in (0.0, 3.0):
         assert [int(r["attempt"]) for r in recs if float(r["noise_cv"]) == cv] == list(range(1, 13))
+
+
+def test_probability_never_pools_trials_of_other_durations(tmp_path):
+    """3 s and 10 s trials of one setting are different protocols (#16): the cells hold one of them, the text
+    says how many were left out, and the figure's title names the data's own duration."""
+    rows = [_won(seed=1), _row(seed=2), _won(seed=3, duration_s=3.0), _won(seed=4, duration_s=3.0)]
+    sec = sections.section_probability(rows, tmp_path, tmp_path / "t.sqlite")
+    text = " ".join(sec.paragraphs)
+    assert "2 trials (1 settings, φ1 = 0.7, 10 s trials, dt 0.0005 s): 1 righted" in text
+    assert "2 trials of other durations or time steps are not pooled" in text
+    assert [r["n"] for r in _csv(tmp_path / "probability.csv")] == ["2"]
+
+
+def test_probability_says_why_there_is_no_estimate(tmp_path):
+    """One trial per setting, or a phase the database lacks: the message says which and what to run (#17)."""
+    ones = [_won(theta_l_deg=float(x)) for x in (20, 30, 40)]
+    sec = sections.section_probability(ones, tmp_path, tmp_path / "t.sqlite")
+    assert "the 3 settings at φ1 = 0.7 have one trial each (3 trials)" in sec.missing and "--trials 2" in sec.missing
+    sec = sections.section_probability([_won(seed=1), _row(seed=2)], tmp_path, tmp_path / "t.sqlite", phase=0.3)
+    assert sec.missing == "no multi-attempt trials at φ1 = 0.3; the database has φ1 = 0.7"
