@@ -1,8 +1,9 @@
+import os
 from pathlib import Path
 
 import pytest
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
+SHARED = Path(os.environ.get("LANDSCAPE_SHARED", Path(__file__).resolve().parents[1].parent / "shared"))
 LAB_URDF = SHARED / "ref" / "lab_robot" / "lab_robot.urdf"
 
 
