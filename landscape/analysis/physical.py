@@ -60,6 +60,8 @@ HOLD_WINDOW_S = (0.5, 0.95)
 plateau from about 0.34 s to 1.06 s)."""
 REST_WINDOW_S = 0.3
 """Length of the resting window before the first opening, s."""
+CLOSED_WINDOW_S = (1.7, 1.95)
+"""Window after the start of an opening where the wings are closed again (they close by about 1.3 s), s."""
 WING_COMMANDS_DEG = (60.0, 75.0, 90.0)
 
 
@@ -510,6 +512,11 @@ class RestingPitch:
         One value per opening (median over the hold window), degrees.
     median_deg, q25_deg, q75_deg : float
     n : int
+    first_opening_median_deg : float
+        Median over the trials' first openings only (no earlier opening has moved the body), degrees.
+    closed_median_deg : float
+        Median pitch ``CLOSED_WINDOW_S`` after the openings (wings closed again), same reference, degrees: 0 if
+        the body returns to where it rested before the first opening.
     """
 
     theta_w_cmd_deg: float
@@ -519,26 +526,29 @@ class RestingPitch:
     q25_deg: float
     q75_deg: float
     n: int
+    first_opening_median_deg: float = math.nan
+    closed_median_deg: float = math.nan
 
 
 def opening_pitches_deg(
     rec: Recording, *, window_s: tuple[float, float] = HOLD_WINDOW_S, rest_s: float = REST_WINDOW_S
 ) -> NDArray[np.float64]:
-    """Resting pitch of each opening of one recording (rules in the module docstring), degrees."""
+    """Resting pitch of each opening of one recording (rules in the module docstring), degrees; nan for an
+    opening left out (the robot became upright during it or later, or the window passes the recording's end)."""
     t = rec.t_s
     rest = (t >= -rest_s) & (t < 0)
     if not rest.any():
-        return np.zeros(0)
+        return np.full(len(rec.openings_s), math.nan)
     ref = float(np.median(rec.pitch_deg[rest]))
     st = upright_stretches(t, rec.up_z)
     t_up = float(t[st[0][0]]) if st else math.inf
     ends = np.concatenate([rec.openings_s[1:], [math.inf]])
     out = []
     for start, end in zip(rec.openings_s, ends, strict=True):
-        if start + window_s[1] > t[-1] or min(end, t[-1]) >= t_up:
-            continue
         sel = (t >= start + window_s[0]) & (t <= start + window_s[1])
-        if sel.any():
+        if start + window_s[1] > t[-1] or min(end, t[-1]) >= t_up or not sel.any():
+            out.append(math.nan)
+        else:
             out.append(float(np.median(rec.pitch_deg[sel])) - ref)
     return np.asarray(out, dtype=np.float64)
 
@@ -550,18 +560,40 @@ def resting_pitch_table(data_dir: str | Path, *, theta_l_deg: float = 0.0) -> li
     except PhysicalDataError:
         plateau = {}
     vals: dict[float, list[float]] = defaultdict(list)
+    first: dict[float, list[float]] = defaultdict(list)
+    closed: dict[float, list[float]] = defaultdict(list)
     for f in trial_files(data_dir):
         rec = read_recording(f)
         if rec.theta_l_deg == theta_l_deg:
-            vals[rec.theta_w_cmd_deg].extend(opening_pitches_deg(rec).tolist())
+            held = opening_pitches_deg(rec)
+            vals[rec.theta_w_cmd_deg].extend(held[np.isfinite(held)].tolist())
+            first[rec.theta_w_cmd_deg].extend(held[:1][np.isfinite(held[:1])].tolist())
+            after = opening_pitches_deg(rec, window_s=CLOSED_WINDOW_S)
+            closed[rec.theta_w_cmd_deg].extend(after[np.isfinite(after)].tolist())
     if not vals:
         raise PhysicalDataError(f"no trial with leg amplitude {theta_l_deg:g} deg in '{data_dir}'")
     out = []
     for tw, v in sorted(vals.items()):
         a = np.asarray(v, dtype=np.float64)
         q25, med, q75 = np.percentile(a, [25, 50, 75]) if len(a) else (math.nan,) * 3
-        out.append(RestingPitch(tw, plateau.get(tw, math.nan), a, float(med), float(q25), float(q75), len(a)))
+        out.append(
+            RestingPitch(
+                tw,
+                plateau.get(tw, math.nan),
+                a,
+                float(med),
+                float(q25),
+                float(q75),
+                len(a),
+                _median(first[tw]),
+                _median(closed[tw]),
+            )
+        )
     return out
+
+
+def _median(v: Sequence[float]) -> float:
+    return float(np.median(v)) if len(v) else math.nan
 
 
 @dataclass(frozen=True)

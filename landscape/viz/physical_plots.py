@@ -61,8 +61,8 @@ def cells_table(cells: Sequence, attempts: Sequence = ()) -> str:
 
 def resting_pitch_markdown(rows: Sequence, model_deg: Sequence[float] | None = None) -> str:
     """Markdown table of :class:`~landscape.analysis.physical.RestingPitch`, beside the model's pitch."""
-    head = "| wing command | measured plateau | robot, median [IQR] (n) |"
-    rule = "|---|---|---|"
+    head = "| wing command | measured plateau | robot, median [IQR] (n) | first openings | closed again |"
+    rule = "|---|---|---|---|---|"
     if model_deg is not None:
         head += " model's metastable pitch | model - robot |"
         rule += "---|---|"
@@ -70,7 +70,7 @@ def resting_pitch_markdown(rows: Sequence, model_deg: Sequence[float] | None = N
     for k, r in enumerate(rows):
         line = (
             f"| {r.theta_w_cmd_deg:g}° | {r.theta_w_measured_deg:.1f}° | {r.median_deg:.1f}° "
-            f"[{r.q25_deg:.1f}, {r.q75_deg:.1f}] ({r.n}) |"
+            f"[{r.q25_deg:.1f}, {r.q75_deg:.1f}] ({r.n}) | {r.first_opening_median_deg:.1f}° | {r.closed_median_deg:.1f}° |"
         )
         if model_deg is not None:
             line += f" {model_deg[k]:.1f}° | {model_deg[k] - r.median_deg:+.1f}° |"

@@ -163,6 +163,9 @@ def test_resting_pitch_reproduces_the_issue_table():
         for r in rows
     ]
     assert got == [(60.0, 67.9, 66.8, 69.1, 33), (75.0, 82.6, 80.1, 84.2, 23), (90.0, 85.3, 82.9, 85.7, 16)]
+    # the body does not come back to its pre-opening rest when the wings close: the reference is path-dependent
+    hist = [(round(r.first_opening_median_deg, 1), round(r.closed_median_deg, 1)) for r in rows]
+    assert hist == [(68.2, -10.6), (80.0, -11.0), (84.0, -4.4)]
 
 
 @needs_data
