@@ -57,7 +57,11 @@ COLUMNS = KEY_COLUMNS + (
     "version",
     "error",
     "created_utc",
+    "model_set",
+    "model_set_hash",
 )
+"""``model_set``/``model_set_hash``: the model parameter set (:mod:`sim.model_set`); a store made before sets
+existed gets both columns with the ``paper`` set's values (the only model then) when opened for writing."""
 _TYPES = {
     "robot_hash": "TEXT NOT NULL",
     "theta_w_deg": "REAL NOT NULL",
@@ -87,6 +91,8 @@ _TYPES = {
     "version": "TEXT",
     "error": "TEXT",
     "created_utc": "TEXT",
+    "model_set": "TEXT",
+    "model_set_hash": "TEXT",
 }
 SCHEMA = (
     "CREATE TABLE IF NOT EXISTS trials ("
@@ -162,6 +168,7 @@ class TrialStore:
         self.readonly = bool(readonly)
         self.con: sqlite3.Connection | None = None
         self._robots: dict[str, str] = {}
+        self._legacy: dict[str, None] = {}
         if self.readonly:
             self._open_readonly()
         else:
@@ -287,6 +294,14 @@ class TrialStore:
                     "restore it from a backup or give a new --db"
                 )
             layout = self._trials_layout()
+            if layout in ("no column model_set", "no column model_set_hash"):
+                if self.readonly:  # read as the paper set's trials, without writing
+                    names = {r[1] for r in self.con.execute("PRAGMA table_info(trials)")}
+                    self._legacy = {c: None for c in ("model_set", "model_set_hash") if c not in names}
+                    layout = "current" if set(COLUMNS) - names <= set(self._legacy) else layout
+                else:
+                    self._add_model_set_columns()
+                    layout = self._trials_layout()
             if layout.startswith("no column"):
                 raise StoreError(
                     f"'{self.path}' was written by an older version ({layout}); export it with that "
@@ -298,6 +313,23 @@ class TrialStore:
             self._robots = (
                 dict(self.con.execute("SELECT robot, robot_hash FROM robots")) if "robots" in tables else {}
             )
+
+    def _add_model_set_columns(self) -> None:
+        """Give a store made before model sets the two columns, its trials the ``paper`` set (the only model then)."""
+        from .model_set import load_model_set
+
+        paper = load_model_set("paper")
+        self.con.execute("BEGIN IMMEDIATE")
+        try:
+            names = {r[1] for r in self.con.execute("PRAGMA table_info(trials)")}
+            for col, value in (("model_set", paper.name), ("model_set_hash", paper.model_set_hash)):
+                if col not in names:
+                    self.con.execute(f"ALTER TABLE trials ADD COLUMN {col} TEXT")
+                    self.con.execute(f"UPDATE trials SET {col} = ?", (value,))
+            self.con.execute("COMMIT")
+        except BaseException:
+            self.con.execute("ROLLBACK")
+            raise
 
     def _create(self) -> None:
         """Make the tables and the marker of a new store (in one transaction: another sweep may be creating it
@@ -324,6 +356,13 @@ class TrialStore:
                 f"{', '.join(tables)}), not a trial store; give a new --db file"
             )
         layout = self._trials_layout()
+        if layout in ("no column model_set", "no column model_set_hash"):
+            if not self.readonly:
+                self._add_model_set_columns()
+                layout = self._trials_layout()
+            else:
+                names = {r[1] for r in self.con.execute("PRAGMA table_info(trials)")}
+                layout = "current" if set(COLUMNS) - names <= {"model_set", "model_set_hash"} else layout
         if layout.startswith("no column"):
             raise StoreError(
                 f"'{self.path}' was written by an older version ({layout}); export it with that "
@@ -440,6 +479,26 @@ class TrialStore:
                 "Sweep the changed robot into a new --db, or restore the robot file"
             )
 
+    def check_model_set(self, name: str, model_set_hash: str) -> None:
+        """Refuse to add trials of a model set other than the one this store's trials were run with.
+
+        Raises
+        ------
+        StoreError
+            If a stored trial has another model set hash.
+        """
+        with self._guard("reading the model sets"):
+            other = self.con.execute(
+                "SELECT model_set, model_set_hash FROM trials WHERE model_set_hash IS NOT ? LIMIT 1",
+                (model_set_hash,),
+            ).fetchone()
+        if other is not None:
+            raise StoreError(
+                f"'{self.path}' holds trials of model set {other[0]} (hash {other[1]}), not {name} (hash "
+                f"{model_set_hash}); mixing them would pool two models. Sweep into a new --db, or pass "
+                f"--model {other[0]}"
+            )
+
     def add(self, row: dict) -> bool:
         """Store one trial (committed at once); False if it was already there.
 
@@ -468,9 +527,8 @@ class TrialStore:
         """Every trial as a dict, in key order."""
         out = []
         with self._guard("reading the trials"):
-            cur = self.con.execute(
-                f"SELECT {', '.join(COLUMNS)} FROM trials ORDER BY {', '.join(KEY_COLUMNS)}"
-            )
+            cols = [f"NULL AS {c}" if c in self._legacy else c for c in COLUMNS]
+            cur = self.con.execute(f"SELECT {', '.join(cols)} FROM trials ORDER BY {', '.join(KEY_COLUMNS)}")
             for r in cur:
                 d = dict(zip(COLUMNS, r, strict=True))
                 for c in ("phases", "attempt_starts_s"):

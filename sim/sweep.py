@@ -100,6 +100,8 @@ class TrialSpec:
     leg_period_s: float = PAPER_LEG_PERIOD_S
     attempts: int = 0
     joints: str = ""
+    model_set: str = "paper"
+    model_set_hash: str = ""
 
     def joint_map(self) -> JointMap | None:
         """The joint map to simulate with (None: the robot's default joint names)."""
@@ -115,7 +117,7 @@ def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: 
                 duration_s: float = DEFAULT_DURATION_S, dt_s: float | None = None,
                 robot: str | Path | None = None, base_seed: int = 0, wing_period_s: Iterable[float] = (PAPER_WING_PERIOD_S,),
                 leg_period_s: Iterable[float] = (PAPER_LEG_PERIOD_S,), attempts: int = 0,
-                joint_map: JointMap | str | None = None) -> list[TrialSpec]:
+                joint_map: JointMap | str | None = None, model_set: str | Path = "paper") -> list[TrialSpec]:
     """Every trial of a full-factorial sweep, in a fixed order.
 
     ``joint_map`` (a :class:`geometry.JointMap` or its text ``'wing=NAME,...;leg=NAME,...'``) names the joints
@@ -124,7 +126,8 @@ def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: 
 
     ``dt_s`` None takes the robot's default (:func:`sim.trial.default_dt_s`). ``wing_period_s`` (Tw) and
     ``leg_period_s`` (Tl) are swept too; ``attempts`` > 0 limits every trial to that
-    many wing openings (1: single-attempt trials for the phase map).
+    many wing openings (1: single-attempt trials for the phase map). ``model_set`` names a shipped model
+    parameter set or a TOML file (:func:`sim.model_set.load_model_set`); its hash goes with every trial.
 
     Raises
     ------
@@ -171,12 +174,17 @@ def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: 
         if bad:
             raise TrialInputError(f"--{name} {bad[0]:g} is outside [{max(lo, 0.0):g}, {hi:g}] deg allowed by "
                                   f"the robot's joints")
+    from .model_set import MODELS_DIR, load_model_set
+
+    ms = load_model_set(model_set)
+    ms_ref = ms.name if Path(ms.source).parent == MODELS_DIR else str(Path(ms.source).resolve())
     robot_str = str(path.resolve())
     n_att = int(attempts)
     dt_s = default_dt_s(path) if dt_s is None else dt_s
     return [TrialSpec(tw, tl, c, ph, k, trial_seed(tw, tl, c, ph, k, base_seed=base_seed, wing_period_s=wp,
                                                    leg_period_s=lp, attempts=n_att),
-                      float(duration_s), float(dt_s), robot_str, model.robot_hash, wp, lp, n_att, joints)
+                      float(duration_s), float(dt_s), robot_str, model.robot_hash, wp, lp, n_att, joints, ms_ref,
+                      ms.model_set_hash)
             for wp, lp, tw, tl, c, ph, k in itertools.product(grids["wing-period"], grids["leg-period"],
                                                               grids["theta-w"], grids["theta-l"], grids["cv"],
                                                               grids["phase"], range(trials))]
@@ -188,12 +196,19 @@ def run_spec(spec: TrialSpec) -> dict:
     row = {c: getattr(spec, c) for c in KEY_COLUMNS}
     row.update(robot=spec.robot, version=package_version(), error=None,
                created_utc=datetime.now(timezone.utc).isoformat(timespec="seconds"))
+    from .model_set import load_model_set
+
+    ms = load_model_set(spec.model_set)
+    if spec.model_set_hash and ms.model_set_hash != spec.model_set_hash:
+        raise RuntimeError(f"model set {spec.model_set} changed during the sweep (hash {ms.model_set_hash} != "
+                           f"{spec.model_set_hash}); restart the sweep")
+    row.update(model_set=ms.name, model_set_hash=ms.model_set_hash)
     try:
-        act = Actuation(spec.theta_w_deg, spec.theta_l_deg, wing_period_s=spec.wing_period_s,
-                        leg_period_s=spec.leg_period_s)
+        act = ms.actuation(spec.theta_w_deg, spec.theta_l_deg, wing_period_s=spec.wing_period_s,
+                           leg_period_s=spec.leg_period_s)
         r = run_trial(spec.theta_w_deg, spec.theta_l_deg, phase=spec.phase, cv=spec.cv, rng=spec.seed,
                       duration_s=spec.duration_s, dt_s=spec.dt_s, robot=spec.robot, joint_map=spec.joint_map(),
-                      actuation=act, attempts=spec.attempts or None)
+                      actuation=act, attempts=spec.attempts or None, model_set=ms)
     except SimulationDiverged as exc:
         row.update(status="diverged", error=str(exc))
         return row
@@ -363,6 +378,8 @@ def run_sweep(specs: Sequence[TrialSpec], *, db: str | Path, workers: int | None
     with TrialStore(db) as store:
         for robot, robot_hash in sorted({(s.robot, s.robot_hash) for s in specs}):
             store.check_robot(robot, robot_hash)
+        for name, ms_hash in sorted({(s.model_set, s.model_set_hash) for s in specs}):
+            store.check_model_set(name, ms_hash)
         done = store.done_keys()
         todo = [s for s in specs if s.key() not in done]
         skipped = len(specs) - len(todo)

@@ -138,6 +138,8 @@ class TrialResult:
         Hash of the robot (``geometry.Robot.robot_hash``: its files, and its joint map when not the default) and
         of the simulated model (hulls).
     trace : Trace or None
+    model_set, model_set_hash : str
+        Name and hash of the model parameter set (:mod:`sim.model_set`; "paper" by default).
     """
 
     theta_w_deg: float
@@ -160,6 +162,8 @@ class TrialResult:
     robot_hash: str
     model_hash: str
     trace: Trace | None = field(default=None, repr=False)
+    model_set: str = "paper"
+    model_set_hash: str = ""
 
     def to_dict(self) -> dict:
         """Plain JSON-able dict without the trace."""
@@ -308,7 +312,7 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
               actuation: Actuation | None = None, contact: Contact | None = None, hull_tol_m: float = HULL_TOL_M,
               hull_max_vertices: int = HULL_MAX_VERTICES, trace: bool = False,
               control_period_s: float | None = CONTROL_PERIOD_S, engine_substeps: bool = True,
-              merge_fixed_links: bool = False, attempts: int | None = None) -> TrialResult:
+              merge_fixed_links: bool = False, attempts: int | None = None, model_set=None) -> TrialResult:
     """Run one self-righting trial in a fresh pybullet DIRECT client.
 
     Parameters
@@ -346,6 +350,10 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
         Make at most this many wing openings; the wings then stay closed, and the trial ends one wing period
         ``Tw`` after the last opening (or at ``duration_s`` if earlier). ``attempts=1`` is a single-attempt
         trial (the phase map). None: attempts until ``duration_s``.
+    model_set : sim.model_set.ModelSet, optional
+        Model parameter set: its actuation timing and contact apply where ``actuation`` / ``contact`` are not
+        given (None: the shipped ``paper`` set, the same values as the defaults of :class:`Actuation` and
+        :class:`Contact`). Its name and hash are kept in the result.
 
     Returns
     -------
@@ -369,7 +377,13 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
                   control_period_s=control_period_s,
                   n_joints=len(model.joint_map.wing) + len(model.joint_map.leg))
     seed, gen = resolve_seed(rng)
-    base = actuation or Actuation(theta_w_deg, theta_l_deg)
+    if model_set is None:
+        from .model_set import load_model_set
+
+        model_set = load_model_set()
+    if contact is None:
+        contact = model_set.contact
+    base = actuation or model_set.actuation(theta_w_deg, theta_l_deg)
     act = Actuation(theta_w_deg, theta_l_deg, base.wing_period_s, base.wing_open_deg_s, base.wing_close_deg_s,
                     base.wing_close_start_s, base.leg_period_s, base.leg_cross_s)
     starts = attempt_starts_s(act, phase=phase, cv=cv, rng=gen, duration_s=duration_s)
@@ -455,7 +469,8 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
         phases=tuple(float(x) for x in attempt_phases(started, act)),
         attempt_starts_s=tuple(float(x) for x in started), mode=mode, sim_s=t_end,
         wall_s=time.perf_counter() - wall0, cpu_s=time.process_time() - cpu0, max_tracking_error_deg=float(np.rad2deg(max_err)),
-        robot_hash=model.robot_hash, model_hash=model.model_hash, trace=tr)
+        robot_hash=model.robot_hash, model_hash=model.model_hash, trace=tr, model_set=model_set.name,
+        model_set_hash=model_set.model_set_hash)
 
 
 def _trace_row(world: World, t_s: float, wing_cmd_deg: float, leg_cmd_deg: float, n_wing: int) -> list[float]:

@@ -17,7 +17,7 @@ import sys
 import click
 
 from geometry.errors import UsageError
-from landscape.cli import analyze, bench, compute, render, robot, serve, sim
+from landscape.cli import analyze, bench, compute, physical, render, robot, serve, sim
 
 DEBUG_ENV = "LANDSCAPE_DEBUG"
 BUG_REPORT = ("this is a bug in selfrighting-landscape, not in your input; please report it with the command "
@@ -38,7 +38,7 @@ def cli(ctx, debug):
 
 
 for _cmd in (compute.compute, compute.barrier_map, render.render, robot.robot, bench.bench, sim.simulate,
-             sim.sweep, sim.export, analyze.analyze, analyze.report_cmd, serve.serve):
+             sim.sweep, sim.export, analyze.analyze, analyze.report_cmd, serve.serve, physical.physical):
     cli.add_command(_cmd)
 
 

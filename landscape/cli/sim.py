@@ -29,6 +29,10 @@ DT_OPT = click.option("--dt", type=float, default=None,
                            "convergence benchmark; a larger one gets a warning].")
 
 
+MODEL_OPT = click.option("--model", "model_set", type=str, default="paper", show_default=True,
+                         help="Model parameter set: a shipped name (paper, physical) or a .toml file (sim/model_set.py).")
+
+
 def _warn_coarse_dt(dt: float | None, robot: str | None) -> None:
     """A step coarser than the robot's converged default is allowed, with a warning that names the default."""
     if dt is None:
@@ -59,6 +63,7 @@ def write_trace_csv(trace, path: Path) -> Path:
 def _human(r, robot: str) -> str:
     lines = [
         f"robot        {robot}",
+        f"model set    {r.model_set} ({r.model_set_hash})",
         f"inputs       theta_w {r.theta_w_deg:g}°  theta_l {r.theta_l_deg:g}°  phase {r.phase:g}  Cv {r.cv:g}  "
         f"seed {r.seed}  duration {r.duration_s:g} s  dt {r.dt_s:g} s",
     ]
@@ -90,12 +95,12 @@ def _human(r, robot: str) -> str:
 @click.option("--leg-period", type=float, default=0.8, show_default=True, help="Tl, leg oscillation period, s.")
 @click.option("--attempts", type=click.IntRange(min=0), default=0, show_default=True,
               help="At most this many wing openings (1: a single attempt, ending one Tw after it); 0: no limit.")
+@MODEL_OPT
 def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_json, robot, joints, wing_period,
-             leg_period, attempts):
+             leg_period, attempts, model_set):
     """Run one self-righting trial in pybullet and report its outcome."""
     from geometry import JointMap
     from landscape.viz.files import json_text
-    from sim.actuation import Actuation
     from sim.model import default_robot_urdf
     from sim.trial import run_trial
     from sim.world import SimulationDiverged
@@ -104,11 +109,14 @@ def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_jso
     _warn_coarse_dt(dt, robot_path)
     if trace_path is not None:
         writable_file(trace_path, "--trace", inputs=(robot_path,))
+    from sim.model_set import load_model_set
+
+    ms = load_model_set(model_set)
     try:
-        act = Actuation(theta_w, theta_l, wing_period_s=wing_period, leg_period_s=leg_period)
+        act = ms.actuation(theta_w, theta_l, wing_period_s=wing_period, leg_period_s=leg_period)
         r = run_trial(theta_w, theta_l, phase=phase, cv=cv, rng=seed, duration_s=duration, dt_s=dt,
                       robot=robot_path, joint_map=JointMap.parse(joints) if joints else None, trace=trace_path is not None,
-                      actuation=act, attempts=attempts or None)
+                      actuation=act, attempts=attempts or None, model_set=ms)
     except SimulationDiverged as exc:
         raise click.ClickException(str(exc).splitlines()[0]) from None
     if trace_path is not None:
@@ -146,8 +154,9 @@ def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_jso
 @click.option("--joints", type=str, default=None, help="Joint map 'wing=J1,J2,...;leg=J' for a URDF whose joint names differ.")
 @click.option("--no-progress", is_flag=True, help="No progress bar.")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object.")
+@MODEL_OPT
 def sweep(theta_w, theta_l, cv, phase, trials, wing_period, leg_period, attempts, db, duration, dt, base_seed,
-          workers, scheduler, robot, joints, no_progress, as_json):
+          workers, scheduler, robot, joints, no_progress, as_json, model_set):
     """Run (or resume) a sweep of self-righting trials into an SQLite database."""
     from dataclasses import asdict
 
@@ -166,7 +175,7 @@ def sweep(theta_w, theta_l, cv, phase, trials, wing_period, leg_period, attempts
     _warn_coarse_dt(dt, robot)
     specs = sweep_specs(tw, tl, cvs, phase=phs, trials=trials, duration_s=duration, dt_s=dt, robot=robot,
                         base_seed=base_seed, wing_period_s=wps, leg_period_s=lps, attempts=attempts,
-                        joint_map=joints)
+                        joint_map=joints, model_set=model_set)
     try:
         summary = run_sweep(specs, db=db, workers=workers, scheduler=scheduler, progress=not no_progress)
     except SweepAborted as exc:  # not the input's fault; what finished is stored, and rerunning resumes

@@ -1,0 +1,639 @@
+"""The physical robot's recorded trials as data (edge layer: reads the lab's files; no click, no plotting).
+
+The data directory is the lab's ``data-robot`` folder as described in ``../shared/ref/physical_robot/README.md``
+(always passed in; nothing of it is in this repository):
+
+- ``run5_W_W_W_W_L_K.bag.mat`` (HDF5, arrays transposed): ``quat`` (time, x, y, z, w, Unix time) and ``servo``
+  (time, leg command, wing command, ...). Samples whose quaternion norm differs from 1 by more than
+  ``QUAT_NORM_TOL`` are dropped, as the lab does.
+- ``robot_attempts.mat``: the lab's per-attempt outcomes per wing command (and the measured wing trace).
+
+Definitions (times from the start of the first wing opening, the first rise of the wing command):
+
+- body pitch and roll are the ZYX Euler angles of the recorded quaternion taken as body-to-world
+  (``geometry/frames.py``'s convention); world-up's body-z component is ``u_z = 1 - 2 (x^2 + y^2)``;
+- an *upright stretch* is a run of samples with ``u_z < 0`` lasting at least ``UPRIGHT_HOLD_S`` (0.3 s, the
+  simulator's rule) or reaching the end of the recording, and reaching ``u_z <= UPRIGHT_DEPTH``; its *direction* is the sign of the roll at its first
+  sample (+1: the robot rolled to positive roll);
+- a trial *succeeds* when it ends in an upright stretch (README: "ends upright and stays"); its time to right is
+  the start of that stretch, and its ``attempts`` the number of wing openings started by then (all openings
+  when it fails);
+- the lab's per-attempt count (``robot_attempts.mat``) takes the first ``LAB_ATTEMPTS_PER_TRIAL`` openings of each
+  trial (the paper's 10 s trial) and counts an attempt a success when the robot becomes upright during it, even
+  if it falls back later: :func:`attempt_outcomes` applies that rule to the trials and reproduces the file's
+  counts (12/58, 15/42, 17/34).
+
+Resting pitch (issue #15, section 0): per wing opening of a trial with the leg still, the median pitch between
+``HOLD_WINDOW_S`` (0.5-0.95 s) after the opening starts, minus the median pitch in the ``REST_WINDOW_S`` (0.3 s)
+before the first opening (this removes the IMU's mounting); only openings that end before the robot first
+becomes upright (the attempt that rights, or rights and falls back, is left out) and whose window lies inside the
+recording.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections import defaultdict
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from geometry.errors import UsageError
+from landscape.analysis.trials import wilson_interval
+
+TRIAL_RE = re.compile(r"run5_(\d+)_(\d+)_(\d+)_(\d+)_(\d+)_(\d+)\.bag\.mat$")
+QUAT_NORM_TOL = 0.01
+UPRIGHT_HOLD_S = 0.3
+"""Shortest upright stretch that counts as righted, s (the simulator's ``sim.trial.UPRIGHT_HOLD_S``)."""
+UPRIGHT_DEPTH = -0.5
+"""An upright stretch must reach ``u_z <= UPRIGHT_DEPTH`` (body tilted more than 120 deg from lying on its back):
+near the pole the wings hold the body at u_z ~ 0 and sensor noise alone crosses 0 (run5_90_90_90_90_0_5 stays
+0.68 s at u_z > -0.3 and falls back; every righting reaches u_z < -0.95)."""
+LAB_ATTEMPTS_PER_TRIAL = 5
+"""Openings per trial the lab's per-attempt table counts (the paper's 10 s trials at Tw = 2 s)."""
+HOLD_WINDOW_S = (0.5, 0.95)
+"""Window after the start of an opening where the wings are held open, s (the servo stays within 5 % of its
+plateau from about 0.34 s to 1.06 s)."""
+REST_WINDOW_S = 0.3
+"""Length of the resting window before the first opening, s."""
+CLOSED_WINDOW_S = (1.7, 1.95)
+"""Window after the start of an opening where the wings are closed again (they close by about 1.3 s), s."""
+WING_COMMANDS_DEG = (60.0, 75.0, 90.0)
+
+
+class PhysicalDataError(UsageError):
+    """The physical data directory or one of its files is absent or not in the lab's format."""
+
+
+# ------------------------------------------------------------------------------------------------- reading
+@dataclass(frozen=True)
+class Recording:
+    """One recorded trial, cleaned.
+
+    Attributes
+    ----------
+    name : str
+        File name.
+    theta_w_cmd_deg, theta_l_deg : float
+        Commanded wing angle and leg amplitude, degrees (from the file name).
+    trial : int
+        Trial number K.
+    t_s, pitch_deg, roll_deg, up_z : ndarray of shape (N,)
+        Time from the first wing opening (s), body pitch and roll (deg), world-up's body-z component.
+    openings_s : ndarray of shape (K,)
+        Start of every wing opening, s from the first (``openings_s[0] == 0``).
+    """
+
+    name: str
+    theta_w_cmd_deg: float
+    theta_l_deg: float
+    trial: int
+    t_s: NDArray[np.float64]
+    pitch_deg: NDArray[np.float64]
+    roll_deg: NDArray[np.float64]
+    up_z: NDArray[np.float64]
+    openings_s: NDArray[np.float64]
+
+
+def _data_dir(data_dir: str | Path) -> Path:
+    d = Path(data_dir)
+    if not d.is_dir():
+        raise PhysicalDataError(
+            f"physical data directory '{d}' does not exist; give --data the lab's data-robot "
+            "folder (e.g. ../shared/ref/physical_robot)"
+        )
+    return d
+
+
+def trial_files(data_dir: str | Path) -> list[Path]:
+    """The ``run5_*.bag.mat`` trial files of a data directory, sorted by (wing, leg, trial).
+
+    Raises
+    ------
+    PhysicalDataError
+        If the directory is absent or holds no trial file.
+    """
+    d = _data_dir(data_dir)
+    files = [p for p in d.iterdir() if TRIAL_RE.search(p.name)]
+    if not files:
+        raise PhysicalDataError(
+            f"'{d}' holds no trial file run5_W_W_W_W_L_K.bag.mat; give --data the lab's data-robot folder"
+        )
+    return sorted(files, key=lambda p: tuple(int(x) for x in TRIAL_RE.search(p.name).groups()[3:]))
+
+
+def pitch_roll_from_quat_deg(quat_xyzw) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """ZYX Euler pitch and roll (degrees) of body-to-world quaternions (x, y, z, w).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> h = np.deg2rad(30.0) / 2  # 30 deg about body y: pitch 30
+    >>> p, r = pitch_roll_from_quat_deg([[0.0, np.sin(h), 0.0, np.cos(h)]])
+    >>> float(p[0].round(9)), float(r[0].round(9))
+    (30.0, 0.0)
+    """
+    q = np.asarray(quat_xyzw, dtype=np.float64)
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    x, y, z, w = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    r20 = 2 * (x * z - w * y)
+    r21 = 2 * (y * z + w * x)
+    r22 = 1 - 2 * (x * x + y * y)
+    pitch = np.rad2deg(np.arcsin(np.clip(-r20, -1.0, 1.0)))
+    roll = np.rad2deg(np.arctan2(r21, r22))
+    return pitch, roll
+
+
+def read_recording(path: str | Path) -> Recording:
+    """Read and clean one trial file (see the module docstring).
+
+    Raises
+    ------
+    PhysicalDataError
+        If the file name is not ``run5_W_W_W_W_L_K.bag.mat``, the file is not HDF5, lacks ``quat`` or ``servo``,
+        or has no wing opening.
+    """
+    import h5py
+
+    path = Path(path)
+    m = TRIAL_RE.search(path.name)
+    if not m:
+        raise PhysicalDataError(f"'{path.name}' is not a trial file name run5_W_W_W_W_L_K.bag.mat")
+    w = [int(x) for x in m.groups()[:4]]
+    theta_l, trial = int(m.group(5)), int(m.group(6))
+    try:
+        with h5py.File(path, "r") as f:
+            quat = np.asarray(f["quat"][()], dtype=np.float64).T
+            servo = np.asarray(f["servo"][()], dtype=np.float64).T
+    except (OSError, KeyError) as exc:
+        raise PhysicalDataError(
+            f"'{path}' is not a lab trial file (HDF5 with 'quat' and 'servo'): {exc}"
+        ) from None
+    if quat.ndim != 2 or quat.shape[1] < 5 or servo.ndim != 2 or servo.shape[1] < 3:
+        raise PhysicalDataError(
+            f"'{path}': quat must be N x 6 and servo M x 5 after transposing; got "
+            f"{quat.shape} and {servo.shape}"
+        )
+    keep = np.abs(np.linalg.norm(quat[:, 1:5], axis=1) - 1.0) <= QUAT_NORM_TOL
+    quat = quat[keep]
+    wing_cmd = servo[:, 2]
+    rises = servo[1:, 0][(wing_cmd[1:] > 0) & (wing_cmd[:-1] <= 0)]
+    if wing_cmd[0] > 0:
+        rises = np.concatenate([[servo[0, 0]], rises])
+    if not len(rises) or not len(quat):
+        raise PhysicalDataError(
+            f"'{path}' has no wing opening (servo column 2 never rises) or no valid orientation sample"
+        )
+    t0 = float(rises[0])
+    pitch, roll = pitch_roll_from_quat_deg(quat[:, 1:5])
+    up_z = 1.0 - 2.0 * (quat[:, 1] ** 2 + quat[:, 2] ** 2)
+    return Recording(
+        path.name, float(w[0]), float(theta_l), trial, quat[:, 0] - t0, pitch, roll, up_z, rises - t0
+    )
+
+
+def upright_stretches(
+    t_s, up_z, *, hold_s: float = UPRIGHT_HOLD_S, depth: float = UPRIGHT_DEPTH
+) -> list[tuple[int, int]]:
+    """Index ranges ``(first, last)`` of the runs with ``up_z < 0`` lasting at least ``hold_s`` or reaching the
+    end of the record, that reach ``up_z <= depth``.
+
+    Examples
+    --------
+    >>> t = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7]
+    >>> upright_stretches(t, [1, -1, 1, -1, -1, -1, -1, 1])
+    [(3, 6)]
+    >>> upright_stretches(t, [1, 1, 1, 1, 1, 1, 1, -1])
+    [(7, 7)]
+    >>> upright_stretches(t, [1, 1, 1, -0.2, -0.3, -0.2, -0.1, 1])
+    []
+    """
+    t = np.asarray(t_s, dtype=np.float64)
+    u = np.asarray(up_z, dtype=np.float64)
+    up = u < 0
+    out = []
+    i, n = 0, len(up)
+    while i < n:
+        if not up[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < n and up[j + 1]:
+            j += 1
+        if (t[j] - t[i] >= hold_s - 1e-12 or j == n - 1) and u[i : j + 1].min() <= depth:
+            out.append((i, j))
+        i = j + 1
+    return out
+
+
+# ------------------------------------------------------------------------------------------------- trials
+@dataclass(frozen=True)
+class PhysicalTrial:
+    """One physical trial's outcome.
+
+    Attributes
+    ----------
+    name : str
+    theta_w_cmd_deg, theta_w_measured_deg, theta_l_deg : float
+        Commanded and measured (servo plateau) wing angle, leg amplitude, degrees.
+    trial : int
+    success : bool
+        Ends upright and stays.
+    time_to_right_s : float
+        From the first wing opening to the start of the final upright stretch, s (nan if it fails).
+    attempts : int
+        Wing openings started until it righted (all openings of the recording if it fails).
+    direction : int
+        Sign of the roll when it rights (+1 or -1; 0 if it fails).
+    upright_directions : tuple of int
+        Sign of the roll at the start of every upright stretch (a robot that rights and falls back has one
+        more than its successes).
+    first_upright_attempt : int
+        Opening during which it first became upright (0 if never).
+    duration_s : float
+        Recording length after the first opening, s.
+    """
+
+    name: str
+    theta_w_cmd_deg: float
+    theta_w_measured_deg: float
+    theta_l_deg: float
+    trial: int
+    success: bool
+    time_to_right_s: float
+    attempts: int
+    direction: int
+    upright_directions: tuple[int, ...]
+    first_upright_attempt: int
+    duration_s: float
+
+    CSV_COLUMNS = (
+        "name",
+        "theta_w_cmd_deg",
+        "theta_w_measured_deg",
+        "theta_l_deg",
+        "trial",
+        "success",
+        "time_to_right_s",
+        "attempts",
+        "direction",
+        "first_upright_attempt",
+        "duration_s",
+    )
+
+
+def trial_outcome(rec: Recording, *, theta_w_measured_deg: float = math.nan) -> PhysicalTrial:
+    """The outcome of one recording (rules in the module docstring)."""
+    st = upright_stretches(rec.t_s, rec.up_z)
+    dirs = tuple(int(np.sign(rec.roll_deg[i])) or 1 for i, _ in st)
+    success = bool(st) and st[-1][1] == len(rec.t_s) - 1
+    t_right = float(rec.t_s[st[-1][0]]) if success else math.nan
+    n_open = len(rec.openings_s)
+    attempts = int(np.searchsorted(rec.openings_s, t_right, side="right")) if success else n_open
+    first = int(np.searchsorted(rec.openings_s, rec.t_s[st[0][0]], side="right")) if st else 0
+    return PhysicalTrial(
+        rec.name,
+        rec.theta_w_cmd_deg,
+        float(theta_w_measured_deg),
+        rec.theta_l_deg,
+        rec.trial,
+        success,
+        t_right,
+        attempts,
+        dirs[-1] if success else 0,
+        dirs,
+        first,
+        float(rec.t_s[-1]),
+    )
+
+
+def physical_trials(data_dir: str | Path) -> list[PhysicalTrial]:
+    """Every trial of a data directory (measured wing plateau from ``robot_attempts.mat`` when present).
+
+    Raises
+    ------
+    PhysicalDataError
+        If the directory or a file is not in the lab's format.
+    """
+    files = trial_files(data_dir)
+    try:
+        plateau = measured_plateaus_deg(data_dir)
+    except PhysicalDataError:
+        plateau = {}
+    return [
+        trial_outcome(rec, theta_w_measured_deg=plateau.get(rec.theta_w_cmd_deg, math.nan))
+        for rec in map(read_recording, files)
+    ]
+
+
+@dataclass(frozen=True)
+class PhysicalCell:
+    """Outcomes of the trials at one (theta_w, theta_l).
+
+    Attributes
+    ----------
+    theta_w_cmd_deg, theta_w_measured_deg, theta_l_deg : float
+    n, successes : int
+    p, ci_low, ci_high : float
+        Success fraction and its Wilson 95 % interval.
+    median_time_to_right_s : float
+        Over the successes (nan without).
+    """
+
+    theta_w_cmd_deg: float
+    theta_w_measured_deg: float
+    theta_l_deg: float
+    n: int
+    successes: int
+    p: float
+    ci_low: float
+    ci_high: float
+    median_time_to_right_s: float
+
+    CSV_COLUMNS = (
+        "theta_w_cmd_deg",
+        "theta_w_measured_deg",
+        "theta_l_deg",
+        "n",
+        "successes",
+        "p",
+        "ci_low",
+        "ci_high",
+        "median_time_to_right_s",
+    )
+
+
+def physical_cells(trials: Iterable[PhysicalTrial]) -> list[PhysicalCell]:
+    """Success with Wilson 95 % intervals and median time to right per (theta_w, theta_l).
+
+    Examples
+    --------
+    >>> t = PhysicalTrial("a", 60.0, 59.1, 15.0, 1, True, 2.0, 2, 1, (1,), 2, 5.0)
+    >>> c = physical_cells([t, t.__class__(**{**t.__dict__, "success": False, "time_to_right_s": float("nan")})])
+    >>> c[0].n, c[0].successes, c[0].median_time_to_right_s, round(c[0].ci_low, 4)
+    (2, 1, 2.0, 0.0945)
+    """
+    groups: dict[tuple[float, float], list[PhysicalTrial]] = defaultdict(list)
+    for t in trials:
+        groups[(t.theta_w_cmd_deg, t.theta_l_deg)].append(t)
+    out = []
+    for (tw, tl), ts in sorted(groups.items()):
+        k, n = sum(t.success for t in ts), len(ts)
+        lo, hi = wilson_interval(k, n)
+        times = [t.time_to_right_s for t in ts if t.success]
+        out.append(
+            PhysicalCell(
+                tw,
+                ts[0].theta_w_measured_deg,
+                tl,
+                n,
+                k,
+                k / n,
+                lo,
+                hi,
+                float(np.median(times)) if times else math.nan,
+            )
+        )
+    return out
+
+
+# ------------------------------------------------------------------------------------------------- attempts
+@dataclass(frozen=True)
+class AttemptCount:
+    """Per-attempt outcomes at one wing command, pooled over leg amplitudes.
+
+    Attributes
+    ----------
+    theta_w_cmd_deg, theta_w_measured_deg : float
+    attempts, successes : int
+    p, ci_low, ci_high : float
+        Per-attempt success rate and its Wilson 95 % interval.
+    """
+
+    theta_w_cmd_deg: float
+    theta_w_measured_deg: float
+    attempts: int
+    successes: int
+    p: float
+    ci_low: float
+    ci_high: float
+
+
+def _count(tw: float, measured: float, k: int, n: int) -> AttemptCount:
+    lo, hi = wilson_interval(k, n)
+    return AttemptCount(tw, measured, n, k, k / n if n else math.nan, lo, hi)
+
+
+def _load_attempts(data_dir: str | Path):
+    from scipy.io import loadmat
+
+    path = _data_dir(data_dir) / "robot_attempts.mat"
+    if not path.is_file():
+        raise PhysicalDataError(f"'{path}' not found; the lab's data-robot folder has robot_attempts.mat")
+    try:
+        att = loadmat(path, squeeze_me=True, struct_as_record=False)["attempt"]
+    except (ValueError, KeyError, OSError) as exc:
+        raise PhysicalDataError(
+            f"'{path}' is not the lab's robot_attempts.mat (struct array 'attempt'): {exc}"
+        ) from None
+    if np.size(att) != len(WING_COMMANDS_DEG):
+        raise PhysicalDataError(
+            f"'{path}': 'attempt' must have one entry per wing command "
+            f"{WING_COMMANDS_DEG}; got {np.size(att)}"
+        )
+    return att
+
+
+def _plateau(entry) -> float:
+    vals = [
+        float(np.nanmax(w))
+        for w in np.atleast_1d(entry.wing_angle)
+        if np.size(w) and np.isfinite(np.asarray(w, dtype=np.float64)).any()
+    ]
+    return float(np.median(vals)) if vals else math.nan
+
+
+def measured_plateaus_deg(data_dir: str | Path) -> dict[float, float]:
+    """Measured wing plateau per wing command, degrees: the median over attempts of the peak of the lab's
+    measured wing trace in ``robot_attempts.mat`` (about 59.1, 73.6 and 82.1 deg)."""
+    att = _load_attempts(data_dir)
+    return {tw: _plateau(e) for tw, e in zip(WING_COMMANDS_DEG, att, strict=True)}
+
+
+def recorded_attempt_counts(data_dir: str | Path) -> list[AttemptCount]:
+    """The lab's per-attempt outcomes (``robot_attempts.mat``) per wing command."""
+    att = _load_attempts(data_dir)
+    out = []
+    for tw, e in zip(WING_COMMANDS_DEG, att, strict=True):
+        res = np.atleast_1d(np.asarray(e.result, dtype=np.float64))
+        out.append(_count(tw, _plateau(e), int(np.sum(res == 1)), len(res)))
+    return out
+
+
+def attempt_outcomes(
+    trials: Iterable[PhysicalTrial], *, max_attempts: int = LAB_ATTEMPTS_PER_TRIAL
+) -> list[AttemptCount]:
+    """Per-attempt outcomes per wing command by the lab's rule: the first ``max_attempts`` openings of each
+    trial; an attempt succeeds when the robot first becomes upright during it.
+
+    Examples
+    --------
+    >>> t = PhysicalTrial("a", 60.0, 59.1, 15.0, 1, True, 2.0, 2, 1, (1,), 2, 5.0)
+    >>> f = PhysicalTrial("b", 60.0, 59.1, 0.0, 1, False, float("nan"), 9, 0, (), 0, 18.0)
+    >>> c = attempt_outcomes([t, f])[0]
+    >>> c.attempts, c.successes
+    (7, 1)
+    """
+    acc: dict[float, list] = defaultdict(lambda: [0, 0, math.nan])
+    for t in trials:
+        a = acc[t.theta_w_cmd_deg]
+        a[2] = t.theta_w_measured_deg
+        if 0 < t.first_upright_attempt <= max_attempts:
+            a[0] += 1
+            a[1] += t.first_upright_attempt
+        else:
+            a[1] += min(t.attempts, max_attempts)
+    return [_count(tw, m, k, n) for tw, (k, n, m) in sorted(acc.items())]
+
+
+# ------------------------------------------------------------------------------------------------- kinematics
+@dataclass(frozen=True)
+class RestingPitch:
+    """The body pitch while the wings are held open, relative to the rest before the first opening.
+
+    Attributes
+    ----------
+    theta_w_cmd_deg, theta_w_measured_deg : float
+    pitch_deg : ndarray of shape (n,)
+        One value per opening (median over the hold window), degrees.
+    median_deg, q25_deg, q75_deg : float
+    n : int
+    first_opening_median_deg : float
+        Median over the trials' first openings only (no earlier opening has moved the body), degrees.
+    closed_median_deg : float
+        Median pitch ``CLOSED_WINDOW_S`` after the openings (wings closed again), same reference, degrees: 0 if
+        the body returns to where it rested before the first opening.
+    """
+
+    theta_w_cmd_deg: float
+    theta_w_measured_deg: float
+    pitch_deg: NDArray[np.float64]
+    median_deg: float
+    q25_deg: float
+    q75_deg: float
+    n: int
+    first_opening_median_deg: float = math.nan
+    closed_median_deg: float = math.nan
+
+
+def opening_pitches_deg(
+    rec: Recording, *, window_s: tuple[float, float] = HOLD_WINDOW_S, rest_s: float = REST_WINDOW_S
+) -> NDArray[np.float64]:
+    """Resting pitch of each opening of one recording (rules in the module docstring), degrees; nan for an
+    opening left out (the robot became upright during it or later, or the window passes the recording's end)."""
+    t = rec.t_s
+    rest = (t >= -rest_s) & (t < 0)
+    if not rest.any():
+        return np.full(len(rec.openings_s), math.nan)
+    ref = float(np.median(rec.pitch_deg[rest]))
+    st = upright_stretches(t, rec.up_z)
+    t_up = float(t[st[0][0]]) if st else math.inf
+    ends = np.concatenate([rec.openings_s[1:], [math.inf]])
+    out = []
+    for start, end in zip(rec.openings_s, ends, strict=True):
+        sel = (t >= start + window_s[0]) & (t <= start + window_s[1])
+        if start + window_s[1] > t[-1] or min(end, t[-1]) >= t_up or not sel.any():
+            out.append(math.nan)
+        else:
+            out.append(float(np.median(rec.pitch_deg[sel])) - ref)
+    return np.asarray(out, dtype=np.float64)
+
+
+def resting_pitch_table(data_dir: str | Path, *, theta_l_deg: float = 0.0) -> list[RestingPitch]:
+    """Resting pitch per wing command over the trials with leg amplitude ``theta_l_deg`` (0: leg still)."""
+    try:
+        plateau = measured_plateaus_deg(data_dir)
+    except PhysicalDataError:
+        plateau = {}
+    vals: dict[float, list[float]] = defaultdict(list)
+    first: dict[float, list[float]] = defaultdict(list)
+    closed: dict[float, list[float]] = defaultdict(list)
+    for f in trial_files(data_dir):
+        rec = read_recording(f)
+        if rec.theta_l_deg == theta_l_deg:
+            held = opening_pitches_deg(rec)
+            vals[rec.theta_w_cmd_deg].extend(held[np.isfinite(held)].tolist())
+            first[rec.theta_w_cmd_deg].extend(held[:1][np.isfinite(held[:1])].tolist())
+            after = opening_pitches_deg(rec, window_s=CLOSED_WINDOW_S)
+            closed[rec.theta_w_cmd_deg].extend(after[np.isfinite(after)].tolist())
+    if not vals:
+        raise PhysicalDataError(f"no trial with leg amplitude {theta_l_deg:g} deg in '{data_dir}'")
+    out = []
+    for tw, v in sorted(vals.items()):
+        a = np.asarray(v, dtype=np.float64)
+        q25, med, q75 = np.percentile(a, [25, 50, 75]) if len(a) else (math.nan,) * 3
+        out.append(
+            RestingPitch(
+                tw,
+                plateau.get(tw, math.nan),
+                a,
+                float(med),
+                float(q25),
+                float(q75),
+                len(a),
+                _median(first[tw]),
+                _median(closed[tw]),
+            )
+        )
+    return out
+
+
+def _median(v: Sequence[float]) -> float:
+    return float(np.median(v)) if len(v) else math.nan
+
+
+@dataclass(frozen=True)
+class Lateralisation:
+    """To which side the robot rolls when it becomes upright.
+
+    Attributes
+    ----------
+    positive, negative : int
+        Upright events (every upright stretch, falls-back included) with positive and negative roll.
+    p_positive, ci_low, ci_high : float
+        Fraction to positive roll and its Wilson 95 % interval.
+    """
+
+    positive: int
+    negative: int
+    p_positive: float
+    ci_low: float
+    ci_high: float
+
+
+def lateralisation(trials: Iterable[PhysicalTrial]) -> Lateralisation:
+    """Count upright events by the sign of the roll (all cells together).
+
+    Examples
+    --------
+    >>> t = PhysicalTrial("a", 60.0, 59.1, 15.0, 1, True, 2.0, 2, 1, (1, 1), 1, 5.0)
+    >>> lateralisation([t]).positive
+    2
+    """
+    dirs = [d for t in trials for d in t.upright_directions]
+    pos, n = sum(d > 0 for d in dirs), len(dirs)
+    lo, hi = wilson_interval(pos, n)
+    return Lateralisation(pos, n - pos, pos / n if n else math.nan, lo, hi)
+
+
+def model_plateau_pitch_deg(robot, theta_w_deg: Sequence[float], *, theta_l_deg: float = 0.0) -> list[float]:
+    """The model's metastable pitch at each wing angle minus its pitch at theta_w = 0, degrees (the same
+    reference as :func:`resting_pitch_table`): :func:`landscape.minima.metastable_orientation`."""
+    from landscape.minima import metastable_orientation
+
+    p0 = metastable_orientation(robot, 0.0, theta_l_deg)[0]
+    return [float(metastable_orientation(robot, float(tw), theta_l_deg)[0] - p0) for tw in theta_w_deg]
