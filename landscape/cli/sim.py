@@ -45,12 +45,15 @@ def _warn_coarse_dt(dt: float | None, robot: str | None) -> None:
 SCHEDULER_RE = re.compile(r"(tcp|tls|inproc|ucx)://[^\s:/]+(:\d{1,5})?")
 
 
-def write_trace_csv(trace, path: Path) -> Path:
-    """Write a trial trace as CSV with a header row (SI units and degrees, as the column names say)."""
+def write_trace_csv(trace, path: Path, meta_lines: tuple[str, ...] = ()) -> Path:
+    """Write a trial trace as CSV with a header row (SI units and degrees, as the column names say), then
+    ``meta_lines`` ('# key=value' notes that ``np.loadtxt`` skips as comments)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(trace.COLUMNS)
+        for line in meta_lines:
+            f.write(line + "\n")
         for row in trace.as_array():
             w.writerow([f"{x:.9g}" for x in row])
     return path
@@ -120,7 +123,10 @@ def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, video_
     except SimulationDiverged as exc:
         raise click.ClickException(str(exc).splitlines()[0]) from None
     if trace_path is not None:
-        write_trace_csv(r.trace, trace_path)
+        from landscape.viz.trajectory import trace_meta_lines
+
+        write_trace_csv(r.trace, trace_path, tuple(trace_meta_lines(
+            robot_hash=r.robot_hash, theta_w_deg=r.theta_w_deg, theta_l_deg=r.theta_l_deg, righted=r.success)))
     if video_path is not None:
         from landscape.viz.video import write_trial_video
 
