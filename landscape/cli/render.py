@@ -25,13 +25,34 @@ from landscape.cli.options import (
 @click.option("--theta-l", type=float, default=0.0, show_default=True, help="Leg angle, degrees.")
 @click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees; divides 360.")
 @method_option
-@click.option("--exit", "exit_kind", type=click.Choice(list(EXITS)), default="righting", show_default=True,
-              help="Which barrier's saddle and path to mark.")
+@click.option(
+    "--exit",
+    "exit_kind",
+    type=click.Choice(list(EXITS)),
+    default="righting",
+    show_default=True,
+    help="Which barrier's saddle and path to mark.",
+)
 @robot_options
-@click.option("--out", type=click.Path(file_okay=False), required=True,
-              help="Directory for landscape.png/.vts/.html, contour.png/.svg, robot_start.png, robot_saddle.png.")
-def render(theta_w, theta_l, step, method, exit_kind, out, **kw):
-    """3-D landscape (PNG, VTK, HTML), 2-D contour map (PNG, SVG) and the robot at its minimum and saddle."""
+@click.option(
+    "--trace",
+    "traces",
+    multiple=True,
+    type=click.Path(dir_okay=False),
+    help="A trial trace (`landscape simulate --trace FILE`) to draw as a pitch-roll path on the landscape "
+    "(trajectories.png, trajectories_contour.png/.svg); repeat for several. Without --theta-w/--theta-l "
+    "the landscape is the traces' pose.",
+)
+@click.option(
+    "--out",
+    type=click.Path(file_okay=False),
+    required=True,
+    help="Directory for landscape.png/.vts/.html, contour.png/.svg, robot_start.png, robot_saddle.png.",
+)
+@click.pass_context
+def render(ctx, theta_w, theta_l, step, method, exit_kind, traces, out, **kw):
+    """3-D landscape (PNG, VTK, HTML), 2-D contour map (PNG, SVG) and the robot at its minimum and saddle; with
+    --trace, the trials' paths over the landscape, righted and not righted apart."""
     from landscape.computation import compute as run
     from landscape.viz.scene import render_computation
 
@@ -40,9 +61,63 @@ def render(theta_w, theta_l, step, method, exit_kind, out, **kw):
     grid_step(step)
     writable_dir(out, "--out")
     robot = robot_from(kw)
+    read = []
+    if traces:
+        from landscape.viz.trajectory import read_trace_csv
+
+        read = [read_trace_csv(t) for t in traces]
+        theta_w, theta_l = _traces_pose(ctx, read, theta_w, theta_l)
     c = run(robot, theta_w_deg=theta_w, theta_l_deg=theta_l, step_deg=step, method=method,
             memory_budget_bytes=memory_budget_bytes())
     written, notes = render_computation(c, out, robot_name=robot.name, exit_kind=exit_kind)
+    if read:
+        import numpy as np
+
+        from landscape.viz.trajectory import check_trace_robot, render_trajectories
+
+        for t in read:
+            check_trace_robot(t, robot_hash=robot.robot_hash, mass_kg=c.mass_kg, robot_name=robot.name)
+        written += render_trajectories(
+            c,
+            [np.column_stack([t.pitch_deg, t.roll_deg]) for t in read],
+            [t.righted for t in read],
+            out,
+            robot_name=robot.name,
+            exit_kind=exit_kind,
+        )
     for note in notes:
         click.echo(f"landscape: note: {note}", err=True)
     click.echo(f"wrote {', '.join(p.name for p in written)} in {out}")
+
+
+POSE_TOL_DEG = 1e-6
+
+
+def _traces_pose(ctx, read, theta_w, theta_l):
+    """The (theta_w, theta_l) of the traces, which must agree with each other and with the options if given."""
+    from click.core import ParameterSource
+
+    from landscape.cli.options import UsageError
+
+    first = read[0]
+    for t in read[1:]:
+        if (
+            abs(t.theta_w_deg - first.theta_w_deg) > POSE_TOL_DEG
+            or abs(t.theta_l_deg - first.theta_l_deg) > POSE_TOL_DEG
+        ):
+            raise UsageError(
+                f"{t.path} ran at theta_w {t.theta_w_deg:g}°, theta_l {t.theta_l_deg:g}° but {first.path} "
+                f"at {first.theta_w_deg:g}°, {first.theta_l_deg:g}°; one landscape is one pose, so render "
+                "each pose's traces separately"
+            )
+    for name, given, got in (
+        ("theta-w", theta_w, first.theta_w_deg),
+        ("theta-l", theta_l, first.theta_l_deg),
+    ):
+        explicit = ctx.get_parameter_source(name.replace("-", "_")) is not ParameterSource.DEFAULT
+        if explicit and abs(given - got) > POSE_TOL_DEG:
+            raise UsageError(
+                f"--{name} {given:g} but {first.path} ran at {got:g}°; drop --{name} to use the "
+                "traces' pose, or give traces of this pose"
+            )
+    return first.theta_w_deg, first.theta_l_deg

@@ -49,12 +49,15 @@ def _warn_coarse_dt(dt: float | None, robot: str | None) -> None:
 SCHEDULER_RE = re.compile(r"(tcp|tls|inproc|ucx)://[^\s:/]+(:\d{1,5})?")
 
 
-def write_trace_csv(trace, path: Path) -> Path:
-    """Write a trial trace as CSV with a header row (SI units and degrees, as the column names say)."""
+def write_trace_csv(trace, path: Path, meta_lines: tuple[str, ...] = ()) -> Path:
+    """Write a trial trace as CSV with a header row (SI units and degrees, as the column names say), then
+    ``meta_lines`` ('# key=value' notes that ``np.loadtxt`` skips as comments)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(trace.COLUMNS)
+        for line in meta_lines:
+            f.write(line + "\n")
         for row in trace.as_array():
             w.writerow([f"{x:.9g}" for x in row])
     return path
@@ -88,6 +91,9 @@ def _human(r, robot: str) -> str:
 @DT_OPT
 @click.option("--trace", "trace_path", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Write the pitch/roll/energy trace to this CSV file.")
+@click.option("--video", "video_path", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Render the trial to this .mp4 or .gif file (25 frames/s, real time, offscreen): the robot, the "
+                   "time, the wing and leg angles and the energy in mJ.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of a summary.")
 @click.option("--robot", type=str, default=None, help="URDF file (default: the built-in robot).")
 @click.option("--joints", type=str, default=None, help="Joint map 'wing=J1,J2,...;leg=J'.")
@@ -96,12 +102,13 @@ def _human(r, robot: str) -> str:
 @click.option("--attempts", type=click.IntRange(min=0), default=0, show_default=True,
               help="At most this many wing openings (1: a single attempt, ending one Tw after it); 0: no limit.")
 @MODEL_OPT
-def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_json, robot, joints, wing_period,
-             leg_period, attempts, model_set):
+def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, video_path, as_json, robot, joints,
+             wing_period, leg_period, attempts, model_set):
     """Run one self-righting trial in pybullet and report its outcome."""
     from geometry import JointMap
     from landscape.viz.files import json_text
     from sim.model import default_robot_urdf
+    from sim.model_set import load_model_set
     from sim.trial import run_trial
     from sim.world import SimulationDiverged
 
@@ -109,18 +116,31 @@ def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_jso
     _warn_coarse_dt(dt, robot_path)
     if trace_path is not None:
         writable_file(trace_path, "--trace", inputs=(robot_path,))
-    from sim.model_set import load_model_set
-
     ms = load_model_set(model_set)
+    if video_path is not None:
+        from landscape.viz.video import check_video_path
+
+        writable_file(video_path, "--video", inputs=(robot_path, trace_path))
+        check_video_path(video_path)
     try:
         act = ms.actuation(theta_w, theta_l, wing_period_s=wing_period, leg_period_s=leg_period)
         r = run_trial(theta_w, theta_l, phase=phase, cv=cv, rng=seed, duration_s=duration, dt_s=dt,
-                      robot=robot_path, joint_map=JointMap.parse(joints) if joints else None, trace=trace_path is not None,
+                      robot=robot_path, joint_map=JointMap.parse(joints) if joints else None,
+                      trace=trace_path is not None or video_path is not None,
                       actuation=act, attempts=attempts or None, model_set=ms)
     except SimulationDiverged as exc:
         raise click.ClickException(str(exc).splitlines()[0]) from None
     if trace_path is not None:
-        write_trace_csv(r.trace, trace_path)
+        from landscape.viz.trajectory import trace_meta_lines
+
+        write_trace_csv(r.trace, trace_path, tuple(trace_meta_lines(
+            robot_hash=r.robot_hash, theta_w_deg=r.theta_w_deg, theta_l_deg=r.theta_l_deg, righted=r.success)))
+    if video_path is not None:
+        from landscape.viz.video import write_trial_video
+
+        outcome = f"righted at {r.time_to_right_s:.2f} s" if r.success else "not righted"
+        write_trial_video(r.trace, video_path, robot=robot_path, joint_map=JointMap.parse(joints) if joints else None,
+                          title=f"{Path(robot_path).stem}  θw {theta_w:g}°  θl {theta_l:g}°  {outcome}")
     if as_json:
         d = r.to_dict()
         d["robot"] = robot_path
@@ -129,6 +149,8 @@ def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, as_jso
         click.echo(_human(r, robot_path))
         if trace_path is not None:
             click.echo(f"trace        {trace_path}")
+        if video_path is not None:
+            click.echo(f"video        {video_path}")
 
 
 @click.command("sweep")
