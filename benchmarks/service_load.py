@@ -4,7 +4,7 @@ clients x N requests mixing cached and uncached poses on two robots (the built-i
 Starts its own server on 127.0.0.1 with a fresh data directory, sends a bounded number of requests, stops the
 server and prints one table. Targets (issue #13): cached p50 <= 5 ms, uncached built-in p50 <= 100 ms.
 
-    PYTHONPATH=. python benchmarks/service_load.py [--clients 32] [--requests 50] [--step 2]
+    .venv/bin/python benchmarks/service_load.py [--clients 32] [--requests 50] [--step 2]
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ For each threshold: the largest world-up angle over the first second (and 2 s) a
 iterations and the same threshold (the three cases of ``sim_convergence.py``), and the core-seconds of a full
 10 s trial that never rights (best of ``--repeat``).
 
-Run:  /work/venv/bin/python benchmarks/sim_contact_threshold.py [--repeat 2]
+Run:  .venv/bin/python benchmarks/sim_contact_threshold.py [--repeat 2]
 """
 
 from __future__ import annotations

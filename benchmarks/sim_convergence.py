@@ -18,7 +18,7 @@ contact, servos commanded every 1 ms as in every run). Against it:
 The chosen dt is the largest with < 0.5 deg orientation difference over the first second and the same success
 flags as the reference. Prints markdown tables.
 
-Run:  /work/venv/bin/python benchmarks/sim_convergence.py [--robot builtin|lab|URDF] [--quick]
+Run:  .venv/bin/python benchmarks/sim_convergence.py [--robot builtin|lab|URDF] [--quick]
       [--grid-theta-w 70,74,76] [--grid-theta-l 20,30] [--rate-seeds 40]
 """
 

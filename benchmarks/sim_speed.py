@@ -11,7 +11,7 @@
 3. Trials per second of a small sweep on all cores (a local process pool; includes worker start-up), and the
    mean core-seconds per trial of that sweep, on the default robot at its default dt.
 
-Run:  /work/venv/bin/python benchmarks/sim_speed.py [--lab] [--repeat 3] [--sweep-trials 8] [--workers N]
+Run:  .venv/bin/python benchmarks/sim_speed.py [--lab] [--repeat 3] [--sweep-trials 8] [--workers N]
       [--split-only]
 """
 

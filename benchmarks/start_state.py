@@ -12,7 +12,7 @@ Energy columns: ``dE raw`` is E(former end point) - E(new end point), J (the for
 0.03 deg of the face, so it sits slightly above it); ``dE min`` compares the minima both reach (the former end
 point rolled exactly onto its face), J; ``max |dE min|`` over the map's starts.
 
-Run:  PYTHONPATH=. /work/main/.venv/bin/python benchmarks/start_state.py [--repeat 3] [--no-map]
+Run:  .venv/bin/python benchmarks/start_state.py [--repeat 3] [--no-map]
 """
 
 from __future__ import annotations
