@@ -328,25 +328,16 @@ def _joint_chains(robot: Robot):
     driver is "w" (theta_w), "l" (theta_l) or None (held at 0). None overall when a joint is of a kind this
     fast path does not model (mimic, planar, floating); the caller then poses the robot step by step.
     """
-    urdf = robot.urdf
-    by_child = {j.child: j for j in urdf.robot.joints}
     wing, leg = set(robot.joint_map.wing), set(robot.joint_map.leg)
     chains = []
     for part in robot.parts:
         chain = []
-        link = part.link
-        while link in by_child:
-            j = by_child[link]
-            if j.mimic is not None or j.type not in ("fixed", "revolute", "continuous", "prismatic"):
+        for j in robot.kinematic_chains()[part.link]:
+            if j.mimic or j.type not in ("fixed", "revolute", "continuous", "prismatic"):
                 return None
-            origin = np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=np.float64)
-            axis = np.array([1.0, 0.0, 0.0]) if j.axis is None else np.asarray(j.axis, dtype=np.float64)
             driver = "w" if j.name in wing else "l" if j.name in leg else None
-            chain.append((origin, axis / np.linalg.norm(axis), j.type, driver))
-            link = j.parent
-        if link != urdf.base_link:
-            return None
-        chains.append(chain[::-1])
+            chain.append((j.origin, j.axis / np.linalg.norm(j.axis), j.type, driver))
+        chains.append(chain)
     return chains
 
 
