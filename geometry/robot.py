@@ -448,22 +448,43 @@ def _joint_specs(robot: yourdfpy.Robot) -> tuple[JointSpec, ...]:
 
 
 def joint_motion(kind: str, axis: NDArray[np.float64], q: float) -> NDArray[np.float64]:
-    """The 4x4 motion of a joint at value q (rad or m): a rotation about the unit axis (Rodrigues), a translation
-    along the axis as written (prismatic), identity otherwise (fixed, floating and planar at rest).
+    """The 4x4 motion of a joint at value q (rad or m): a rotation about the unit axis, a translation along the
+    axis as written (prismatic), identity otherwise (fixed, floating and planar at rest). The arithmetic is that
+    of ``trimesh.transformations.rotation_matrix``, which yourdfpy uses, so the transforms agree to the bit.
 
     Examples
     --------
     >>> joint_motion("revolute", np.array([0.0, 0.0, 2.0]), np.pi / 2)[:3, :3].round(12).tolist()
     [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
     """
-    m = np.eye(4)
     if kind == "prismatic":
+        m = np.eye(4)
         m[:3, 3] = q * axis
-    elif kind in MOVABLE_JOINT_TYPES:
-        a = axis / np.linalg.norm(axis)
-        k = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
-        m[:3, :3] = np.eye(3) + np.sin(q) * k + (1.0 - np.cos(q)) * (k @ k)
+        return m
+    if kind not in MOVABLE_JOINT_TYPES:
+        return np.eye(4)
+    sina, cosa = np.sin(q), np.cos(q)
+    d = np.array(axis[:3], dtype=np.float64)
+    d /= np.sqrt(np.dot(d, d))
+    m = np.diag([cosa, cosa, cosa, 1.0])
+    m[:3, :3] += np.outer(d, d) * (1.0 - cosa)
+    d = d * sina
+    m[:3, :3] += np.array([[0.0, -d[2], d[1]], [d[2], 0.0, -d[0]], [-d[1], d[0], 0.0]])
     return m
+
+
+_IDENTITY = np.eye(4)
+
+
+def _chain_product(matrices: list[NDArray[np.float64]]) -> NDArray[np.float64]:
+    """The product of a chain's joint matrices as trimesh's scene graph forms it (identities dropped, then
+    ``np.linalg.multi_dot``), so that poses equal yourdfpy's to the bit."""
+    matrices = [m for m in matrices if np.abs(m - _IDENTITY).max() > 1e-8]
+    if not matrices:
+        return np.eye(4)
+    if len(matrices) == 1:
+        return matrices[0].copy()
+    return np.linalg.multi_dot(matrices)
 
 
 # ------------------------------------------------------------------ robot cache (per-part hulls and masses)
@@ -915,12 +936,14 @@ class Robot:
 
         out = {}
         for link, chain in self.kinematic_chains().items():
-            T = np.eye(4)
-            for j in chain:
-                T = T @ j.origin
-                if j.type in MOVABLE_JOINT_TYPES or j.type == "prismatic":
-                    T = T @ joint_motion(j.type, j.axis, value(j))
-            out[link] = T
+            out[link] = _chain_product(
+                [
+                    j.origin @ joint_motion(j.type, j.axis, value(j))
+                    if j.type in MOVABLE_JOINT_TYPES or j.type == "prismatic"
+                    else j.origin
+                    for j in chain
+                ]
+            )
         return out
 
     def pose(self, theta_w_deg: float | None = 0.0, theta_l_deg: float | None = 0.0) -> Pose:
