@@ -274,8 +274,9 @@ def sweep_starts(
 ) -> dict[tuple[float, float], tuple[float, float]]:
     """Metastable orientations over a theta_w x theta_l grid by one shared continuation.
 
-    theta_w rises from 0 through every requested value (1 deg steps or finer), and at each requested theta_w a
-    branch raises theta_l from 0. Equivalent to :func:`metastable_orientation` per pair, far cheaper.
+    theta_w rises from 0 through every requested value (1 deg steps or finer) in one continuation (one kernel
+    call per sign of theta_w), and at each requested theta_w a branch raises theta_l from 0. Equivalent to
+    :func:`metastable_orientation` per pair, far cheaper.
     ``baseline=True`` uses the former per-step grid pattern search (benchmarks/start_state.py).
     """
     follow = _follow_minimum_grid if baseline else follow_minimum
@@ -283,13 +284,17 @@ def sweep_starts(
     ws = sorted(set(float(w) for w in theta_w_deg))
     ls = sorted(set(float(x) for x in theta_l_deg))
     for sign_ws in ([w for w in ws if w >= 0], sorted([w for w in ws if w < 0], reverse=True)):
-        at = 0.0
-        p, r = follow(robot, [(0.0, 0.0)])[-1]
+        if not sign_ws:
+            continue
+        # one walk from rest through every requested theta_w (the face carried along), then the theta_l branches
+        path, reach, at = [(0.0, 0.0)], [], 0.0
         for w in sign_ws:
-            path = [(x, 0.0) for x in ramp_deg(at, w)]
-            if path:
-                p, r = follow(robot, path, pitch_deg=p, roll_deg=r)[-1]
+            path += [(x, 0.0) for x in ramp_deg(at, w)]
+            reach.append(len(path) - 1)
             at = w
+        walk = follow(robot, path)
+        for w, k in zip(sign_ws, reach, strict=True):
+            p, r = walk[k]
             for tl in ls:
                 if tl == 0.0:
                     out[(w, tl)] = (p, r)
