@@ -11,7 +11,7 @@ import io
 import logging
 import os
 from dataclasses import dataclass, field
-from functools import cached_property
+from functools import cached_property, lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -511,8 +511,22 @@ def _payload_digest(arrays: dict[str, np.ndarray]) -> str:
     return h.hexdigest()
 
 
+@lru_cache(maxsize=1)
+def _code_key() -> str:
+    """What a cached robot depends on besides its files: this reader's source and the versions of the libraries
+    that load meshes and take hulls (12 hex digits of SHA-256), so a change to either misses old caches."""
+    from .builtin import installed_version
+
+    h = hashlib.sha256(f"v{ROBOT_CACHE_VERSION}".encode())
+    for dist in ("trimesh", "yourdfpy", "scipy", "numpy"):
+        h.update(f"\0{dist}={installed_version(dist)}".encode())
+    for name in ("robot.py", "hull.py", "mass.py", "urdf.py"):
+        h.update(f"\0{name}\0".encode() + (Path(__file__).parent / name).read_bytes())
+    return h.hexdigest()[:12]
+
+
 def _cache_path(cache_dir: Path, description_hash: str) -> Path:
-    return Path(cache_dir) / f"robot-{description_hash}-v{ROBOT_CACHE_VERSION}.npz"
+    return Path(cache_dir) / f"robot-{description_hash}-{_code_key()}.npz"
 
 
 def _save_cache(cache_dir: Path, robot: Robot, base_link: str) -> None:
@@ -521,6 +535,7 @@ def _save_cache(cache_dir: Path, robot: Robot, base_link: str) -> None:
     joints = robot.joints
     arrays = {
         "description_hash": np.array(robot.description_hash),
+        "code_key": np.array(_code_key()),
         "name": np.array(robot.name),
         "base_link": np.array(base_link),
         "link": np.array([p.link for p in parts], dtype=str),
@@ -565,7 +580,11 @@ def _load_cache(cache_dir: Path, description_hash: str):
             log.info("robot cache %s unreadable (%s); rebuilding", path, exc)
         return None
     try:
-        ok = str(a["description_hash"]) == description_hash and str(a["payload_sha256"]) == _payload_digest(a)
+        ok = (
+            str(a["description_hash"]) == description_hash
+            and str(a["code_key"]) == _code_key()
+            and str(a["payload_sha256"]) == _payload_digest(a)
+        )
     except KeyError:
         ok = False
     if not ok:
@@ -680,11 +699,12 @@ class Robot:
         every mesh file its geometry uses).
 
         With ``cache_dir`` (e.g. :func:`robot_cache_dir`), the parsed robot (each link's hull vertices, mesh
-        points, mass properties and the joints) is kept there as ``robot-<description_hash>-v<N>.npz`` after a
-        successful load, and a later load of the same description (the URDF and every mesh file hashed afresh)
-        reads it instead of the meshes, without importing trimesh or yourdfpy. The file is used only if it names
-        this description hash and its arrays' SHA-256 matches the one stored with them; otherwise the robot is
-        rebuilt and the file rewritten (atomically).
+        points, mass properties and the joints) is kept there as ``robot-<description_hash>-<code key>.npz`` after
+        a successful load, and a later load of the same description (the URDF and every mesh file hashed afresh)
+        reads it instead of the meshes, without importing trimesh or yourdfpy. The code key covers this reader's
+        source and the mesh and hull libraries' versions. The file is used only if it names this description hash
+        and code key and its arrays' SHA-256 matches the one stored with them; otherwise the robot is rebuilt and
+        the file rewritten (atomically).
 
         Raises
         ------
