@@ -9,6 +9,11 @@ until a new point touches the ground. It never crosses a ridge, so a start at a 
 The continuation along a joint path follows the face the body rests on: at each joint step it keeps the same
 points (the face moves with the links) as long as they still bound the hull from below and hold the CoM
 strictly inside, and rolls again only where that fails.
+
+The rolling and the whole continuation run in compiled kernels (``landscape/_kernels.py``: ``rest``,
+``still_rests``, ``follow_path``, the points posed per step from each part's link-frame hull vertices); the NumPy
+functions here (``_rest``, ``_still_rests``, :func:`_follow_minimum_numpy`) are their reference, matched move by
+move in tests/landscape/test_rolling_kernels.py.
 """
 
 from __future__ import annotations

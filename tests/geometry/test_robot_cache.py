@@ -148,3 +148,25 @@ def test_repeated_load_imports_neither_trimesh_nor_yourdfpy(tmp_path):
     first, second = (r.stdout.split("] ") for r in runs)
     assert first[0] != "[" and second[0] == "["  # the first run built the files (trimesh), the second did not
     assert first[1] == second[1]  # the same start energy
+
+
+def test_cache_of_other_code_is_not_used(tmp_path, monkeypatch):
+    """A cache written by another version of the reader (or of trimesh, scipy) is a miss, never read."""
+    import geometry.robot as gr
+
+    path = builtin_urdf_path()
+    Robot.from_urdf(path, cache_dir=tmp_path)
+    assert Robot.from_urdf(path, cache_dir=tmp_path)._urdf is None
+    monkeypatch.setattr(gr, "_code_key", lambda: "0123456789ab")
+    assert Robot.from_urdf(path, cache_dir=tmp_path)._urdf is not None
+
+
+def test_installed_version_reads_dist_info():
+    import numpy
+    import scipy
+
+    from geometry.builtin import installed_version
+
+    assert installed_version("numpy") == numpy.__version__
+    assert installed_version("scipy") == scipy.__version__
+    assert installed_version("no-such-distribution") == "unknown"
