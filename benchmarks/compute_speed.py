@@ -151,7 +151,7 @@ def table(old: dict, new: dict, rev: str) -> str:
 
 
 def _ms(t: float) -> str:
-    return f"{t * 1e3:.1f} ms" if t < 1 else f"{t:.2f} s"
+    return f"{t * 1e3:.2f} ms" if t < 1 else f"{t:.3f} s"
 
 
 def main() -> None:
