@@ -38,7 +38,7 @@ import io
 import json
 import os
 from dataclasses import dataclass
-from functools import cache, lru_cache
+from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -430,27 +430,11 @@ def _cache_root() -> Path:
     return Path(env) if env else Path.home() / ".cache" / "selfrighting-landscape"
 
 
-@cache
-def installed_version(dist: str) -> str:
-    """Version of an installed distribution from its ``*.dist-info`` directory name on ``sys.path`` (a directory
-    listing, not ``importlib.metadata``'s scan, which costs tens of ms); "unknown" if none is found."""
-    import sys
-
-    prefix = dist.lower().replace("-", "_") + "-"
-    for entry in sys.path:
-        try:
-            names = os.listdir(entry or ".")
-        except OSError:
-            continue
-        for name in names:
-            if name.endswith(".dist-info") and name.lower().startswith(prefix):
-                return name[len(prefix) : -len(".dist-info")]
-    return "unknown"
-
-
 def _generator_key(p: BuiltinParameters) -> str:
     """What the generated files depend on: the parameters, this generator's source and version, and trimesh's
     version (its primitives); 16 hex digits of SHA-256."""
+    from .robot import installed_version
+
     h = hashlib.sha256(f"{GENERATOR_VERSION}\0{p!r}\0trimesh={installed_version('trimesh')}\0".encode())
     for name in ("builtin.py", "mass.py", "frames.py"):
         h.update(name.encode() + b"\0" + (Path(__file__).parent / name).read_bytes())

@@ -11,7 +11,7 @@ import io
 import logging
 import os
 from dataclasses import dataclass, field
-from functools import cached_property, lru_cache
+from functools import cache, cached_property, lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -511,12 +511,28 @@ def _payload_digest(arrays: dict[str, np.ndarray]) -> str:
     return h.hexdigest()
 
 
+@cache
+def installed_version(dist: str) -> str:
+    """Version of an installed distribution from its ``*.dist-info`` directory name on ``sys.path`` (a directory
+    listing, not ``importlib.metadata``'s scan, which costs tens of ms); "unknown" if none is found."""
+    import sys
+
+    prefix = dist.lower().replace("-", "_") + "-"
+    for entry in sys.path:
+        try:
+            names = os.listdir(entry or ".")
+        except OSError:
+            continue
+        for name in names:
+            if name.endswith(".dist-info") and name.lower().startswith(prefix):
+                return name[len(prefix) : -len(".dist-info")]
+    return "unknown"
+
+
 @lru_cache(maxsize=1)
 def _code_key() -> str:
     """What a cached robot depends on besides its files: this reader's source and the versions of the libraries
     that load meshes and take hulls (12 hex digits of SHA-256), so a change to either misses old caches."""
-    from .builtin import installed_version
-
     h = hashlib.sha256(f"v{ROBOT_CACHE_VERSION}".encode())
     for dist in ("trimesh", "yourdfpy", "scipy", "numpy"):
         h.update(f"\0{dist}={installed_version(dist)}".encode())

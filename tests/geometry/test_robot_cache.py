@@ -165,7 +165,7 @@ def test_installed_version_reads_dist_info():
     import numpy
     import scipy
 
-    from geometry.builtin import installed_version
+    from geometry.robot import installed_version
 
     assert installed_version("numpy") == numpy.__version__
     assert installed_version("scipy") == scipy.__version__
