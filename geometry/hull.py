@@ -34,12 +34,24 @@ class Hull:
 
 
 def _csr(n: int, edges: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    both = np.concatenate([edges, edges[:, ::-1]])
-    both = np.unique(both, axis=0)
-    counts = np.bincount(both[:, 0], minlength=n)
+    """Symmetric CSR adjacency of n vertices from undirected edges (duplicates merged, neighbours sorted)."""
+    edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+    # each directed pair (a, b) as the one integer a * n + b: a 1-D unique sorts them as (a, b) rows would
+    key = np.unique(np.concatenate([edges[:, 0] * n + edges[:, 1], edges[:, 1] * n + edges[:, 0]]))
+    counts = np.bincount(key // n, minlength=n)
     ptr = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(counts, out=ptr[1:])
-    return ptr, both[:, 1].astype(np.int64)
+    return ptr, (key % n).astype(np.int64)
+
+
+def _unique_rows(pts: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``np.unique(pts, axis=0)`` (rows sorted by x, then y, then z; equal rows once), by one lexsort."""
+    if len(pts) < 2:
+        return pts.copy()
+    s = pts[np.lexsort((pts[:, 2], pts[:, 1], pts[:, 0]))]
+    keep = np.ones(len(s), dtype=bool)
+    keep[1:] = (s[1:] != s[:-1]).any(axis=1)
+    return s[keep]
 
 
 def convex_hull(points_m: ArrayLike) -> Hull:
@@ -73,7 +85,7 @@ def convex_hull(points_m: ArrayLike) -> Hull:
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         raise GeometryError(f"geometry has a non-finite vertex {pts[i].tolist()} at index {i}; fix the mesh")
-    pts = np.unique(pts, axis=0)
+    pts = _unique_rows(pts)
     try:
         qh = ConvexHull(pts)
     except (QhullError, ValueError):

@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 from numpy.typing import ArrayLike, NDArray
 
 from .errors import GeometryError, NotAVolumeError
+
+if TYPE_CHECKING:  # only the meshes passed in are trimesh objects; the module itself loads without trimesh
+    import trimesh
 
 COM_MODELS = ("auto", "solid", "shell")
 
@@ -54,6 +57,7 @@ def shell_mass_properties(mesh: trimesh.Trimesh, *, mass_kg: float) -> MassPrope
 
     Examples
     --------
+    >>> import trimesh
     >>> sphere = trimesh.creation.icosphere(subdivisions=4, radius=1.0)
     >>> mp = shell_mass_properties(sphere, mass_kg=3.0)
     >>> bool(np.allclose(mp.com_m, 0.0, atol=1e-12)), round(float(mp.inertia_kg_m2[0, 0]), 2)
@@ -83,6 +87,7 @@ def solid_mass_properties(mesh: trimesh.Trimesh, *, mass_kg: float, name: str = 
 
     Examples
     --------
+    >>> import trimesh
     >>> box = trimesh.creation.box(extents=(1.0, 2.0, 3.0))
     >>> mp = solid_mass_properties(box, mass_kg=12.0)
     >>> round(float(mp.inertia_kg_m2[0, 0]), 9)   # m (b^2 + c^2) / 12
@@ -109,6 +114,7 @@ def mesh_mass_properties(mesh: trimesh.Trimesh, *, mass_kg: float, com_model: st
 
     Examples
     --------
+    >>> import trimesh
     >>> open_box = trimesh.creation.box(extents=(1.0, 1.0, 1.0))
     >>> open_box.update_faces(np.arange(len(open_box.faces)) > 1)   # drop one side: not closed any more
     >>> mesh_mass_properties(open_box, mass_kg=1.0).model

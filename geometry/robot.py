@@ -9,13 +9,13 @@ from __future__ import annotations
 import hashlib
 import io
 import logging
+import os
 from dataclasses import dataclass, field
-from functools import cached_property
+from functools import cache, cached_property, lru_cache
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
-import yourdfpy
 from numpy.typing import ArrayLike, NDArray
 
 from .errors import (
@@ -26,8 +26,12 @@ from .errors import (
     UnknownJointError,
 )
 from .hull import Hull, convex_hull
-from .mass import MassProperties, combine, mesh_mass_properties
+from .mass import MassProperties, combine
 from .urdf import MeshRef, UrdfFile, origin_matrix, read_urdf
+
+if TYPE_CHECKING:  # trimesh and yourdfpy load only where meshes are read (not for a cached robot)
+    import trimesh
+    import yourdfpy
 
 log = logging.getLogger(__name__)
 
@@ -191,6 +195,8 @@ def _check_vertices(verts: NDArray[np.float64], what: str) -> None:
 def _load_mesh_bytes(data: bytes, path: Path, prefix: str = "") -> trimesh.Trimesh:
     """A mesh file's bytes as an unprocessed trimesh (nothing merged or dropped), vertices checked finite;
     ``prefix`` (e.g. ``"link 'head': "``) starts the error messages."""
+    import trimesh
+
     try:
         mesh = trimesh.load(
             io.BytesIO(data),
@@ -213,6 +219,8 @@ def _load_mesh_bytes(data: bytes, path: Path, prefix: str = "") -> trimesh.Trime
 
 
 def _geometry_mesh(geom: yourdfpy.Geometry, ref: MeshRef | None, link: str) -> trimesh.Trimesh | None:
+    import trimesh
+
     if geom.mesh is not None:
         mesh = _load_mesh_bytes(ref.data, ref.path, f"link '{link}': ")
         scale = ref.scale
@@ -266,6 +274,8 @@ def _check_origins(uf: UrdfFile) -> None:
 
 def _parse_structure(uf: UrdfFile) -> yourdfpy.Robot:
     """yourdfpy's model of the strictly parsed tree, its links and joints checked."""
+    import yourdfpy
+
     name = uf.path.name
     _check_origins(uf)
     try:
@@ -311,6 +321,18 @@ def _parse_structure(uf: UrdfFile) -> yourdfpy.Robot:
     return robot
 
 
+def _yourdfpy_model(robot: yourdfpy.Robot, path: Path) -> yourdfpy.URDF:
+    import yourdfpy
+
+    return yourdfpy.URDF(
+        robot=robot,
+        build_scene_graph=True,
+        build_collision_scene_graph=False,
+        load_meshes=False,
+        mesh_dir=str(path.parent),
+    )
+
+
 def _link_mass(link: yourdfpy.Link, name: str) -> MassProperties:
     """A link's ``<inertial>`` as MassProperties in the link frame, every field checked."""
     inertial = link.inertial
@@ -332,12 +354,12 @@ def _link_mass(link: yourdfpy.Link, name: str) -> MassProperties:
     return MassProperties(mass, T[:3, 3].copy(), T[:3, :3] @ inertia @ T[:3, :3].T, "given")
 
 
-def _checked_joint_map(robot: yourdfpy.Robot, joint_map: JointMap | None, name: str) -> JointMap | None:
+def _checked_joint_map(joints, joint_map: JointMap | None, name: str) -> JointMap | None:
     """The joint map to use: an explicit one checked, else the default names if all are there, else None (rigid).
 
     Raises UnknownJointError if a named joint is absent or not movable, or only some default names are present.
     """
-    types = {j.name: j.type for j in robot.joints}
+    types = {j.name: j.type for j in joints}
     movable = ", ".join(n for n, t in types.items() if t in MOVABLE_JOINT_TYPES) or "none"
     if joint_map is None:
         default = JointMap()
@@ -365,6 +387,257 @@ def _checked_joint_map(robot: yourdfpy.Robot, joint_map: JointMap | None, name: 
     return joint_map
 
 
+@dataclass(frozen=True)
+class JointSpec:
+    """One URDF joint as the kinematics use it (read once from the file, or from the robot cache).
+
+    Attributes
+    ----------
+    name, type, parent, child : str
+        As in the URDF.
+    origin : ndarray of shape (4, 4)
+        Parent-link-to-joint transform, m.
+    axis : ndarray of shape (3,)
+        Joint axis as written (default (1, 0, 0)).
+    lower_rad, upper_rad : float
+        Limits, rad or m (nan where the URDF gives none).
+    mimic : str
+        The joint this one mimics ("" for none); value = ``multiplier`` * that joint's value + ``offset``.
+    """
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    origin: NDArray[np.float64] = field(repr=False)
+    axis: NDArray[np.float64] = field(repr=False)
+    lower_rad: float = np.nan
+    upper_rad: float = np.nan
+    mimic: str = ""
+    multiplier: float = 1.0
+    offset: float = 0.0
+
+    @property
+    def actuated(self) -> bool:
+        """Set by a configuration value (yourdfpy's actuated joints: not fixed, not a mimic)."""
+        return self.type != "fixed" and not self.mimic
+
+
+def _joint_specs(robot: yourdfpy.Robot) -> tuple[JointSpec, ...]:
+    out = []
+    for j in robot.joints:
+        lim = j.limit
+        lo = np.nan if lim is None or lim.lower is None else float(lim.lower)
+        hi = np.nan if lim is None or lim.upper is None else float(lim.upper)
+        out.append(
+            JointSpec(
+                j.name,
+                j.type,
+                j.parent,
+                j.child,
+                np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=np.float64),
+                np.array([1.0, 0.0, 0.0]) if j.axis is None else np.asarray(j.axis, dtype=np.float64),
+                lo,
+                hi,
+                "" if j.mimic is None else str(j.mimic.joint),
+                1.0 if j.mimic is None or j.mimic.multiplier is None else float(j.mimic.multiplier),
+                0.0 if j.mimic is None or j.mimic.offset is None else float(j.mimic.offset),
+            )
+        )
+    return tuple(out)
+
+
+def joint_motion(kind: str, axis: NDArray[np.float64], q: float) -> NDArray[np.float64]:
+    """The 4x4 motion of a joint at value q (rad or m): a rotation about the unit axis, a translation along the
+    axis as written (prismatic), identity otherwise (fixed, floating and planar at rest). The arithmetic is that
+    of ``trimesh.transformations.rotation_matrix``, which yourdfpy uses, so the transforms agree to the bit.
+
+    Examples
+    --------
+    >>> joint_motion("revolute", np.array([0.0, 0.0, 2.0]), np.pi / 2)[:3, :3].round(12).tolist()
+    [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+    """
+    if kind == "prismatic":
+        m = np.eye(4)
+        m[:3, 3] = q * axis
+        return m
+    if kind not in MOVABLE_JOINT_TYPES:
+        return np.eye(4)
+    sina, cosa = np.sin(q), np.cos(q)
+    d = np.array(axis[:3], dtype=np.float64)
+    d /= np.sqrt(np.dot(d, d))
+    m = np.diag([cosa, cosa, cosa, 1.0])
+    m[:3, :3] += np.outer(d, d) * (1.0 - cosa)
+    d = d * sina
+    m[:3, :3] += np.array([[0.0, -d[2], d[1]], [d[2], 0.0, -d[0]], [-d[1], d[0], 0.0]])
+    return m
+
+
+_IDENTITY = np.eye(4)
+
+
+def _chain_product(matrices: list[NDArray[np.float64]]) -> NDArray[np.float64]:
+    """The product of a chain's joint matrices as trimesh's scene graph forms it (identities dropped, then
+    ``np.linalg.multi_dot``), so that poses equal yourdfpy's to the bit."""
+    matrices = [m for m in matrices if np.abs(m - _IDENTITY).max() > 1e-8]
+    if not matrices:
+        return np.eye(4)
+    if len(matrices) == 1:
+        return matrices[0].copy()
+    return np.linalg.multi_dot(matrices)
+
+
+# ------------------------------------------------------------------ robot cache (per-part hulls and masses)
+ROBOT_CACHE_VERSION = "1"
+
+
+def robot_cache_dir() -> Path | None:
+    """Where :meth:`Robot.from_urdf` keeps parsed robots: ``$LANDSCAPE_CACHE/robots`` or
+    ``~/.cache/selfrighting-landscape/robots``; None (no cache) when ``LANDSCAPE_CACHE`` is ``off``."""
+    env = os.environ.get("LANDSCAPE_CACHE")
+    if env == "off":
+        return None
+    return (Path(env) if env else Path.home() / ".cache" / "selfrighting-landscape") / "robots"
+
+
+def _payload_digest(arrays: dict[str, np.ndarray]) -> str:
+    h = hashlib.sha256()
+    for key in sorted(arrays):
+        if key == "payload_sha256":
+            continue
+        a = np.ascontiguousarray(arrays[key])
+        h.update(f"{key}\0{a.dtype.str}\0{a.shape}\0".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+@cache
+def installed_version(dist: str) -> str:
+    """Version of an installed distribution from its ``*.dist-info`` directory name on ``sys.path`` (a directory
+    listing, not ``importlib.metadata``'s scan, which costs tens of ms); "unknown" if none is found."""
+    import sys
+
+    prefix = dist.lower().replace("-", "_") + "-"
+    for entry in sys.path:
+        try:
+            names = os.listdir(entry or ".")
+        except OSError:
+            continue
+        for name in names:
+            if name.endswith(".dist-info") and name.lower().startswith(prefix):
+                return name[len(prefix) : -len(".dist-info")]
+    return "unknown"
+
+
+@lru_cache(maxsize=1)
+def _code_key() -> str:
+    """What a cached robot depends on besides its files: this reader's source and the versions of the libraries
+    that load meshes and take hulls (12 hex digits of SHA-256), so a change to either misses old caches."""
+    h = hashlib.sha256(f"v{ROBOT_CACHE_VERSION}".encode())
+    for dist in ("trimesh", "yourdfpy", "scipy", "numpy"):
+        h.update(f"\0{dist}={installed_version(dist)}".encode())
+    for name in ("robot.py", "hull.py", "mass.py", "urdf.py"):
+        h.update(f"\0{name}\0".encode() + (Path(__file__).parent / name).read_bytes())
+    return h.hexdigest()[:12]
+
+
+def _cache_path(cache_dir: Path, description_hash: str) -> Path:
+    return Path(cache_dir) / f"robot-{description_hash}-{_code_key()}.npz"
+
+
+def _save_cache(cache_dir: Path, robot: Robot, base_link: str) -> None:
+    """Write the robot's parts and joints (atomically; a failure to write only logs)."""
+    parts = robot.parts
+    joints = robot.joints
+    arrays = {
+        "description_hash": np.array(robot.description_hash),
+        "code_key": np.array(_code_key()),
+        "name": np.array(robot.name),
+        "base_link": np.array(base_link),
+        "link": np.array([p.link for p in parts], dtype=str),
+        "mass_kg": np.array([p.mass.mass_kg for p in parts], dtype=np.float64),
+        "com_m": np.array([p.mass.com_m for p in parts], dtype=np.float64).reshape(-1, 3),
+        "inertia_kg_m2": np.array([p.mass.inertia_kg_m2 for p in parts], dtype=np.float64).reshape(-1, 3, 3),
+        "mass_model": np.array([p.mass.model for p in parts], dtype=str),
+        "hull_ptr": np.cumsum([0] + [len(p.hull_link_m) for p in parts]).astype(np.int64),
+        "hull_m": np.concatenate([p.hull_link_m.reshape(-1, 3) for p in parts]).astype(np.float64),
+        "points_ptr": np.cumsum([0] + [len(p.points_link_m) for p in parts]).astype(np.int64),
+        "points_m": np.concatenate([p.points_link_m.reshape(-1, 3) for p in parts]).astype(np.float64),
+        "joint_text": np.array(
+            [[j.name, j.type, j.parent, j.child, j.mimic] for j in joints], dtype=str
+        ).reshape(-1, 5),
+        "joint_origin": np.array([j.origin for j in joints], dtype=np.float64).reshape(-1, 4, 4),
+        "joint_axis": np.array([j.axis for j in joints], dtype=np.float64).reshape(-1, 3),
+        "joint_values": np.array(
+            [[j.lower_rad, j.upper_rad, j.multiplier, j.offset] for j in joints], dtype=np.float64
+        ).reshape(-1, 4),
+    }
+    arrays["payload_sha256"] = np.array(_payload_digest(arrays))
+    path = _cache_path(cache_dir, robot.description_hash)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with open(tmp, "wb") as f:
+            np.savez(f, **arrays)
+        os.replace(tmp, path)
+    except OSError as exc:
+        log.info("robot cache not written (%s): %s", path, exc)
+        tmp.unlink(missing_ok=True)
+
+
+def _load_cache(cache_dir: Path, description_hash: str):
+    """(name, base_link, parts, joints) from the cache if it holds this description, verified, else None."""
+    path = _cache_path(cache_dir, description_hash)
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            a = {k: z[k] for k in z.files}
+    except (OSError, ValueError, KeyError, EOFError) as exc:
+        if path.exists():
+            log.info("robot cache %s unreadable (%s); rebuilding", path, exc)
+        return None
+    try:
+        ok = (
+            str(a["description_hash"]) == description_hash
+            and str(a["code_key"]) == _code_key()
+            and str(a["payload_sha256"]) == _payload_digest(a)
+        )
+    except KeyError:
+        ok = False
+    if not ok:
+        log.info("robot cache %s does not match its description or contents; rebuilding", path)
+        return None
+    parts = []
+    for i, link in enumerate(a["link"]):
+        h0, h1 = a["hull_ptr"][i], a["hull_ptr"][i + 1]
+        p0, p1 = a["points_ptr"][i], a["points_ptr"][i + 1]
+        mp = MassProperties(
+            float(a["mass_kg"][i]),
+            a["com_m"][i].copy(),
+            a["inertia_kg_m2"][i].copy(),
+            str(a["mass_model"][i]),
+        )
+        parts.append(Part(str(link), mp, a["hull_m"][h0:h1].copy(), a["points_m"][p0:p1].copy()))
+    joints = tuple(
+        JointSpec(
+            str(t[0]),
+            str(t[1]),
+            str(t[2]),
+            str(t[3]),
+            o.copy(),
+            ax.copy(),
+            float(v[0]),
+            float(v[1]),
+            str(t[4]),
+            float(v[2]),
+            float(v[3]),
+        )
+        for t, o, ax, v in zip(
+            a["joint_text"], a["joint_origin"], a["joint_axis"], a["joint_values"], strict=True
+        )
+    )
+    return str(a["name"]), str(a["base_link"]), tuple(parts), joints
+
+
 class Robot:
     """A robot: rigid parts joined by joints, with a map from (theta_w, theta_l) to joint values.
 
@@ -382,16 +655,45 @@ class Robot:
         description_hash: str = "",
         urdf_file: UrdfFile | None = None,
         element_vertices: dict[tuple[str, str, int], NDArray[np.float64]] | None = None,
+        joints: tuple[JointSpec, ...] | None = None,
+        base_link: str | None = None,
     ):
         self.name = name
         self.parts = parts
-        self.urdf = urdf
+        self._urdf = urdf
         self.joint_map = joint_map
         self.source = source
         self.description_hash = description_hash
         self.urdf_file = urdf_file
-        self.element_vertices = element_vertices or {}
+        self._element_vertices = element_vertices
+        if joints is None and urdf is not None:
+            joints = _joint_specs(urdf.robot)
+        self.joints: tuple[JointSpec, ...] = joints or ()
+        if base_link is None:
+            base_link = urdf.base_link if urdf is not None else None
+        self.base_link = base_link
+        self._joint_by_name = {j.name: j for j in self.joints}
         self._part_by_link = {p.link: p for p in parts}
+        self._chains = None
+
+    @property
+    def urdf(self) -> yourdfpy.URDF | None:
+        """yourdfpy's model of the URDF (built on first use for a robot read from the cache; None for a mesh)."""
+        if self._urdf is None and self.urdf_file is not None:
+            self._urdf = _yourdfpy_model(_parse_structure(self.urdf_file), self.urdf_file.path)
+        return self._urdf
+
+    @property
+    def element_vertices(self) -> dict[tuple[str, str, int], NDArray[np.float64]]:
+        """Raw vertices of every mesh element, keyed by (link, kind, index), file units (read on first use)."""
+        if self._element_vertices is None:
+            out = {}
+            if self.urdf_file is not None:
+                for ref in self.urdf_file.meshes:
+                    raw = _load_mesh_bytes(ref.data, ref.path, f"link '{ref.link}': ")
+                    out[(ref.link, ref.kind, ref.index)] = np.asarray(raw.vertices, dtype=np.float64)
+            self._element_vertices = out
+        return self._element_vertices
 
     @property
     def robot_hash(self) -> str:
@@ -404,11 +706,21 @@ class Robot:
 
     # ------------------------------------------------------------------ construction
     @classmethod
-    def from_urdf(cls, path: str | Path, *, joint_map: JointMap | None = None) -> Robot:
+    def from_urdf(
+        cls, path: str | Path, *, joint_map: JointMap | None = None, cache_dir: str | Path | None = None
+    ) -> Robot:
         """Load a URDF: links' collision geometry (visual where a link has none) and ``<inertial>`` masses.
 
         The file is read by :func:`geometry.urdf.read_urdf` (strict XML; ``description_hash`` covers the URDF and
         every mesh file its geometry uses).
+
+        With ``cache_dir`` (e.g. :func:`robot_cache_dir`), the parsed robot (each link's hull vertices, mesh
+        points, mass properties and the joints) is kept there as ``robot-<description_hash>-<code key>.npz`` after
+        a successful load, and a later load of the same description (the URDF and every mesh file hashed afresh)
+        reads it instead of the meshes, without importing trimesh or yourdfpy. The code key covers this reader's
+        source and the mesh and hull libraries' versions. The file is used only if it names this description hash
+        and code key and its arrays' SHA-256 matches the one stored with them; otherwise the robot is rebuilt and
+        the file rewritten (atomically).
 
         Raises
         ------
@@ -423,15 +735,23 @@ class Robot:
         """
         uf = read_urdf(path)
         path = uf.path
+        if cache_dir is not None:
+            hit = _load_cache(Path(cache_dir), uf.description_hash)
+            if hit is not None:
+                name, base_link, parts, joints = hit
+                return cls(
+                    name,
+                    parts,
+                    joint_map=_checked_joint_map(joints, joint_map, path.name),
+                    source=path,
+                    description_hash=uf.description_hash,
+                    urdf_file=uf,
+                    joints=joints,
+                    base_link=base_link,
+                )
         robot = _parse_structure(uf)
-        joint_map = _checked_joint_map(robot, joint_map, path.name)
-        urdf = yourdfpy.URDF(
-            robot=robot,
-            build_scene_graph=True,
-            build_collision_scene_graph=False,
-            load_meshes=False,
-            mesh_dir=str(path.parent),
-        )
+        joint_map = _checked_joint_map(robot.joints, joint_map, path.name)
+        urdf = _yourdfpy_model(robot, path)
         parts = []
         element_vertices: dict[tuple[str, str, int], NDArray[np.float64]] = {}
         for link in urdf.robot.links:
@@ -460,7 +780,7 @@ class Robot:
             )
         if not any(len(p.hull_link_m) for p in parts):
             raise RobotDescriptionError(f"'{path}' has no geometry; add <collision> or <visual> elements")
-        return cls(
+        out = cls(
             urdf.robot.name or path.stem,
             tuple(parts),
             urdf=urdf,
@@ -470,6 +790,9 @@ class Robot:
             urdf_file=uf,
             element_vertices=element_vertices,
         )
+        if cache_dir is not None:
+            _save_cache(Path(cache_dir), out, urdf.base_link)
+        return out
 
     @classmethod
     def from_mesh(
@@ -548,6 +871,8 @@ class Robot:
                 raise GeometryError(f"mass must be a positive number of kg; got {mass_kg!r}")
             mp = MassProperties(float(mass_kg), c * scale, np.zeros((3, 3)), "given")
         else:
+            from .mass import mesh_mass_properties
+
             mp = mesh_mass_properties(mesh, mass_kg=mass_kg, com_model=com_model, name=name)
         pts = np.asarray(mesh.vertices, dtype=np.float64)
         part = Part(name, mp, convex_hull(pts).vertices_m, pts)
@@ -567,15 +892,15 @@ class Robot:
     # ------------------------------------------------------------------ joints
     @property
     def has_joints(self) -> bool:
-        return self.urdf is not None and self.joint_map is not None
+        return bool(self.joints) and self.joint_map is not None
 
     def joint_limits_deg(self, joint: str) -> tuple[float, float]:
         """Lower and upper limit of a joint, degrees (+-inf where the URDF sets none)."""
-        j = self.urdf.joint_map[joint]
-        if j.type == "continuous" or j.limit is None or (j.limit.lower is None and j.limit.upper is None):
+        j = self._joint_by_name[joint]
+        if j.type == "continuous" or (np.isnan(j.lower_rad) and np.isnan(j.upper_rad)):
             return -np.inf, np.inf
-        lo = -np.inf if j.limit.lower is None else np.rad2deg(j.limit.lower)
-        hi = np.inf if j.limit.upper is None else np.rad2deg(j.limit.upper)
+        lo = -np.inf if np.isnan(j.lower_rad) else np.rad2deg(j.lower_rad)
+        hi = np.inf if np.isnan(j.upper_rad) else np.rad2deg(j.upper_rad)
         return float(lo), float(hi)
 
     def theta_limits_deg(self) -> dict[str, tuple[float, float]]:
@@ -614,18 +939,48 @@ class Robot:
         return values
 
     # ------------------------------------------------------------------ posing
+    def kinematic_chains(self) -> dict[str, tuple[JointSpec, ...]]:
+        """Per part's link, the joints from the base link down to it (base first); computed once."""
+        if self._chains is None:
+            by_child = {j.child: j for j in self.joints}
+            chains = {}
+            for p in self.parts:
+                chain, link = [], p.link
+                while link in by_child:
+                    chain.append(by_child[link])
+                    link = by_child[link].parent
+                chains[p.link] = tuple(chain[::-1])
+            self._chains = chains
+        return self._chains
+
     def link_transforms(self, joint_values_rad: dict[str, float]) -> dict[str, NDArray[np.float64]]:
-        """Link-to-body transforms for joint values (radians); unmentioned joints stay at 0."""
-        if self.urdf is None:
+        """Link-to-body transforms for joint values (radians); unmentioned joints stay at 0.
+
+        Each link's transform is the product of its chain's ``origin @ motion(q)`` from the base link, with
+        yourdfpy's rules: a mimic joint takes ``multiplier * q + offset`` of the joint it mimics when that joint is
+        set by the configuration, else ``offset``.
+        """
+        if not self.joints:
             return {p.link: np.eye(4) for p in self.parts}
-        cfg = np.zeros(len(self.urdf.actuated_joint_names))
-        for i, n in enumerate(self.urdf.actuated_joint_names):
-            cfg[i] = joint_values_rad.get(n, 0.0)
-        self.urdf.update_cfg(cfg)
-        base = self.urdf.base_link
-        return {
-            p.link: np.asarray(self.urdf.get_transform(p.link, base), dtype=np.float64) for p in self.parts
-        }
+        actuated = {j.name for j in self.joints if j.actuated}
+
+        def value(j: JointSpec) -> float:
+            if j.mimic:
+                q = float(joint_values_rad.get(j.mimic, 0.0)) if j.mimic in actuated else 0.0
+                return q * j.multiplier + j.offset if j.mimic in actuated else j.offset
+            return float(joint_values_rad.get(j.name, 0.0))
+
+        out = {}
+        for link, chain in self.kinematic_chains().items():
+            out[link] = _chain_product(
+                [
+                    j.origin @ joint_motion(j.type, j.axis, value(j))
+                    if j.type in MOVABLE_JOINT_TYPES or j.type == "prismatic"
+                    else j.origin
+                    for j in chain
+                ]
+            )
+        return out
 
     def pose(self, theta_w_deg: float | None = 0.0, theta_l_deg: float | None = 0.0) -> Pose:
         """The rigid body at wing angle theta_w and leg angle theta_l (degrees).
@@ -662,7 +1017,7 @@ class Robot:
     def com_source(self) -> str:
         """How the CoM was obtained: "urdf <inertial>", "solid volume centroid", "thin-shell area centroid" or
         "given"."""
-        if self.urdf is not None:
+        if self.urdf_file is not None:
             return "urdf <inertial>"
         model = self.parts[0].mass.model
         return {"solid": "solid volume centroid", "shell": "thin-shell area centroid"}.get(model, "given")

@@ -72,7 +72,7 @@ def load_robot(robot: str | Path | None = None, *, mesh: str | Path | None = Non
     >>> round(load_robot().pose(0.0, 0.0).mass_kg, 3)
     0.26
     """
-    from .robot import JointMap, Robot
+    from .robot import JointMap, Robot, robot_cache_dir
 
     for what, given in (("--robot", robot), ("--mesh", mesh)):
         if given is not None and str(given) not in ROBOTS and Path(given).is_dir():
@@ -85,4 +85,4 @@ def load_robot(robot: str | Path | None = None, *, mesh: str | Path | None = Non
             raise UsageError("--joints applies to a URDF robot, not to a single --mesh body")
         return Robot.from_mesh(mesh, mass_kg=mass_kg, com=com, units=units, com_model=com_model)
     jm = JointMap.parse(joints) if joints else None
-    return Robot.from_urdf(robot_urdf_path(robot), joint_map=jm)
+    return Robot.from_urdf(robot_urdf_path(robot), joint_map=jm, cache_dir=robot_cache_dir())

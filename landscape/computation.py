@@ -10,10 +10,12 @@ from numpy.typing import NDArray
 
 from geometry import Pose, Robot
 from geometry.errors import UsageError
-from geometry.frames import canonical_pitch_roll_deg
+from geometry.frames import canonical_pitch_roll_deg, cos_sin
 
-from .barriers import DEFAULT_METHOD, Barrier
+from . import _kernels
+from .barriers import DEFAULT_METHOD, Barrier, Exit
 from .barriers import method as barrier_method
+from .barriers.grid import _exit as _grid_exit
 from .barriers.grid import grid_barrier
 from .energy import G_M_S2, Landscape, energy_landscape
 from .grid import cells_per_turn, wrap_deg
@@ -82,12 +84,33 @@ def warm_up() -> None:
     """Load the compiled kernels (from numba's cache) so that later timings measure only the work."""
     if _WARM:
         return
-    import trimesh
-
-    body = Robot.from_trimesh(trimesh.creation.box(extents=(1.0, 1.0, 1.0)))
-    ls = energy_landscape(body.pose(), step_deg=90.0)
+    corners = np.array([(x, y, z) for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)])
+    cube = Pose(None, None, 1.0, np.zeros(3), corners, {}, ())  # a unit cube, built without trimesh
+    ls = energy_landscape(cube, step_deg=90.0)
     grid_barrier(ls, grid_minimum(ls, 0.0, 0.0))
     _WARM.append(True)
+
+
+def _grid_sector_exit(ls: Landscape, cell: tuple[int, int], kind: str, connectivity: int):
+    """The pitch-wise or roll-wise exit of :func:`~landscape.barriers.grid.grid_barrier` alone: one flood with the
+    path kept in the sector, to the upright set (the other exits' floods and the grid minima are not needed)."""
+    n = len(ls.angles_deg)
+    i0, j0 = cell[0] % n, cell[1] % n
+    s = i0 * n + j0
+    e = np.ascontiguousarray(ls.energy_j)
+    c = cos_sin(np.deg2rad(ls.angles_deg))[0]
+    upright = (c[:, None] * c[None, :]) < 0  # u_z = cos p cos r, as up_vector computes it
+    if upright[i0, j0]:
+        a0 = ls.angles_deg
+        return Exit(0.0, *canonical_pitch_roll_deg(a0[i0], a0[j0]), "roll", np.array([[a0[i0], a0[j0]]]))
+    d = np.abs(wrap_deg(ls.angles_deg - ls.angles_deg[i0]))[:, None]
+    dr = np.abs(wrap_deg(ls.angles_deg - ls.angles_deg[j0]))[None, :]
+    outside = np.ascontiguousarray((dr > d if kind == "pitch" else d > dr).ravel())
+    outside[s] = False
+    none = np.zeros(n * n, dtype=np.bool_)
+    target = np.ascontiguousarray(upright.ravel().astype(np.int8))
+    levels, cells, parent = _kernels.flood(e, s, target, outside, none, none, 0.0, connectivity, False)
+    return _grid_exit(ls, levels[0], int(cells[0]), parent, float(e[i0, j0]), kind)
 
 
 def _with_sectors(barrier: Barrier, minimum: Minimum, ls: Landscape, connectivity: int) -> Barrier:
@@ -96,24 +119,31 @@ def _with_sectors(barrier: Barrier, minimum: Minimum, ls: Landscape, connectivit
     Sector-restricted barriers live on the torus (a path over the pole changes sheet), so neither the exact
     face-edge graph (landscape/barriers/exact.py gives only an upper bound) nor the icosphere has them. Where the method's
     righting path stays inside a sector, it is that sector's barrier; otherwise the grid's sector search gives
-    it: the grid's bottleneck level minus the method's start energy.
+    it: the grid's bottleneck level minus the method's start energy. Only the sectors the righting path leaves
+    are searched (each by one flood, :func:`_grid_sector_exit`, as :func:`grid_barrier` would find it).
     """
     cell = grid_minimum(ls, minimum.pitch_deg, minimum.roll_deg)
-    gb = grid_barrier(ls, cell, connectivity=connectivity)
     shift = ls.at(*cell) - minimum.energy_j
     r = barrier.righting
     sectors = []
-    for kind, x in (("pitch", gb.pitch_wise), ("roll", gb.roll_wise)):
+    for kind in ("pitch", "roll"):
         if r is not None and _in_sector(r.path_deg, kind):
             sectors.append(replace(r, direction=kind))
-        else:
-            sectors.append(None if x is None else replace(x, barrier_j=x.barrier_j + shift))
+            continue
+        x = _grid_sector_exit(ls, cell, kind, connectivity)
+        sectors.append(None if x is None else replace(x, barrier_j=x.barrier_j + shift))
     return replace(barrier, pitch_wise=sectors[0], roll_wise=sectors[1])
 
 
-def start_orientation(robot: Robot, pose: Pose, theta_w_deg: float | None, theta_l_deg: float | None, *,
-                      start_pitch_deg: float | None = None, start_roll_deg: float | None = None
-                      ) -> tuple[float, float]:
+def start_orientation(
+    robot: Robot,
+    pose: Pose,
+    theta_w_deg: float | None,
+    theta_l_deg: float | None,
+    *,
+    start_pitch_deg: float | None = None,
+    start_roll_deg: float | None = None,
+) -> tuple[float, float]:
     """The orientation barrier searches start from, degrees.
 
     With ``start_pitch_deg``/``start_roll_deg``: the minimum reached by descent from there. Otherwise the
@@ -123,7 +153,9 @@ def start_orientation(robot: Robot, pose: Pose, theta_w_deg: float | None, theta
         p = 0.0 if start_pitch_deg is None else float(start_pitch_deg)
         r = 0.0 if start_roll_deg is None else float(start_roll_deg)
         if not (np.isfinite(p) and np.isfinite(r)) or abs(p) > 180 or abs(r) > 180:
-            raise UsageError(f"start pitch and roll must be finite degrees in [-180, 180]; got ({p!r}, {r!r})")
+            raise UsageError(
+                f"start pitch and roll must be finite degrees in [-180, 180]; got ({p!r}, {r!r})"
+            )
         return local_descent(pose, p, r)
     if robot.has_joints:
         return metastable_orientation(robot, theta_w_deg, theta_l_deg)
@@ -222,28 +254,49 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
     timing["pose"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     if start_deg is None:
-        start_deg = start_orientation(robot, pose, theta_w_deg, theta_l_deg,
-                                      start_pitch_deg=start_pitch_deg, start_roll_deg=start_roll_deg)
+        start_deg = start_orientation(
+            robot,
+            pose,
+            theta_w_deg,
+            theta_l_deg,
+            start_pitch_deg=start_pitch_deg,
+            start_roll_deg=start_roll_deg,
+        )
     timing["start"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     ls = energy_landscape(pose, step_deg=step_deg, g_m_s2=g_m_s2)
     timing["landscape"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    minimum, barrier = solver.solve(pose, ls, start_deg, step_deg=step_deg, connectivity=connectivity,
-                                    g_m_s2=g_m_s2)
+    minimum, barrier = solver.solve(
+        pose, ls, start_deg, step_deg=step_deg, connectivity=connectivity, g_m_s2=g_m_s2
+    )
     if not solver.SECTORS:
         barrier = _with_sectors(barrier, minimum, ls, connectivity)
     timing["barrier"] = time.perf_counter() - t0
-    return Computation(pose.theta_w_deg, pose.theta_l_deg, float(step_deg), method, pose.mass_kg, pose.com_m,
-                       canonical_pitch_roll_deg(*start_deg), minimum, barrier, ls, pose, timing)
+    return Computation(
+        pose.theta_w_deg,
+        pose.theta_l_deg,
+        float(step_deg),
+        method,
+        pose.mass_kg,
+        pose.com_m,
+        canonical_pitch_roll_deg(*start_deg),
+        minimum,
+        barrier,
+        ls,
+        pose,
+        timing,
+    )
 
 
-def sweep_starts(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float], *, baseline: bool = False
-                 ) -> dict[tuple[float, float], tuple[float, float]]:
+def sweep_starts(
+    robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float], *, baseline: bool = False
+) -> dict[tuple[float, float], tuple[float, float]]:
     """Metastable orientations over a theta_w x theta_l grid by one shared continuation.
 
-    theta_w rises from 0 through every requested value (1 deg steps or finer), and at each requested theta_w a
-    branch raises theta_l from 0. Equivalent to :func:`metastable_orientation` per pair, far cheaper.
+    theta_w rises from 0 through every requested value (1 deg steps or finer) in one continuation (one kernel
+    call per sign of theta_w), and at each requested theta_w a branch raises theta_l from 0. Equivalent to
+    :func:`metastable_orientation` per pair, far cheaper.
     ``baseline=True`` uses the former per-step grid pattern search (benchmarks/start_state.py).
     """
     follow = _follow_minimum_grid if baseline else follow_minimum
@@ -251,13 +304,17 @@ def sweep_starts(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float
     ws = sorted(set(float(w) for w in theta_w_deg))
     ls = sorted(set(float(x) for x in theta_l_deg))
     for sign_ws in ([w for w in ws if w >= 0], sorted([w for w in ws if w < 0], reverse=True)):
-        at = 0.0
-        p, r = follow(robot, [(0.0, 0.0)])[-1]
+        if not sign_ws:
+            continue
+        # one walk from rest through every requested theta_w (the face carried along), then the theta_l branches
+        path, reach, at = [(0.0, 0.0)], [], 0.0
         for w in sign_ws:
-            path = [(x, 0.0) for x in ramp_deg(at, w)]
-            if path:
-                p, r = follow(robot, path, pitch_deg=p, roll_deg=r)[-1]
+            path += [(x, 0.0) for x in ramp_deg(at, w)]
+            reach.append(len(path) - 1)
             at = w
+        walk = follow(robot, path)
+        for w, k in zip(sign_ws, reach, strict=True):
+            p, r = walk[k]
             for tl in ls:
                 if tl == 0.0:
                     out[(w, tl)] = (p, r)
@@ -265,7 +322,6 @@ def sweep_starts(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float
                 lpath = [(w, x) for x in ramp_deg(0.0, tl)]
                 out[(w, tl)] = follow(robot, lpath, pitch_deg=p, roll_deg=r)[-1]
     return out
-
 
 
 @dataclass(frozen=True)

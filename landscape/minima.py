@@ -9,16 +9,23 @@ until a new point touches the ground. It never crosses a ridge, so a start at a 
 The continuation along a joint path follows the face the body rests on: at each joint step it keeps the same
 points (the face moves with the links) as long as they still bound the hull from below and hold the CoM
 strictly inside, and rolls again only where that fails.
+
+The rolling and the whole continuation run in compiled kernels (``landscape/_kernels.py``: ``rest``,
+``still_rests``, ``follow_path``, the points posed per step from each part's link-frame hull vertices); the NumPy
+functions here (``_rest``, ``_still_rests``, :func:`_follow_minimum_numpy`) are their reference, matched move by
+move in tests/landscape/test_rolling_kernels.py.
 """
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
 from geometry import Pose, Robot
+from geometry.errors import UsageError
 from geometry.frames import canonical_pitch_roll_deg, pitch_roll_from_up, up_vector
 
 from . import _kernels
@@ -224,21 +231,46 @@ def rest_face(points_m, com_m, up, *, tol_m: float | None = None):
     >>> u.round(12).tolist(), len(face)
     ([0.0, 0.0, 1.0], 4)
     """
+    d, u, tol_m = _rest_inputs(points_m, com_m, up, tol_m)
+    u, face, settled = _kernels.rest(d, u, tol_m, _MAX_MOVES)
+    if not settled:
+        raise RuntimeError(NOT_SETTLED)
+    return u, face
+
+
+NOT_SETTLED = "rolling down did not settle; is the CoM inside the hull? please report this body"
+
+
+def _rest_inputs(points_m, com_m, up, tol_m):
+    """Checked kernel inputs of :func:`rest_face`: d = c - p (K, 3), unit up, tolerance, m."""
     pts = np.asarray(points_m, dtype=np.float64).reshape(-1, 3)
-    d = np.ascontiguousarray(np.asarray(com_m, dtype=np.float64)[None, :] - pts)
+    c = np.asarray(com_m, dtype=np.float64).reshape(-1)
+    u = np.asarray(up, dtype=np.float64).reshape(-1)
+    if len(pts) == 0 or c.shape != (3,) or u.shape != (3,):
+        raise UsageError(
+            f"rest_face needs points of shape (K >= 1, 3), a CoM and an up-direction of 3 numbers; got points "
+            f"{np.shape(points_m)}, com {np.shape(com_m)}, up {np.shape(up)}"
+        )
+    if (
+        not (np.isfinite(pts).all() and np.isfinite(c).all() and np.isfinite(u).all())
+        or not np.linalg.norm(u) > 0
+    ):
+        raise UsageError(
+            "rest_face needs finite points, CoM and a non-zero finite up-direction; fix the input"
+        )
+    d = np.ascontiguousarray(c[None, :] - pts)
     if tol_m is None:
         tol_m = LENGTH_RTOL * max(float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0))), 1e-300)
-    u = np.asarray(up, dtype=np.float64)
-    return _rest(d, u / np.linalg.norm(u), tol_m)
+    return d, u / np.linalg.norm(u), float(tol_m)
 
 
 def _rest(d, u, tol_m):
-    """:func:`rest_face` on the vectors d = c - p."""
+    """NumPy reference of :func:`rest_face` (and of ``_kernels.rest``) on the vectors d = c - p."""
     for _ in range(_MAX_MOVES):
         u, face = _roll_step(d, u, tol_m)
         if face is not None:
             return _face_up(d, face, u), face
-    raise RuntimeError("rolling down did not settle; is the CoM inside the hull? please report this body")
+    raise RuntimeError(NOT_SETTLED)
 
 
 def _face_up(d, face, u_hint):
@@ -301,25 +333,16 @@ def _joint_chains(robot: Robot):
     driver is "w" (theta_w), "l" (theta_l) or None (held at 0). None overall when a joint is of a kind this
     fast path does not model (mimic, planar, floating); the caller then poses the robot step by step.
     """
-    urdf = robot.urdf
-    by_child = {j.child: j for j in urdf.robot.joints}
     wing, leg = set(robot.joint_map.wing), set(robot.joint_map.leg)
     chains = []
     for part in robot.parts:
         chain = []
-        link = part.link
-        while link in by_child:
-            j = by_child[link]
-            if j.mimic is not None or j.type not in ("fixed", "revolute", "continuous", "prismatic"):
+        for j in robot.kinematic_chains()[part.link]:
+            if j.mimic or j.type not in ("fixed", "revolute", "continuous", "prismatic"):
                 return None
-            origin = np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=np.float64)
-            axis = np.array([1.0, 0.0, 0.0]) if j.axis is None else np.asarray(j.axis, dtype=np.float64)
             driver = "w" if j.name in wing else "l" if j.name in leg else None
-            chain.append((origin, axis / np.linalg.norm(axis), j.type, driver))
-            link = j.parent
-        if link != urdf.base_link:
-            return None
-        chains.append(chain[::-1])
+            chain.append((j.origin, j.axis / np.linalg.norm(j.axis), j.type, driver))
+        chains.append(chain)
     return chains
 
 
@@ -346,46 +369,66 @@ def _batch_transforms(chains, tw_rad: NDArray[np.float64], tl_rad: NDArray[np.fl
     return out
 
 
+_ARRAYS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _robot_arrays(robot: Robot):
+    """(chains, pts (K, 3), part_ptr (P + 1), mass_kg (P), com_link_m (P, 3)) of a robot, or None when
+    :func:`_joint_chains` cannot model its joints; computed once per robot (its parts are immutable)."""
+    hit = _ARRAYS.get(robot)
+    if hit is not None and hit[0] is robot.parts:
+        return hit[1]
+    chains = _joint_chains(robot) if robot.has_joints else None
+    out = None
+    if chains is not None:
+        parts = robot.parts
+        pts = np.ascontiguousarray(
+            np.concatenate([p.hull_link_m.reshape(-1, 3) for p in parts]), dtype=np.float64
+        )
+        ptr = np.zeros(len(parts) + 1, dtype=np.int64)
+        np.cumsum([len(p.hull_link_m) for p in parts], out=ptr[1:])
+        mass = np.array([p.mass.mass_kg for p in parts], dtype=np.float64)
+        com_link = np.stack([np.asarray(p.mass.com_m, dtype=np.float64) for p in parts])
+        out = (chains, pts, ptr, mass, com_link)
+    _ARRAYS[robot] = (robot.parts, out)
+    return out
+
+
 class _PathBodies:
-    """The posed body's points and CoM along a joint path, computed in one batch (no per-step URDF posing)."""
+    """The posed body along a joint path: per-step link transforms and CoM in one batch (no per-step URDF posing).
+
+    ``d_at`` gives c - p for every part's hull point at a step (the NumPy reference); the kernel path takes the
+    link-frame points, their part index and the per-step rotations, translations and CoM instead.
+    """
 
     def __init__(self, robot: Robot, path_deg: list[tuple[float, float]]):
         self.robot = robot
         self.path = path_deg
-        chains = _joint_chains(robot) if robot.has_joints else None
-        self.fast = chains is not None
+        fixed = _robot_arrays(robot)
+        self.fast = fixed is not None
         if not self.fast:
             return
+        chains, self.pts, self.part_ptr, mass, com_link = fixed
         w, l_ = (np.deg2rad(np.array([x[i] for x in path_deg], dtype=np.float64)) for i in (0, 1))
         T = _batch_transforms(chains, w, l_)
-        parts = robot.parts
-        mass = np.array([p.mass.mass_kg for p in parts])
-        com_link = np.stack([p.mass.com_m for p in parts])
-        R, t = T[:, :, :3, :3], T[:, :, :3, 3]
-        com = np.einsum("npij,pj->npi", R, com_link) + t
-        self.com = np.einsum("p,npi->ni", mass, com) / mass.sum()
-        # c - p for every part's hull point at every step: (N, K, 3), one batched product per part
-        self.d = np.concatenate(
-            [
-                self.com[:, None, :] - (p.hull_link_m @ R[:, i].transpose(0, 2, 1) + t[:, i, None])
-                for i, p in enumerate(parts)
-                if len(p.hull_link_m)
-            ],
-            axis=1,
-        )
-        ext = self.d.max(axis=1) - self.d.min(axis=1)
-        self.tol_m = LENGTH_RTOL * np.linalg.norm(ext, axis=1)
+        self.rot = np.ascontiguousarray(T[:, :, :3, :3])
+        self.trans = np.ascontiguousarray(T[:, :, :3, 3])
+        com = np.einsum("npij,pj->npi", self.rot, com_link) + self.trans
+        self.com = np.ascontiguousarray(np.einsum("p,npi->ni", mass, com) / mass.sum())
 
     def d_at(self, i: int) -> NDArray[np.float64]:
         """c - p for every part's hull point at path step i, m."""
         if self.fast:
-            return self.d[i]
+            R, t, ptr = self.rot[i], self.trans[i], self.part_ptr
+            return np.ascontiguousarray(
+                self.com[i][None, :]
+                - np.concatenate([self.pts[ptr[k] : ptr[k + 1]] @ R[k].T + t[k] for k in range(len(ptr) - 1)])
+            )
         pose = self.robot.pose(*self.path[i])
         return np.ascontiguousarray(pose.com_m[None, :] - pose.hull_points_m)
 
-    def tol_at(self, i: int, d: NDArray[np.float64]) -> float:
-        if self.fast:
-            return float(self.tol_m[i])
+    @staticmethod
+    def tol_at(d: NDArray[np.float64]) -> float:
         return LENGTH_RTOL * float(np.linalg.norm(d.max(axis=0) - d.min(axis=0)))
 
 
@@ -394,6 +437,7 @@ def _still_rests(d, face, u_prev, tol_m):
 
     The face (the same points, moved with their links) must bound the hull from below, hold the CoM's
     projection strictly inside, and the body at the previous orientation must stand on one of its points.
+    NumPy reference of ``_kernels.still_rests``.
     """
     u = _face_up(d, face, u_prev)
     hv = d @ u
@@ -413,15 +457,59 @@ def _still_rests(d, face, u_prev, tol_m):
     return u, face
 
 
+def _degs(ups: NDArray[np.float64]) -> list[tuple[float, float]]:
+    """Canonical (pitch, roll) of up-directions (N, 3), degrees."""
+    p, r = pitch_roll_from_up(ups)
+    p, r = np.rad2deg(p), np.rad2deg(r)
+    return [canonical_pitch_roll_deg(float(a), float(b)) for a, b in zip(p, r, strict=True)]
+
+
 def follow_minimum(
     robot: Robot, path_deg: list[tuple[float, float]], *, pitch_deg: float = 0.0, roll_deg: float = 0.0
 ) -> list[tuple[float, float]]:
     """Quasi-static continuation: the face the body rests on at each (theta_w, theta_l) of a path.
 
     At the first point the body rolls from (pitch, roll); afterwards it keeps its face while that face stays a
-    strict minimum (:func:`_still_rests`), and rolls again from where it was only where the face is lost.
-    Returns the canonical (pitch, roll) at every point of the path, degrees.
+    strict minimum (``_kernels.still_rests``), and rolls again from where it was only where the face is lost.
+    Returns the canonical (pitch, roll) at every point of the path, degrees. The whole walk runs in one
+    compiled kernel (``_kernels.follow_path``); :func:`_follow_minimum_numpy` is its NumPy reference.
     """
+    if not path_deg:
+        return []
+    if not (np.isfinite(pitch_deg) and np.isfinite(roll_deg)):
+        raise UsageError(f"start pitch and roll must be finite degrees; got ({pitch_deg!r}, {roll_deg!r})")
+    bodies = _PathBodies(robot, path_deg)
+    u = up_vector(np.deg2rad(pitch_deg), np.deg2rad(roll_deg))
+    if bodies.fast:
+        ups, settled = _kernels.follow_path(
+            bodies.pts, bodies.part_ptr, bodies.rot, bodies.trans, bodies.com, LENGTH_RTOL, u, _MAX_MOVES
+        )
+        if not settled:
+            raise RuntimeError(NOT_SETTLED)
+        return _degs(ups)
+    ups = np.zeros((len(path_deg), 3))
+    face = np.zeros(0, dtype=np.int64)
+    for i in range(len(path_deg)):
+        d = bodies.d_at(i)
+        tol_m = bodies.tol_at(d)
+        ok = False
+        if len(face):
+            ok, u_new, f_new = _kernels.still_rests(d, face, u, tol_m)
+            if ok:
+                u, face = u_new, f_new
+        if not ok:
+            u, face, settled = _kernels.rest(d, u, tol_m, _MAX_MOVES)
+            if not settled:
+                raise RuntimeError(NOT_SETTLED)
+        ups[i] = u
+    return _degs(ups)
+
+
+def _follow_minimum_numpy(
+    robot: Robot, path_deg: list[tuple[float, float]], *, pitch_deg: float = 0.0, roll_deg: float = 0.0
+) -> list[tuple[float, float]]:
+    """NumPy reference of :func:`follow_minimum` (the code before the kernels, issue #12): same moves, same
+    tolerances, one NumPy call per test."""
     if not path_deg:
         return []
     bodies = _PathBodies(robot, path_deg)
@@ -430,7 +518,7 @@ def follow_minimum(
     out = []
     for i in range(len(path_deg)):
         d = bodies.d_at(i)
-        tol_m = bodies.tol_at(i, d)
+        tol_m = bodies.tol_at(d)
         new = (None, None) if face is None else _still_rests(d, face, u, tol_m)
         if new[0] is None:
             new = _rest(d, u, tol_m)

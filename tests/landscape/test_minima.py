@@ -98,3 +98,18 @@ def test_lab_continuation_equals_former(lab_robot):
     pose = lab_robot.pose(74, 30)
     mg = pose.mass_kg * 9.81
     assert mg * float(height_at(pose, *new)) == pytest.approx(mg * float(height_at(pose, *old)), abs=1e-6)
+
+
+def test_sweep_starts_equal_metastable_per_pair(builtin):
+    """The shared continuation (one walk along theta_w per sign, branches in theta_l) reaches the minimum each
+    pair's own slow opening reaches, to 1e-6 J."""
+    from landscape.computation import sweep_starts
+
+    ws, ls = [-8.0, -2.5, 0.0, 10.0, 30.5, 74.0], [0.0, 30.0, -20.0]
+    starts = sweep_starts(builtin, ws, ls)
+    assert set(starts) == {(w, x) for w in ws for x in ls}
+    for (w, x), pr in starts.items():
+        pose = builtin.pose(w, x)
+        mg = pose.mass_kg * 9.81
+        own = metastable_orientation(builtin, w, x)
+        assert mg * float(height_at(pose, *pr)) == pytest.approx(mg * float(height_at(pose, *own)), abs=1e-6)
