@@ -35,7 +35,7 @@ import numpy as np
 from geometry import up_vector
 from landscape.analysis.trials import wilson_interval
 from sim.model import default_robot_urdf
-from sim.trial import DEFAULT_DT_S, run_trial
+from sim.trial import DEFAULT_DT_S, Numerics, run_trial
 from sim.world import Contact
 
 LAB_URDF = Path(__file__).resolve().parents[1].parent / "shared" / "ref" / "lab_robot" / "lab_robot.urdf"
@@ -162,7 +162,7 @@ def main() -> None:
     print("|---|---:|---:|---:|---:|---:|---:|")
     settings = [(f"{n} iterations", dict(contact=replace(soft, solver_iterations=n))) for n in (50, 20, 10)]
     settings.append((f"{soft.solver_iterations} iterations, fixed links merged",
-                     dict(contact=soft, merge_fixed_links=True)))
+                     dict(contact=soft, numerics=Numerics(merge_fixed_links=True))))
     for name, kw in settings:
         o1, o2 = orientation_diff_deg(traces(chosen, **kw, **robot), refs_soft)
         res = outcomes(chosen, grid, **kw, **robot)
@@ -171,7 +171,7 @@ def main() -> None:
 
     print(f"\n## Collision hull simplification at dt = {chosen:g} s\n")
     simp = outcomes(chosen, grid, **robot)
-    full = outcomes(chosen, grid, hull_tol_m=0.0, **robot)
+    full = outcomes(chosen, grid, numerics=Numerics(hull_tol_m=0.0), **robot)
     a, b, c = compare(full, simp)
     print("| hulls | successes | same success as simplified | same attempt | max diff time to right (ms) | "
           "core-s per simulated s |")

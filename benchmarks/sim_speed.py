@@ -26,13 +26,13 @@ from pathlib import Path
 import sim.world as world
 from sim.model import default_robot_urdf
 from sim.sweep import run_sweep, sweep_specs
-from sim.trial import DEFAULT_DT_S, OTHER_ROBOT_DT_S, run_trial
+from sim.trial import DEFAULT_DT_S, OTHER_ROBOT_DT_S, Numerics, run_trial
 from sim.world import Contact
 
 LAB_URDF = Path(__file__).resolve().parents[1].parent / "shared" / "ref" / "lab_robot" / "lab_robot.urdf"
 CASE = dict(theta_w_deg=70.0, theta_l_deg=20.0, phase=0.7, cv=0.0, rng=1, duration_s=10.0)
 BASELINE = ("first version (baseline): servo every step, 50 iterations, dt 2e-4",
-            dict(control_period_s=None, contact=Contact(solver_iterations=50), dt_s=2e-4))
+            dict(numerics=Numerics(control_period_s=None), contact=Contact(solver_iterations=50), dt_s=2e-4))
 ROWS = {
     "built-in": (
         BASELINE,
@@ -40,8 +40,8 @@ ROWS = {
         (f"**new default: dt {DEFAULT_DT_S:g}** (passes the convergence criterion on this robot)",
          dict(dt_s=DEFAULT_DT_S)),
         (f"dt {DEFAULT_DT_S:g}, fixed links merged (fails the criterion)",
-         dict(dt_s=DEFAULT_DT_S, merge_fixed_links=True)),
-        (f"dt {DEFAULT_DT_S:g}, full hulls", dict(dt_s=DEFAULT_DT_S, hull_tol_m=0.0)),
+         dict(dt_s=DEFAULT_DT_S, numerics=Numerics(merge_fixed_links=True))),
+        (f"dt {DEFAULT_DT_S:g}, full hulls", dict(dt_s=DEFAULT_DT_S, numerics=Numerics(hull_tol_m=0.0))),
     ),
     "lab": (
         BASELINE,

@@ -163,8 +163,9 @@ def start_orientation(
 
 
 BYTES_PER_CELL = 72
-"""Peak memory of :func:`compute` per landscape grid cell, bytes (energies, the flood's levels, parents and
-heap; tracemalloc, any method; checked by tests/landscape/test_computation.py)."""
+"""Peak memory of :func:`compute` per landscape grid cell, bytes: the grid method's (energies, the flood's
+levels, parents and heap), the largest of the methods (exact needs about half); tracemalloc, checked by
+tests/landscape/test_computation.py."""
 MEMORY_BUDGET_BYTES = 2 * 2**30
 """Default memory budget of one computation, bytes (2 GiB: a 0.05 deg grid needs about 3.7 GB)."""
 

@@ -66,7 +66,7 @@ MAX_TRIAL_MEMORY_BYTES = 2**30
 _BYTES_PER_CONTROL_PERIOD = 96
 _BYTES_PER_CONTROL_PERIOD_JOINT = 160
 
-__all__ = ["DEFAULT_DT_S", "OTHER_ROBOT_DT_S", "default_dt_s", "SimulationDiverged", "Trace", "TrialResult", "run_trial", "resolve_seed",
+__all__ = ["DEFAULT_DT_S", "Numerics", "OTHER_ROBOT_DT_S", "default_dt_s", "SimulationDiverged", "Trace", "TrialResult", "run_trial", "resolve_seed",
            "MAX_DURATION_S", "MIN_DT_S", "MAX_DT_S", "MAX_STEPS", "MAX_TRIAL_MEMORY_BYTES", "trial_cost",
            "check_trial_cost"]
 
@@ -306,13 +306,37 @@ def _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, limits,
     check_trial_cost(duration_s, dt_s, control_period_s=control_period_s, n_joints=n_joints)
 
 
+@dataclass(frozen=True)
+class Numerics:
+    """How a trial is simulated, not what is simulated: collision hulls, servo command period, sub-stepping.
+
+    Attributes
+    ----------
+    hull_tol_m, hull_max_vertices
+        Collision hull simplification (:func:`sim.model.sim_model`); ``hull_tol_m=0`` keeps full hulls.
+    control_period_s : float or None
+        Servo command period, s (rounded to a whole number of steps); None commands every physics step (the
+        configuration before the speed-up, kept for the benchmarks).
+    engine_substeps : bool
+        Let pybullet sub-step through a control period in one call (default) rather than one call per step;
+        the physics is identical (tested), only faster.
+    merge_fixed_links : bool
+        Merge links on fixed joints into their parents (:func:`sim.model.merge_fixed_links`). Off by default:
+        about 15 % faster, but it fails the convergence criterion at the default dt (docs/sim.md).
+    """
+
+    hull_tol_m: float = HULL_TOL_M
+    hull_max_vertices: int = HULL_MAX_VERTICES
+    control_period_s: float | None = CONTROL_PERIOD_S
+    engine_substeps: bool = True
+    merge_fixed_links: bool = False
+
+
 def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float,
               rng: np.random.Generator | int | None = None, duration_s: float = DEFAULT_DURATION_S,
               dt_s: float | None = None, robot: str | Path | None = None, joint_map: JointMap | None = None,
-              actuation: Actuation | None = None, contact: Contact | None = None, hull_tol_m: float = HULL_TOL_M,
-              hull_max_vertices: int = HULL_MAX_VERTICES, trace: bool = False,
-              control_period_s: float | None = CONTROL_PERIOD_S, engine_substeps: bool = True,
-              merge_fixed_links: bool = False, attempts: int | None = None, model_set=None) -> TrialResult:
+              actuation: Actuation | None = None, contact: Contact | None = None, trace: bool = False,
+              attempts: int | None = None, model_set=None, numerics: Numerics = Numerics()) -> TrialResult:
     """Run one self-righting trial in a fresh pybullet DIRECT client.
 
     Parameters
@@ -333,19 +357,8 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
     actuation : Actuation, optional
         Profile timing; its theta fields are replaced by ``theta_w_deg`` and ``theta_l_deg``.
     contact : Contact, optional
-    hull_tol_m, hull_max_vertices
-        Collision hull simplification (:func:`sim.model.sim_model`); ``hull_tol_m=0`` keeps full hulls.
     trace : bool
         Record a :class:`Trace`.
-    control_period_s : float or None
-        Servo command period, s (rounded to a whole number of steps); None commands every physics step (the
-        configuration before the speed-up, kept for the benchmarks).
-    engine_substeps : bool
-        Let pybullet sub-step through a control period in one call (default) rather than one call per step;
-        the physics is identical (tested), only faster.
-    merge_fixed_links : bool
-        Merge links on fixed joints into their parents (:func:`sim.model.merge_fixed_links`). Off by default:
-        about 15 % faster, but it fails the convergence criterion at the default dt (docs/sim.md).
     attempts : int, optional
         Make at most this many wing openings; the wings then stay closed, and the trial ends one wing period
         ``Tw`` after the last opening (or at ``duration_s`` if earlier). ``attempts=1`` is a single-attempt
@@ -354,6 +367,8 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
         Model parameter set: its actuation timing and contact apply where ``actuation`` / ``contact`` are not
         given (None: the shipped ``paper`` set, the same values as the defaults of :class:`Actuation` and
         :class:`Contact`). Its name and hash are kept in the result.
+    numerics : Numerics
+        Hulls, servo period and sub-stepping (defaults: the converged configuration).
 
     Returns
     -------
@@ -369,20 +384,46 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
         If the physics blows up.
     """
     wall0, cpu0 = time.perf_counter(), time.process_time()
-    model = sim_model(robot, tol_m=hull_tol_m, max_vertices=hull_max_vertices, joint_map=joint_map,
-                      merge_fixed=merge_fixed_links)
+    model = sim_model(robot, tol_m=numerics.hull_tol_m, max_vertices=numerics.hull_max_vertices,
+                      joint_map=joint_map, merge_fixed=numerics.merge_fixed_links)
     theta_w_deg, theta_l_deg, phase, cv = float(theta_w_deg), float(theta_l_deg), float(phase), float(cv)
     duration_s, dt_s = float(duration_s), float(default_dt_s(model.source) if dt_s is None else dt_s)
     _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, model.theta_limits_deg,
-                  control_period_s=control_period_s,
+                  control_period_s=numerics.control_period_s,
                   n_joints=len(model.joint_map.wing) + len(model.joint_map.leg))
     seed, gen = resolve_seed(rng)
     if model_set is None:
         from .model_set import load_model_set
 
         model_set = load_model_set()
-    if contact is None:
-        contact = model_set.contact
+    act, starts, duration_s = _schedule(model_set, actuation, theta_w_deg, theta_l_deg, phase=phase, cv=cv,
+                                        gen=gen, duration_s=duration_s, attempts=attempts)
+    cmd = _servo_commands(act, starts, dt_s=dt_s, duration_s=duration_s, control_period_s=numerics.control_period_s,
+                          n_wing=len(model.joint_map.wing), n_leg=len(model.joint_map.leg))
+    substeps = cmd.sub if numerics.engine_substeps else 1
+    with World(model, dt_s=dt_s, substeps=substeps, contact=contact or model_set.contact) as world:
+        _settle(world, model, cmd)
+        run = _run(world, cmd, trace=trace)
+    started = starts[starts <= run.t_end]
+    attempt = int(np.searchsorted(starts, run.t_right, side="right")) if run.success else None
+    tr = None
+    if trace:
+        a = np.asarray(run.rows, dtype=np.float64).reshape(-1, len(Trace.COLUMNS))
+        tr = Trace(*(a[:, k].copy() for k in range(a.shape[1])))
+    return TrialResult(
+        theta_w_deg=theta_w_deg, theta_l_deg=theta_l_deg, phase=phase, cv=cv, seed=seed, duration_s=duration_s,
+        dt_s=dt_s, success=run.success, time_to_right_s=run.t_right, attempt=attempt,
+        phases=tuple(float(x) for x in attempt_phases(started, act)),
+        attempt_starts_s=tuple(float(x) for x in started), mode=run.mode, sim_s=run.t_end,
+        wall_s=time.perf_counter() - wall0, cpu_s=time.process_time() - cpu0,
+        max_tracking_error_deg=float(np.rad2deg(run.max_err)), robot_hash=model.robot_hash,
+        model_hash=model.model_hash, trace=tr, model_set=model_set.name, model_set_hash=model_set.model_set_hash)
+
+
+def _schedule(model_set, actuation: Actuation | None, theta_w_deg: float, theta_l_deg: float, *, phase: float,
+              cv: float, gen: np.random.Generator, duration_s: float, attempts: int | None):
+    """The actuation at these angles, the wing openings' start times (noise drawn from ``gen``), and the trial
+    length (cut one wing period after the last allowed attempt)."""
     base = actuation or model_set.actuation(theta_w_deg, theta_l_deg)
     act = Actuation(theta_w_deg, theta_l_deg, base.wing_period_s, base.wing_open_deg_s, base.wing_close_deg_s,
                     base.wing_close_start_s, base.leg_period_s, base.leg_cross_s)
@@ -393,17 +434,39 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
         starts = starts[: int(attempts)]
         if len(starts) == int(attempts):
             duration_s = min(duration_s, float(starts[-1]) + act.wing_period_s)
+    return act, starts, duration_s
 
+
+@dataclass(frozen=True)
+class _Commands:
+    """The servo commands of a whole trial, one row per control period (``sub`` physics steps of ``dt_s``)."""
+
+    dt_s: float
+    duration_s: float
+    sub: int
+    ctrl_s: float
+    target_rad: list          # held command per control period and joint (the profile mid-period)
+    speed_rad_s: list
+    end_rad: list             # the profile at the end of each control period (tracking error)
+    wing_deg: NDArray[np.float64]
+    leg_deg: NDArray[np.float64]
+    n_wing: int
+
+    @property
+    def n_ctrl(self) -> int:
+        return len(self.target_rad)
+
+
+def _servo_commands(act: Actuation, starts, *, dt_s: float, duration_s: float, control_period_s: float | None,
+                    n_wing: int, n_leg: int) -> _Commands:
     # the servos are commanded once per control period (CONTROL_PERIOD_S, a whole number of physics steps)
     sub = max(1, int(round(control_period_s / dt_s))) if control_period_s else 1
     ctrl_s = sub * dt_s
     n_ctrl = int(round(duration_s / ctrl_s))
     t_end_k = np.arange(1, n_ctrl + 1) * ctrl_s  # end of control period k
     t_hold = t_end_k - (ctrl_s / 2 if sub > 1 else 0.0)  # held command: the profile mid-period (exact on ramps)
-    n_wing = len(model.joint_map.wing)
-    n_leg = len(model.joint_map.leg)
 
-    def _joint_profiles(t):
+    def joint_profiles(t):
         wing, wing_v = wing_profile_deg(t, starts, act)
         leg, leg_v = leg_profile_deg(t, act)
         q = np.deg2rad(np.concatenate([np.repeat(wing[:, None], n_wing, 1), np.repeat(leg[:, None], n_leg, 1)], 1))
@@ -411,66 +474,67 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
                                        np.repeat(leg_v[:, None], n_leg, 1)], 1))
         return wing, leg, q, v
 
-    _, _, target, speed = _joint_profiles(t_hold)
-    wing_deg, leg_deg, target_end, _ = _joint_profiles(t_end_k)
-    kp = min(1.0, dt_s / SERVO_TAU_S)
-    check_every = max(1, int(round(CHECK_EVERY_S / ctrl_s)))
-    trace_every = max(1, int(round(TRACE_EVERY_S / ctrl_s)))
-    rows: list[list[float]] = []
+    _, _, target, speed = joint_profiles(t_hold)
+    wing_deg, leg_deg, target_end, _ = joint_profiles(t_end_k)
+    return _Commands(dt_s, duration_s, sub, ctrl_s, target.tolist(), speed.tolist(), target_end.tolist(), wing_deg, leg_deg,
+                     n_wing)
 
-    success, t_right, mode, t_end = False, None, None, duration_s
-    max_err = 0.0
-    with World(model, dt_s=dt_s, substeps=sub if engine_substeps else 1, contact=contact) as world:
-        zeros = np.zeros(len(world.driven))
-        world.place(np.deg2rad(model.rest_pitch_deg), 0.0, joints_rad=zeros)
-        world.drive(zeros, zeros, kp=kp, kd=1.0)
-        world.advance(sub * int(round(SETTLE_S / ctrl_s)))
-        v, w = world.base_velocity()
-        if np.linalg.norm(v) > 5e-3 or np.linalg.norm(w) > 0.05:
-            log.warning("robot still moving after %.1f s of settling (%.3g m/s, %.3g rad/s)",
-                        SETTLE_S, np.linalg.norm(v), np.linalg.norm(w))
-        world.check_finite(0.0)
-        if world.up_in_body()[2] <= 0:
-            raise SimulationDiverged("the robot did not settle on its back; check the robot and --dt")
 
-        upright_since, u_first = None, None
-        target_l, speed_l, end_l = target.tolist(), speed.tolist(), target_end.tolist()
-        for i in range(n_ctrl):
-            world.drive(target_l[i], speed_l[i], kp=kp, kd=1.0)
-            world.advance(sub)
-            ti = (i + 1) * ctrl_s
-            if trace and (i + 1) % trace_every == 0:
-                rows.append(_trace_row(world, ti, wing_deg[i], leg_deg[i], n_wing))
-            if (i + 1) % check_every:
-                continue
-            world.check_finite(ti)
-            err = max(abs(a - b) for a, b in zip(world.joint_positions_rad(), end_l[i], strict=True))
-            max_err = max(max_err, err)
-            u = world.up_in_body()
-            if u[2] < 0:
-                if upright_since is None:
-                    upright_since, u_first = ti, u
-                if ti - upright_since >= UPRIGHT_HOLD_S - 1e-12:
-                    success, t_right, t_end = True, upright_since, ti
-                    mode = "roll" if abs(u_first[1]) >= abs(u_first[0]) else "somersault"
-                    break
-            else:
-                upright_since = None
+def _settle(world: World, model, cmd: _Commands) -> None:
+    """Place the robot on its back with the joints at zero and let it settle for ``SETTLE_S``."""
+    zeros = np.zeros(len(world.driven))
+    world.place(np.deg2rad(model.rest_pitch_deg), 0.0, joints_rad=zeros)
+    world.drive(zeros, zeros, kp=min(1.0, cmd.dt_s / SERVO_TAU_S), kd=1.0)
+    world.advance(cmd.sub * int(round(SETTLE_S / cmd.ctrl_s)))
+    v, w = world.base_velocity()
+    if np.linalg.norm(v) > 5e-3 or np.linalg.norm(w) > 0.05:
+        log.warning("robot still moving after %.1f s of settling (%.3g m/s, %.3g rad/s)",
+                    SETTLE_S, np.linalg.norm(v), np.linalg.norm(w))
+    world.check_finite(0.0)
+    if world.up_in_body()[2] <= 0:
+        raise SimulationDiverged("the robot did not settle on its back; check the robot and --dt")
 
-    started = starts[starts <= t_end]
-    attempt = int(np.searchsorted(starts, t_right, side="right")) if success else None
-    tr = None
-    if trace:
-        a = np.asarray(rows, dtype=np.float64).reshape(-1, len(Trace.COLUMNS))
-        tr = Trace(*(a[:, k].copy() for k in range(a.shape[1])))
-    return TrialResult(
-        theta_w_deg=theta_w_deg, theta_l_deg=theta_l_deg, phase=phase, cv=cv, seed=seed, duration_s=duration_s,
-        dt_s=dt_s, success=success, time_to_right_s=t_right, attempt=attempt,
-        phases=tuple(float(x) for x in attempt_phases(started, act)),
-        attempt_starts_s=tuple(float(x) for x in started), mode=mode, sim_s=t_end,
-        wall_s=time.perf_counter() - wall0, cpu_s=time.process_time() - cpu0, max_tracking_error_deg=float(np.rad2deg(max_err)),
-        robot_hash=model.robot_hash, model_hash=model.model_hash, trace=tr, model_set=model_set.name,
-        model_set_hash=model_set.model_set_hash)
+
+@dataclass
+class _Run:
+    success: bool = False
+    t_right: float | None = None
+    mode: str | None = None
+    t_end: float = 0.0
+    max_err: float = 0.0
+    rows: list = field(default_factory=list)
+
+
+def _run(world: World, cmd: _Commands, *, trace: bool) -> _Run:
+    """Drive the servos period by period; the trial succeeds once the body has stayed upright (u_z < 0) for
+    ``UPRIGHT_HOLD_S``, checked every ``CHECK_EVERY_S``."""
+    kp = min(1.0, cmd.dt_s / SERVO_TAU_S)
+    check_every = max(1, int(round(CHECK_EVERY_S / cmd.ctrl_s)))
+    trace_every = max(1, int(round(TRACE_EVERY_S / cmd.ctrl_s)))
+    run = _Run(t_end=cmd.duration_s)
+    upright_since, u_first = None, None
+    for i in range(cmd.n_ctrl):
+        world.drive(cmd.target_rad[i], cmd.speed_rad_s[i], kp=kp, kd=1.0)
+        world.advance(cmd.sub)
+        ti = (i + 1) * cmd.ctrl_s
+        if trace and (i + 1) % trace_every == 0:
+            run.rows.append(_trace_row(world, ti, cmd.wing_deg[i], cmd.leg_deg[i], cmd.n_wing))
+        if (i + 1) % check_every:
+            continue
+        world.check_finite(ti)
+        err = max(abs(a - b) for a, b in zip(world.joint_positions_rad(), cmd.end_rad[i], strict=True))
+        run.max_err = max(run.max_err, err)
+        u = world.up_in_body()
+        if u[2] < 0:
+            if upright_since is None:
+                upright_since, u_first = ti, u
+            if ti - upright_since >= UPRIGHT_HOLD_S - 1e-12:
+                run.success, run.t_right, run.t_end = True, upright_since, ti
+                run.mode = "roll" if abs(u_first[1]) >= abs(u_first[0]) else "somersault"
+                break
+        else:
+            upright_since = None
+    return run
 
 
 def _trace_row(world: World, t_s: float, wing_cmd_deg: float, leg_cmd_deg: float, n_wing: int) -> list[float]:

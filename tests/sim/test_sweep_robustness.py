@@ -18,7 +18,7 @@ psutil = pytest.importorskip("psutil")
 import sim.sweep as sweep_mod  # noqa: E402
 from sim.store import RobotChangedError, TrialStore  # noqa: E402
 from sim.sweep import MAX_TRIALS, SweepAborted, run_sweep, sweep_specs  # noqa: E402
-from sim.trial import MAX_DURATION_S, MAX_STEPS, MIN_DT_S, TrialInputError, run_trial  # noqa: E402
+from sim.trial import MAX_DURATION_S, MAX_STEPS, MIN_DT_S, Numerics, TrialInputError, run_trial  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[2]
 SHORT = dict(duration_s=0.3, dt_s=1e-3)  # the built-in robot: ~1 s per trial with its model build
@@ -40,7 +40,7 @@ def _gone(pid: int) -> bool:
         (dict(dt_s=1e-9, duration_s=0.1), "MIN_DT_S"),
         (dict(dt_s=1e-6, duration_s=10.0), r"10,500,000 physics steps.*MAX_STEPS = 5,000,000"),
         (
-            dict(dt_s=1e-5, duration_s=40.0, control_period_s=None),
+            dict(dt_s=1e-5, duration_s=40.0, numerics=Numerics(control_period_s=None)),
             r"3.34 GiB of command profiles.*MAX_TRIAL_MEMORY",
         ),
     ],

@@ -14,6 +14,7 @@ pytest.importorskip("pybullet")
 
 from sim import Contact, SimulationDiverged, TrialInputError, run_trial  # noqa: E402
 from sim.model import sim_model  # noqa: E402
+from sim.trial import Numerics  # noqa: E402
 from sim.world import World  # noqa: E402
 from tests.conftest import builtin_robot, lab_sim_robot  # noqa: E402
 
@@ -233,8 +234,8 @@ def test_engine_substeps_equal_single_steps(sim_robot):
     """Sub-stepping inside pybullet (one call per 1 ms servo period) is the same physics as one call per step:
     the motor force limit is rescaled, because pybullet caps the impulse at force x the whole call's time."""
     kw = dict(phase=0.45, cv=0.2, rng=11, robot=sim_robot.urdf, dt_s=5e-4, duration_s=1.5, trace=True)
-    a = run_trial(74.0, 40.0, engine_substeps=True, **kw)
-    b = run_trial(74.0, 40.0, engine_substeps=False, **kw)
+    a = run_trial(74.0, 40.0, numerics=Numerics(engine_substeps=True), **kw)
+    b = run_trial(74.0, 40.0, numerics=Numerics(engine_substeps=False), **kw)
     assert _strip(a) == _strip(b)
     np.testing.assert_array_equal(a.trace.as_array(), b.trace.as_array())
     assert len(a.trace.t_s) == 150 and a.trace.t_s[-1] == pytest.approx(1.5)
@@ -242,7 +243,7 @@ def test_engine_substeps_equal_single_steps(sim_robot):
 
 def test_servo_commanded_per_step_when_asked(sim_robot):
     kw = dict(phase=0.2, cv=0.0, rng=2, robot=sim_robot.urdf, dt_s=5e-4, duration_s=2.0, trace=True)
-    per_step = run_trial(76.0, 50.0, control_period_s=None, **kw)
+    per_step = run_trial(76.0, 50.0, numerics=Numerics(control_period_s=None), **kw)
     per_ms = run_trial(76.0, 50.0, **kw)
     for r in (per_step, per_ms):  # both servo schedules track the profile
         assert r.max_tracking_error_deg < 4.0
