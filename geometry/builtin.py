@@ -44,6 +44,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .errors import RobotDescriptionError
 from .frames import rpy_matrix
 from .mass import MassProperties, combine, shell_mass_properties, solid_mass_properties
 
@@ -477,35 +478,41 @@ def builtin_urdf_path(cache_dir: str | Path | None = None, params: BuiltinParame
     files = builtin_description(p)
     digest = hashlib.sha256(b"".join(k.encode() + v for k, v in files.items())).hexdigest()[:16]
     target = root / f"builtin-{digest}"
-    if not target.is_dir():
-        root.mkdir(parents=True, exist_ok=True)
-        tmp = root / f".tmp-{digest}-{os.getpid()}"
-        tmp.mkdir(parents=True, exist_ok=True)
+    try:
+        if not target.is_dir():
+            root.mkdir(parents=True, exist_ok=True)
+            tmp = root / f".tmp-{digest}-{os.getpid()}"
+            tmp.mkdir(parents=True, exist_ok=True)
+            for name, data in files.items():
+                (tmp / name).write_bytes(data)
+            try:
+                os.replace(tmp, target)
+            except OSError:  # another process won the race
+                for f in tmp.iterdir():
+                    f.unlink()
+                tmp.rmdir()
         for name, data in files.items():
-            (tmp / name).write_bytes(data)
-        try:
-            os.replace(tmp, target)
-        except OSError:  # another process won the race
-            for f in tmp.iterdir():
-                f.unlink()
-            tmp.rmdir()
-    for name, data in files.items():
-        path = target / name
-        try:
-            if path.read_bytes() == data:
-                continue
-        except OSError:  # missing or unreadable: rewrite it
-            pass
-        tmp_file = target / f".{name}.tmp-{os.getpid()}"
-        tmp_file.write_bytes(data)
-        os.replace(tmp_file, path)
-    index = {
-        "digest": digest,
-        "files": {name: hashlib.sha256(data).hexdigest() for name, data in files.items()},
-    }
-    tmp_index = root / f".builtin-index-{key}.json.tmp-{os.getpid()}"
-    tmp_index.write_text(json.dumps(index, sort_keys=True))
-    os.replace(tmp_index, root / f"builtin-index-{key}.json")
+            path = target / name
+            try:
+                if path.read_bytes() == data:
+                    continue
+            except OSError:  # missing or unreadable: rewrite it
+                pass
+            tmp_file = target / f".{name}.tmp-{os.getpid()}"
+            tmp_file.write_bytes(data)
+            os.replace(tmp_file, path)
+        index = {
+            "digest": digest,
+            "files": {name: hashlib.sha256(data).hexdigest() for name, data in files.items()},
+        }
+        tmp_index = root / f".builtin-index-{key}.json.tmp-{os.getpid()}"
+        tmp_index.write_text(json.dumps(index, sort_keys=True))
+        os.replace(tmp_index, root / f"builtin-index-{key}.json")
+    except OSError as exc:
+        raise RobotDescriptionError(
+            f"cannot write the built-in robot's files under {root} ({exc.strerror or exc}); set LANDSCAPE_CACHE "
+            "to a writable directory"
+        ) from None
     return target / URDF_NAME
 
 

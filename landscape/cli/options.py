@@ -73,8 +73,8 @@ def load_robot(robot: str | None, mesh: str | None, *, com: str | None = None, m
             c = [float(x) for x in com.split(",")]
         except ValueError:
             raise UsageError(f"--com must be X,Y,Z in the mesh's units; got {com!r}") from None
-        if len(c) != 3:
-            raise UsageError(f"--com must be three numbers X,Y,Z; got {com!r}")
+        if len(c) != 3 or not all(math.isfinite(x) for x in c):
+            raise UsageError(f"--com must be three finite numbers X,Y,Z; got {com!r}")
     finite(mass, "mass")
     return _load(robot, mesh=mesh, com=c, mass_kg=mass, units=units, com_model=com_model, joints=joints)
 

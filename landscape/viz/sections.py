@@ -82,10 +82,12 @@ class PaperCells:
     dt_s: float | None = None
     other_protocol_trials: int = 0
     missing: str = ""
+    model_set: str = "paper"
 
     @property
     def protocol_text(self) -> str:
-        return f"{self.duration_s:g} s trials, dt {self.dt_s:g} s"
+        return f"{self.duration_s:g} s trials, dt {self.dt_s:g} s" + (
+            f", model {self.model_set}" if self.model_set != "paper" else "")
 
 
 def _paper_cells(rows: list[dict], phase: float | None, db) -> PaperCells:
@@ -96,11 +98,15 @@ def _paper_cells(rows: list[dict], phase: float | None, db) -> PaperCells:
     if not paper:
         return PaperCells([], None, missing="no multi-attempt trials of the paper's protocol (Tw 2 s, Tl 0.8 s); "
                           f"run `{PAPER_SWEEP.format(db=db)}`")
-    protocols: dict[tuple[float, float], int] = {}
+    def protocol(r: dict) -> tuple:
+        return r["duration_s"], r["dt_s"], r.get("model_set") or "paper"
+
+    protocols: dict[tuple, int] = {}
     for r in paper:
-        protocols[(r["duration_s"], r["dt_s"])] = protocols.get((r["duration_s"], r["dt_s"]), 0) + 1
-    duration_s, dt_s = max(protocols, key=lambda k: (protocols[k], k))
-    kept = [r for r in paper if (r["duration_s"], r["dt_s"]) == (duration_s, dt_s)]
+        protocols[protocol(r)] = protocols.get(protocol(r), 0) + 1
+    chosen = max(protocols, key=lambda k: (protocols[k], k))
+    duration_s, dt_s, model_set = chosen
+    kept = [r for r in paper if protocol(r) == chosen]
     cells = an.probability_table(kept)
     counts: dict[float, int] = {}
     for c in cells:
@@ -119,7 +125,7 @@ def _paper_cells(rows: list[dict], phase: float | None, db) -> PaperCells:
                           missing=f"the {len(at_phase)} settings at φ1 = {phase:g} have one trial each "
                           f"({sum(c.n for c in at_phase)} trials): a probability needs several; sweep again "
                           f"with --trials 2 or more (`{PAPER_SWEEP.format(db=db)} --trials 2 ...`)")
-    return PaperCells(several, phase, duration_s, dt_s, len(paper) - len(kept))
+    return PaperCells(several, phase, duration_s, dt_s, len(paper) - len(kept), model_set=model_set)
 
 
 # ---------------------------------------------------------------------------------------------- sections
@@ -155,7 +161,8 @@ def section_probability(rows: list[dict], out: Path, db: Path, *, phase: float |
     paras = (
         f"{n} trials ({len(cells)} settings, φ1 = {phase:g}, {pc.protocol_text}): {wins} righted "
         f"({wins / n * 100:.1f} %)."
-        + (f" {pc.other_protocol_trials} trials of other durations or time steps are not pooled with them."
+        + (f" {pc.other_protocol_trials} trials of other durations, time steps or model sets are not pooled with "
+           "them."
            if pc.other_protocol_trials else ""),
         "Overall by Cv: "
         + "; ".join(

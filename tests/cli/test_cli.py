@@ -71,7 +71,7 @@ def test_compute_lab_robot(capsys, lab_robot):
     (["compute", "--step", "7", "--mesh", "{box}"], "does not divide 360"),
     (["compute", "--theta-w", "nan", "--mesh", "{box}"], "finite"),
     (["compute", "--start-pitch", "inf", "--mesh", "{box}"], "finite"),
-    (["compute", "--mesh", "{box}", "--com", "1,2"], "three numbers"),
+    (["compute", "--mesh", "{box}", "--com", "1,2"], "three finite numbers"),
     (["compute", "--mesh", "{box}", "--mass", "-1"], "positive"),
     (["compute", "--mesh", "{box}", "--robot", "x.urdf"], "not both"),
     (["barrier-map", "--theta-w", "", "--mesh", "{box}"], "empty"),

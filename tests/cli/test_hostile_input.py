@@ -114,3 +114,41 @@ def test_a_robot_the_landscape_accepts_can_be_simulated_and_swept(tmp_path):
     assert r.returncode == 0, r.stderr
     refused(landscape("sweep", "--robot", urdf, "--theta-w", "74", "--theta-l", "30", "--cv", "0", "--trials",
                       "1", "--duration", "0.2", "--db", db, "--workers", "1", "--no-progress"), "none of the default")
+
+
+def test_an_unwritable_cache_names_landscape_cache(tmp_path):
+    """The built-in robot's files cannot be written: one line naming the cache and LANDSCAPE_CACHE (#16)."""
+    blocker = tmp_path / "not_a_dir"
+    blocker.write_text("a file where the cache directory should be")
+    exe = [str(SCRIPT)] if SCRIPT.is_file() else [sys.executable, "-m", "landscape"]
+    env = {**{k: v for k, v in os.environ.items() if k != "LANDSCAPE_DEBUG"}, "LANDSCAPE_CACHE": str(blocker)}
+    r = subprocess.run([*exe, "compute", "--theta-w", "74"], capture_output=True, text=True, env=env, timeout=300)
+    refused(r, "cannot write the built-in robot's files", "LANDSCAPE_CACHE")
+
+
+def _limited():
+    """Run the child with 4 GiB of address space, so a regression that tries to allocate fails, not the host."""
+    import resource
+
+    resource.setrlimit(resource.RLIMIT_AS, (4 * 2**30, 4 * 2**30))
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["simulate", "--theta-w", "74", "--theta-l", "30", "--duration", "1e308"], "longer than MAX_DURATION_S"),
+    (["simulate", "--theta-w", "74", "--theta-l", "30", "--duration", "1e6"], "longer than MAX_DURATION_S"),
+    (["simulate", "--theta-w", "74", "--theta-l", "30", "--dt", "1e-300"], "dt"),
+    (["simulate", "--theta-w", "74", "--theta-l", "30", "--dt", "1e-9", "--duration", "0.1"], "dt"),
+    (["sweep", "--trials", "1000000000", "--db", "{d}/big.sqlite"], "--trials"),
+    (["sweep", "--theta-w", "0:90:0.001", "--theta-l", "0:50:0.01", "--cv", "0", "--trials", "1", "--db",
+      "{d}/big.sqlite"], "more than MAX_TRIALS"),
+    (["barrier-map", "--theta-w", "0:90:1e-7", "--out", "{d}/bm"], "more than the 100000 allowed"),
+    (["compute", "--step", "0.05"], "needs about 3.7 GB"),
+])
+def test_resource_bounds_refused_up_front_under_a_memory_limit(corpus, args, needle):
+    """Requests that would exhaust memory or time are refused before any work, even with 4 GiB and 60 s."""
+    exe = [str(SCRIPT)] if SCRIPT.is_file() else [sys.executable, "-m", "landscape"]
+    env = {k: v for k, v in os.environ.items() if k != "LANDSCAPE_DEBUG"}
+    r = subprocess.run([*exe, *[a.format(d=corpus) for a in args]], capture_output=True, text=True, env=env,
+                       timeout=60, preexec_fn=_limited)
+    refused(r, needle)
+    assert not (corpus / "big.sqlite").exists()

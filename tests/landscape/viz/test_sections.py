@@ -116,8 +116,11 @@ def test_probability_never_pools_trials_of_other_durations(tmp_path):
     sec = sections.section_probability(rows, tmp_path, tmp_path / "t.sqlite")
     text = " ".join(sec.paragraphs)
     assert "2 trials (1 settings, φ1 = 0.7, 10 s trials, dt 0.0005 s): 1 righted" in text
-    assert "2 trials of other durations or time steps are not pooled" in text
+    assert "2 trials of other durations, time steps or model sets are not pooled" in text
     assert [r["n"] for r in _csv(tmp_path / "probability.csv")] == ["2"]
+    other_model = [_won(seed=1), _row(seed=2), _won(seed=3, model_set="physical")]
+    sec = sections.section_probability(other_model, tmp_path, tmp_path / "t.sqlite")
+    assert "1 trials of other durations, time steps or model sets are not pooled" in " ".join(sec.paragraphs)
 
 
 def test_probability_says_why_there_is_no_estimate(tmp_path):
