@@ -10,6 +10,7 @@ import click
 
 from landscape.barriers import EXITS
 from landscape.cli.options import (
+    THETA_W_HELP,
     finite,
     grid_step,
     memory_budget_bytes,
@@ -21,7 +22,7 @@ from landscape.cli.options import (
 
 
 @click.command()
-@click.option("--theta-w", type=float, default=0.0, show_default=True, help="Wing angle, degrees.")
+@click.option("--theta-w", type=float, default=0.0, show_default=True, help=THETA_W_HELP)
 @click.option("--theta-l", type=float, default=0.0, show_default=True, help="Leg angle, degrees.")
 @click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees; divides 360.")
 @method_option
@@ -41,7 +42,7 @@ from landscape.cli.options import (
     type=click.Path(dir_okay=False),
     help="A trial trace (`landscape simulate --trace FILE`) to draw as a pitch-roll path on the landscape "
     "(trajectories.png, trajectories_contour.png/.svg); repeat for several. Without --theta-w/--theta-l "
-    "the landscape is the traces' pose.",
+    "the landscape is the traces' pose [default: no traces].",
 )
 @click.option(
     "--out",
@@ -67,8 +68,14 @@ def render(ctx, theta_w, theta_l, step, method, exit_kind, traces, out, **kw):
 
         read = [read_trace_csv(t) for t in traces]
         theta_w, theta_l = _traces_pose(ctx, read, theta_w, theta_l)
-    c = run(robot, theta_w_deg=theta_w, theta_l_deg=theta_l, step_deg=step, method=method,
-            memory_budget_bytes=memory_budget_bytes())
+    c = run(
+        robot,
+        theta_w_deg=theta_w,
+        theta_l_deg=theta_l,
+        step_deg=step,
+        method=method,
+        memory_budget_bytes=memory_budget_bytes(),
+    )
     written, notes = render_computation(c, out, robot_name=robot.name, exit_kind=exit_kind)
     if read:
         import numpy as np

@@ -90,7 +90,7 @@ def test_simulate_human_summary(sim_robot):
     "args, message",
     [
         (["--theta-w", "80", "--theta-l", "30", "--phase", "1.2"], "phase must be in [0, 1)"),
-        (["--theta-w", "120", "--theta-l", "30"], "theta_w = 120 deg is outside"),
+        (["--theta-w", "120", "--theta-l", "30"], "--theta-w 120 deg is outside [0, 95] deg"),
         (["--theta-w", "80", "--theta-l", "30", "--robot", "/nonexistent.urdf"], "not found"),
         (["--theta-w", "80", "--theta-l", "30", "--dt", "0"], "dt must be in"),
     ],
