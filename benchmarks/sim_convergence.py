@@ -16,7 +16,8 @@ contact, servos commanded every 1 ms as in every run). Against it:
    chaotic, so this is the comparison that says whether the time step changes the answer.
 
 The chosen dt is the largest with < 0.5 deg orientation difference over the first second and the same success
-flags as the reference. Prints markdown tables.
+flags as the reference. Prints markdown tables on stdout and its progress on stderr (trials done of the planned
+total, elapsed time and ETA: a bar on a terminal, a line every 30 s in a log).
 
 Run:  .venv/bin/python benchmarks/sim_convergence.py [--robot builtin|lab|URDF] [--quick]
       [--grid-theta-w 70,74,76] [--grid-theta-l 20,30] [--rate-seeds 40]
@@ -26,6 +27,7 @@ from __future__ import annotations
 
 import argparse
 import itertools
+import sys
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -35,7 +37,8 @@ import numpy as np
 from geometry import up_vector
 from landscape.analysis.trials import wilson_interval
 from sim.model import default_robot_urdf
-from sim.trial import DEFAULT_DT_S, Numerics, run_trial
+from sim.trial import DEFAULT_DT_S, Numerics
+from sim.trial import run_trial as _run_trial
 from sim.world import Contact
 
 LAB_URDF = Path(__file__).resolve().parents[1].parent / "shared" / "ref" / "lab_robot" / "lab_robot.urdf"
@@ -47,8 +50,87 @@ GRID_DEFAULTS = {"lab": ("72,76,80", "30,50"), "builtin": ("70,74,76", "20,30")}
 """Outcome grids that straddle each robot's success boundary (docs/sim.md)."""
 PHASES = (0.2, 0.7)
 CV, SEED = 0.1, 1
-RATE_SETTINGS = {"lab": ((74.0, 30.0), (76.0, 30.0), (72.0, 40.0), (70.0, 40.0)),
-                 "builtin": ((70.0, 30.0), (72.0, 25.0), (74.0, 25.0), (76.0, 25.0))}
+RATE_SETTINGS = {
+    "lab": ((74.0, 30.0), (76.0, 30.0), (72.0, 40.0), (70.0, 40.0)),
+    "builtin": ((70.0, 30.0), (72.0, 25.0), (74.0, 25.0), (76.0, 25.0)),
+}
+
+
+LINE_EVERY_S = 30.0
+"""Seconds between progress lines when stderr is not a terminal."""
+
+
+class Progress:
+    """Trials done of the planned total with elapsed time and ETA on stderr: a tqdm bar on a terminal, else a
+    plain line every ``LINE_EVERY_S`` seconds (and at the end), so a redirected log shows it without bar frames."""
+
+    def __init__(self, total: int, *, stream=None):
+        self.total, self.done, self.stream = total, 0, stream or sys.stderr
+        self.t0 = self.last = time.perf_counter()
+        self.bar = None
+        if self.stream.isatty():
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=total, unit="trial", file=self.stream, smoothing=0.1)
+
+    def step(self) -> None:
+        self.done += 1
+        if self.bar is not None:
+            self.bar.update(1)
+            return
+        now = time.perf_counter()
+        if now - self.last >= LINE_EVERY_S or self.done == self.total:
+            self.last = now
+            self.stream.write(self.line(now) + "\n")
+            self.stream.flush()
+
+    def line(self, now: float) -> str:
+        el = now - self.t0
+        eta = el / self.done * max(self.total - self.done, 0) if self.done else float("nan")
+        return f"progress: {self.done}/{self.total} trials, {el:.0f} s elapsed, ETA {eta:.0f} s"
+
+    def drop(self, n: int) -> None:
+        """``n`` planned trials will not run after all."""
+        self.total -= n
+        if self.bar is not None:
+            self.bar.total = self.total
+            self.bar.refresh()
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+PROGRESS: Progress | None = None
+
+
+def run_trial(*args, **kw):
+    """:func:`sim.trial.run_trial`, counted by the running :class:`Progress`."""
+    r = _run_trial(*args, **kw)
+    if PROGRESS is not None:
+        PROGRESS.step()
+    return r
+
+
+def planned_trials(*, quick: bool, only_rates: bool, grid: int, rate_settings: int, rate_seeds: int) -> int:
+    """How many trials :func:`main` runs with these options (the progress total).
+
+    Examples
+    --------
+    >>> planned_trials(quick=True, only_rates=False, grid=12, rate_settings=4, rate_seeds=40)
+    42
+    """
+    rate = rate_settings * rate_seeds * 2  # at the chosen dt and at the next smaller one
+    if only_rates:
+        return rate
+    n_cases = len(ORIENT_CASES)
+    orient = 2 * n_cases + 3 * n_cases * len(DTS)  # two references, then three contact settings per dt
+    if quick:
+        return orient
+    outcome = grid + grid * len(DTS)  # the reference, then each dt
+    solver = 4 * (n_cases + grid)  # 50, 20, 10 iterations and merged links: traces and outcomes
+    hulls = 2 * grid
+    return orient + outcome + solver + hulls + rate
 
 
 def _up(trace) -> np.ndarray:
@@ -58,7 +140,9 @@ def _up(trace) -> np.ndarray:
 def traces(dt: float, **kw) -> dict:
     out = {}
     for case in ORIENT_CASES:
-        r = run_trial(case[0], case[1], phase=case[2], cv=0.0, rng=SEED, duration_s=2.0, dt_s=dt, trace=True, **kw)
+        r = run_trial(
+            case[0], case[1], phase=case[2], cv=0.0, rng=SEED, duration_s=2.0, dt_s=dt, trace=True, **kw
+        )
         out[case] = (r.trace.t_s, _up(r.trace))
     return out
 
@@ -87,8 +171,11 @@ def compare(res, ref) -> tuple[str, str, str]:
     same_success = sum(a[0] == b[0] for a, b in zip(res, ref, strict=True))
     same_attempt = sum(a[0] == b[0] and a[1] == b[1] for a, b in zip(res, ref, strict=True))
     dts = [abs(a[2] - b[2]) for a, b in zip(res, ref, strict=True) if a[0] and b[0] and a[1] == b[1]]
-    return (f"{same_success}/{len(ref)}", f"{same_attempt}/{len(ref)}",
-            f"{max(dts) * 1e3:.0f}" if dts else "-")
+    return (
+        f"{same_success}/{len(ref)}",
+        f"{same_attempt}/{len(ref)}",
+        f"{max(dts) * 1e3:.0f}" if dts else "-",
+    )
 
 
 def _rate(res) -> float:
@@ -101,32 +188,72 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true", help="orientation only, no outcome grid")
     ap.add_argument("--grid-theta-w", default=None, help="outcome grid wing angles (default: per robot)")
     ap.add_argument("--grid-theta-l", default=None, help="outcome grid leg amplitudes (default: per robot)")
-    ap.add_argument("--rate-seeds", type=int, default=40, help="seeds per setting in the success-rate comparison")
-    ap.add_argument("--only-rates", action="store_true",
-                    help="run section 5 only, at the default dt against the next smaller one")
+    ap.add_argument(
+        "--rate-seeds", type=int, default=40, help="seeds per setting in the success-rate comparison"
+    )
+    ap.add_argument(
+        "--only-rates",
+        action="store_true",
+        help="run section 5 only, at the default dt against the next smaller one",
+    )
     args = ap.parse_args()
     t0 = time.perf_counter()
     kind = args.robot if args.robot in ("builtin", "lab") else "lab"
     path = {"builtin": default_robot_urdf(), "lab": LAB_URDF}.get(args.robot, Path(args.robot))
     gw, gl = GRID_DEFAULTS[kind]
-    grid = list(itertools.product([float(x) for x in (args.grid_theta_w or gw).split(",")],
-                                     [float(x) for x in (args.grid_theta_l or gl).split(",")], PHASES))
+    grid = list(
+        itertools.product(
+            [float(x) for x in (args.grid_theta_w or gw).split(",")],
+            [float(x) for x in (args.grid_theta_l or gl).split(",")],
+            PHASES,
+        )
+    )
     robot = dict(robot=path)
+    global PROGRESS
+    PROGRESS = Progress(
+        planned_trials(
+            quick=args.quick,
+            only_rates=args.only_rates,
+            grid=len(grid),
+            rate_settings=len(RATE_SETTINGS[kind]),
+            rate_seeds=args.rate_seeds,
+        )
+    )
+    try:
+        _sections(args, kind, path, grid, robot, t0)
+    finally:
+        PROGRESS.close()
+        PROGRESS = None
+
+
+def _sections(args, kind, path, grid, robot, t0) -> None:
     if args.only_rates:
-        rates(DEFAULT_DT_S, RATE_SETTINGS[kind], args.rate_seeds, robot,
-              other=max(dt for dt in DTS if dt < DEFAULT_DT_S))
+        rates(
+            DEFAULT_DT_S,
+            RATE_SETTINGS[kind],
+            args.rate_seeds,
+            robot,
+            other=max(dt for dt in DTS if dt < DEFAULT_DT_S),
+        )
         return
     soft, rigid = Contact(), Contact.rigid()
     ref_soft = replace(soft, solver_iterations=REF_ITERATIONS)
     ref_rigid = replace(rigid, solver_iterations=REF_ITERATIONS)
-    print(f"robot: {path}; reference dt = {REF_DT:g} s with {REF_ITERATIONS} solver iterations; default "
-          f"solver iterations {soft.solver_iterations}\n")
+    print(
+        f"robot: {path}; reference dt = {REF_DT:g} s with {REF_ITERATIONS} solver iterations; default "
+        f"solver iterations {soft.solver_iterations}\n"
+    )
 
     print("## Orientation vs time step (max angle of world-up vs the reference, three cases)\n")
-    print(f"| dt (s) | soft, {soft.solver_iterations} iterations: first 1 s (deg) | first 2 s (deg) | "
-          f"soft, {REF_ITERATIONS} iterations: first 1 s (deg) | rigid: first 1 s (deg) | rigid: first 2 s (deg) |")
+    print(
+        f"| dt (s) | soft, {soft.solver_iterations} iterations: first 1 s (deg) | first 2 s (deg) | "
+        f"soft, {REF_ITERATIONS} iterations: first 1 s (deg) | rigid: first 1 s (deg) | rigid: first 2 s (deg) |"
+    )
     print("|---:|---:|---:|---:|---:|---:|")
-    refs_soft, refs_rigid = traces(REF_DT, contact=ref_soft, **robot), traces(REF_DT, contact=ref_rigid, **robot)
+    refs_soft, refs_rigid = (
+        traces(REF_DT, contact=ref_soft, **robot),
+        traces(REF_DT, contact=ref_rigid, **robot),
+    )
     orient = {}
     for dt in DTS:
         s1, s2 = orientation_diff_deg(traces(dt, contact=soft, **robot), refs_soft)
@@ -139,12 +266,16 @@ def main() -> None:
 
     tws = "/".join(f"{x:g}" for x in sorted({g[0] for g in grid}))
     tls = "/".join(f"{x:g}" for x in sorted({g[1] for g in grid}))
-    print(f"\n## Outcomes vs time step (soft contact, {soft.solver_iterations} solver iterations; {len(grid)} trials: "
-          f"theta_w {tws}, theta_l {tls}, phi_1 0.2/0.7, Cv {CV}, seed {SEED})\n")
+    print(
+        f"\n## Outcomes vs time step (soft contact, {soft.solver_iterations} solver iterations; {len(grid)} trials: "
+        f"theta_w {tws}, theta_l {tls}, phi_1 0.2/0.7, Cv {CV}, seed {SEED})\n"
+    )
     ref = outcomes(REF_DT, grid, contact=ref_soft, **robot)
     print(f"reference: successes {sum(r[0] for r in ref)}/{len(ref)}, attempts {[r[1] for r in ref]}\n")
-    print("| dt (s) | same success | same success and attempt | max diff time to right (ms) | "
-          "core-s per simulated s |")
+    print(
+        "| dt (s) | same success | same success and attempt | max diff time to right (ms) | "
+        "core-s per simulated s |"
+    )
     print("|---:|---:|---:|---:|---:|")
     same = {}
     for dt in DTS:
@@ -154,15 +285,23 @@ def main() -> None:
         print(f"| {dt:g} | {a} | {b} | {c} | {_rate(res):.3f} |", flush=True)
     ok = [dt for dt in DTS if orient[dt] < 0.5 and same[dt]]
     chosen = max(ok) if ok else min(DTS)
-    print(f"\nchosen dt = {chosen:g} s (largest with < 0.5 deg over the first second and the same outcomes)\n")
+    print(
+        f"\nchosen dt = {chosen:g} s (largest with < 0.5 deg over the first second and the same outcomes)\n"
+    )
 
     print(f"## Solver iterations and merged links at dt = {chosen:g} s (against the same reference)\n")
-    print("| setting | first 1 s (deg) | first 2 s (deg) | same success | same success and attempt | "
-          "max diff time to right (ms) | core-s per simulated s |")
+    print(
+        "| setting | first 1 s (deg) | first 2 s (deg) | same success | same success and attempt | "
+        "max diff time to right (ms) | core-s per simulated s |"
+    )
     print("|---|---:|---:|---:|---:|---:|---:|")
     settings = [(f"{n} iterations", dict(contact=replace(soft, solver_iterations=n))) for n in (50, 20, 10)]
-    settings.append((f"{soft.solver_iterations} iterations, fixed links merged",
-                     dict(contact=soft, numerics=Numerics(merge_fixed_links=True))))
+    settings.append(
+        (
+            f"{soft.solver_iterations} iterations, fixed links merged",
+            dict(contact=soft, numerics=Numerics(merge_fixed_links=True)),
+        )
+    )
     for name, kw in settings:
         o1, o2 = orientation_diff_deg(traces(chosen, **kw, **robot), refs_soft)
         res = outcomes(chosen, grid, **kw, **robot)
@@ -173,12 +312,16 @@ def main() -> None:
     simp = outcomes(chosen, grid, **robot)
     full = outcomes(chosen, grid, numerics=Numerics(hull_tol_m=0.0), **robot)
     a, b, c = compare(full, simp)
-    print("| hulls | successes | same success as simplified | same attempt | max diff time to right (ms) | "
-          "core-s per simulated s |")
+    print(
+        "| hulls | successes | same success as simplified | same attempt | max diff time to right (ms) | "
+        "core-s per simulated s |"
+    )
     print("|---|---:|---:|---:|---:|---:|")
     for name, res in (("simplified (<= 96 vertices, tol 0.1 mm)", simp), ("full", full)):
         row = (a, b, c) if name == "full" else ("-", "-", "-")
-        print(f"| {name} | {sum(r[0] for r in res)}/{len(res)} | {row[0]} | {row[1]} | {row[2]} | {_rate(res):.3f} |")
+        print(
+            f"| {name} | {sum(r[0] for r in res)}/{len(res)} | {row[0]} | {row[1]} | {row[2]} | {_rate(res):.3f} |"
+        )
     smaller = max([dt for dt in DTS if dt < chosen], default=None)
     rates(chosen, RATE_SETTINGS[kind], args.rate_seeds, robot, other=smaller)
     print(f"\ntotal wall time {time.perf_counter() - t0:.0f} s")
@@ -192,6 +335,8 @@ def rates(dt: float, settings, seeds: int, robot: dict, other: float | None = No
     from sim.sweep import trial_seed
 
     dts = [dt] + ([other] if other else [])
+    if PROGRESS is not None and not other:
+        PROGRESS.drop(len(settings) * seeds)  # planned at two time steps
     print(f"\n## Success rates near the boundary ({seeds} seeds per setting, Cv {CV}, phi_1 0.7)\n")
     head = " | ".join(f"dt {d:g}: successes (95 % CI)" for d in dts)
     print(f"| theta_w | theta_l | {head} |" + (" Fisher p |" if other else ""))
@@ -199,8 +344,12 @@ def rates(dt: float, settings, seeds: int, robot: dict, other: float | None = No
     for tw, tl in settings:
         ks = []
         for d in dts:
-            k = sum(run_trial(tw, tl, phase=0.7, cv=CV, rng=trial_seed(tw, tl, CV, 0.7, i), dt_s=d, **robot).success
-                    for i in range(seeds))
+            k = sum(
+                run_trial(
+                    tw, tl, phase=0.7, cv=CV, rng=trial_seed(tw, tl, CV, 0.7, i), dt_s=d, **robot
+                ).success
+                for i in range(seeds)
+            )
             ks.append(k)
         cells = []
         for k in ks:
@@ -208,7 +357,6 @@ def rates(dt: float, settings, seeds: int, robot: dict, other: float | None = No
             cells.append(f"{k}/{seeds} ({lo:.2f}–{hi:.2f})")
         p = f" {fisher_exact([[ks[0], seeds - ks[0]], [ks[1], seeds - ks[1]]])[1]:.2f} |" if other else ""
         print(f"| {tw:g} | {tl:g} | " + " | ".join(cells) + " |" + p, flush=True)
-
 
 
 if __name__ == "__main__":

@@ -19,6 +19,7 @@ import itertools
 import logging
 import multiprocessing
 import os
+import sys
 import time
 from collections import deque
 from collections.abc import Callable, Iterable, Sequence
@@ -48,7 +49,6 @@ from .world import SimulationDiverged
 log = logging.getLogger(__name__)
 
 
-
 def package_version() -> str:
     try:
         return version("selfrighting-landscape")
@@ -56,9 +56,18 @@ def package_version() -> str:
         return "unknown"
 
 
-def trial_seed(theta_w_deg: float, theta_l_deg: float, cv: float, phase: float, trial: int, *,
-               base_seed: int = 0, wing_period_s: float = PAPER_WING_PERIOD_S,
-               leg_period_s: float = PAPER_LEG_PERIOD_S, attempts: int = 0) -> int:
+def trial_seed(
+    theta_w_deg: float,
+    theta_l_deg: float,
+    cv: float,
+    phase: float,
+    trial: int,
+    *,
+    base_seed: int = 0,
+    wing_period_s: float = PAPER_WING_PERIOD_S,
+    leg_period_s: float = PAPER_LEG_PERIOD_S,
+    attempts: int = 0,
+) -> int:
     """Deterministic seed in [0, 2**63) of one trial, from its parameters.
 
     The periods and the attempt limit enter only when they differ from the paper's protocol (Tw 2 s, Tl 0.8 s,
@@ -72,7 +81,11 @@ def trial_seed(theta_w_deg: float, theta_l_deg: float, cv: float, phase: float, 
     True
     """
     text = f"{float(theta_w_deg)!r}|{float(theta_l_deg)!r}|{float(cv)!r}|{float(phase)!r}|{int(trial)}|{int(base_seed)}"
-    if (float(wing_period_s), float(leg_period_s), int(attempts)) != (PAPER_WING_PERIOD_S, PAPER_LEG_PERIOD_S, 0):
+    if (float(wing_period_s), float(leg_period_s), int(attempts)) != (
+        PAPER_WING_PERIOD_S,
+        PAPER_LEG_PERIOD_S,
+        0,
+    ):
         text += f"|{float(wing_period_s)!r}|{float(leg_period_s)!r}|{int(attempts)}"
     return int.from_bytes(hashlib.sha256(text.encode()).digest()[:8], "big") >> 1
 
@@ -112,12 +125,23 @@ class TrialSpec:
         return tuple(getattr(self, c) for c in KEY_COLUMNS)
 
 
-def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: Iterable[float], *,
-                phase: Iterable[float] = (0.7,), trials: int = PAPER_TRIALS,
-                duration_s: float = DEFAULT_DURATION_S, dt_s: float | None = None,
-                robot: str | Path | None = None, base_seed: int = 0, wing_period_s: Iterable[float] = (PAPER_WING_PERIOD_S,),
-                leg_period_s: Iterable[float] = (PAPER_LEG_PERIOD_S,), attempts: int = 0,
-                joint_map: JointMap | str | None = None, model_set: str | Path = "paper") -> list[TrialSpec]:
+def sweep_specs(
+    theta_w_deg: Iterable[float],
+    theta_l_deg: Iterable[float],
+    cv: Iterable[float],
+    *,
+    phase: Iterable[float] = (0.7,),
+    trials: int = PAPER_TRIALS,
+    duration_s: float = DEFAULT_DURATION_S,
+    dt_s: float | None = None,
+    robot: str | Path | None = None,
+    base_seed: int = 0,
+    wing_period_s: Iterable[float] = (PAPER_WING_PERIOD_S,),
+    leg_period_s: Iterable[float] = (PAPER_LEG_PERIOD_S,),
+    attempts: int = 0,
+    joint_map: JointMap | str | None = None,
+    model_set: str | Path = "paper",
+) -> list[TrialSpec]:
     """Every trial of a full-factorial sweep, in a fixed order.
 
     ``joint_map`` (a :class:`geometry.JointMap` or its text ``'wing=NAME,...;leg=NAME,...'``) names the joints
@@ -139,9 +163,14 @@ def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: 
     """
     if isinstance(joint_map, str):
         joint_map = JointMap.parse(joint_map)
-    grids = {"theta-w": [float(x) for x in theta_w_deg], "theta-l": [float(x) for x in theta_l_deg],
-             "cv": [float(x) for x in cv], "phase": [float(x) for x in phase],
-             "wing-period": [float(x) for x in wing_period_s], "leg-period": [float(x) for x in leg_period_s]}
+    grids = {
+        "theta-w": [float(x) for x in theta_w_deg],
+        "theta-l": [float(x) for x in theta_l_deg],
+        "cv": [float(x) for x in cv],
+        "phase": [float(x) for x in phase],
+        "wing-period": [float(x) for x in wing_period_s],
+        "leg-period": [float(x) for x in leg_period_s],
+    }
     for name, vals in grids.items():
         if not vals:
             raise TrialInputError(f"--{name} is empty; the sweep needs at least one value")
@@ -155,8 +184,10 @@ def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: 
         raise TrialInputError(f"--trials must be >= 1; got {trials}")
     n_trials = int(np.prod([len(v) for v in grids.values()], dtype=object)) * int(trials)
     if n_trials > MAX_TRIALS:
-        raise TrialInputError(f"the sweep has {n_trials:,} trials, more than MAX_TRIALS = {MAX_TRIALS:,} (the "
-                              "paper's has 3,840); sweep fewer values or --trials, or split it into several sweeps")
+        raise TrialInputError(
+            f"the sweep has {n_trials:,} trials, more than MAX_TRIALS = {MAX_TRIALS:,} (the "
+            "paper's has 3,840); sweep fewer values or --trials, or split it into several sweeps"
+        )
     if int(attempts) != attempts or attempts < 0:
         raise TrialInputError(f"--attempts must be a whole number >= 0 (0: no limit); got {attempts}")
     for tw_s, tl_s in itertools.product(grids["wing-period"], grids["leg-period"]):
@@ -172,8 +203,9 @@ def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: 
         lo, hi = model.theta_limits_deg[key]
         bad = [v for v in grids[name] if not (max(lo, 0.0) <= v <= hi)]
         if bad:
-            raise TrialInputError(f"--{name} {bad[0]:g} is outside [{max(lo, 0.0):g}, {hi:g}] deg allowed by "
-                                  f"the robot's joints")
+            raise TrialInputError(
+                f"--{name} {bad[0]:g} is outside [{max(lo, 0.0):g}, {hi:g}] deg allowed by the robot's joints"
+            )
     from .model_set import MODELS_DIR, load_model_set
 
     ms = load_model_set(model_set)
@@ -181,45 +213,108 @@ def sweep_specs(theta_w_deg: Iterable[float], theta_l_deg: Iterable[float], cv: 
     robot_str = str(path.resolve())
     n_att = int(attempts)
     dt_s = default_dt_s(path) if dt_s is None else dt_s
-    return [TrialSpec(tw, tl, c, ph, k, trial_seed(tw, tl, c, ph, k, base_seed=base_seed, wing_period_s=wp,
-                                                   leg_period_s=lp, attempts=n_att),
-                      float(duration_s), float(dt_s), robot_str, model.robot_hash, wp, lp, n_att, joints, ms_ref,
-                      ms.model_set_hash)
-            for wp, lp, tw, tl, c, ph, k in itertools.product(grids["wing-period"], grids["leg-period"],
-                                                              grids["theta-w"], grids["theta-l"], grids["cv"],
-                                                              grids["phase"], range(trials))]
+    return [
+        TrialSpec(
+            tw,
+            tl,
+            c,
+            ph,
+            k,
+            trial_seed(
+                tw, tl, c, ph, k, base_seed=base_seed, wing_period_s=wp, leg_period_s=lp, attempts=n_att
+            ),
+            float(duration_s),
+            float(dt_s),
+            robot_str,
+            model.robot_hash,
+            wp,
+            lp,
+            n_att,
+            joints,
+            ms_ref,
+            ms.model_set_hash,
+        )
+        for wp, lp, tw, tl, c, ph, k in itertools.product(
+            grids["wing-period"],
+            grids["leg-period"],
+            grids["theta-w"],
+            grids["theta-l"],
+            grids["cv"],
+            grids["phase"],
+            range(trials),
+        )
+    ]
 
 
 def run_spec(spec: TrialSpec) -> dict:
     """Run one trial (in a worker) and return its database row; a diverged trial is a row with status
     ``"diverged"``."""
     row = {c: getattr(spec, c) for c in KEY_COLUMNS}
-    row.update(robot=spec.robot, version=package_version(), error=None,
-               created_utc=datetime.now(timezone.utc).isoformat(timespec="seconds"))
+    row.update(
+        robot=spec.robot,
+        version=package_version(),
+        error=None,
+        created_utc=datetime.now(timezone.utc).isoformat(timespec="seconds"),
+    )
     from .model_set import load_model_set
 
     ms = load_model_set(spec.model_set)
     if spec.model_set_hash and ms.model_set_hash != spec.model_set_hash:
-        raise RuntimeError(f"model set {spec.model_set} changed during the sweep (hash {ms.model_set_hash} != "
-                           f"{spec.model_set_hash}); restart the sweep")
+        raise RuntimeError(
+            f"model set {spec.model_set} changed during the sweep (hash {ms.model_set_hash} != "
+            f"{spec.model_set_hash}); restart the sweep"
+        )
     row.update(model_set=ms.name, model_set_hash=ms.model_set_hash)
     try:
-        act = ms.actuation(spec.theta_w_deg, spec.theta_l_deg, wing_period_s=spec.wing_period_s,
-                           leg_period_s=spec.leg_period_s)
-        r = run_trial(spec.theta_w_deg, spec.theta_l_deg, phase=spec.phase, cv=spec.cv, rng=spec.seed,
-                      duration_s=spec.duration_s, dt_s=spec.dt_s, robot=spec.robot, joint_map=spec.joint_map(),
-                      actuation=act, attempts=spec.attempts or None, model_set=ms)
+        act = ms.actuation(
+            spec.theta_w_deg,
+            spec.theta_l_deg,
+            wing_period_s=spec.wing_period_s,
+            leg_period_s=spec.leg_period_s,
+        )
+        r = run_trial(
+            spec.theta_w_deg,
+            spec.theta_l_deg,
+            phase=spec.phase,
+            cv=spec.cv,
+            rng=spec.seed,
+            duration_s=spec.duration_s,
+            dt_s=spec.dt_s,
+            robot=spec.robot,
+            joint_map=spec.joint_map(),
+            actuation=act,
+            attempts=spec.attempts or None,
+            model_set=ms,
+        )
     except SimulationDiverged as exc:
         row.update(status="diverged", error=str(exc))
         return row
     d = r.to_dict()
-    row.update({k: d[k] for k in ("success", "time_to_right_s", "attempt", "mode", "phases", "attempt_starts_s",
-                                  "sim_s", "wall_s", "cpu_s", "max_tracking_error_deg", "model_hash")})
+    row.update(
+        {
+            k: d[k]
+            for k in (
+                "success",
+                "time_to_right_s",
+                "attempt",
+                "mode",
+                "phases",
+                "attempt_starts_s",
+                "sim_s",
+                "wall_s",
+                "cpu_s",
+                "max_tracking_error_deg",
+                "model_hash",
+            )
+        }
+    )
     row["success"] = int(r.success)
     row["status"] = "ok"
     if r.robot_hash != spec.robot_hash:
-        raise RuntimeError(f"robot file {spec.robot} changed during the sweep (hash {r.robot_hash} != "
-                           f"{spec.robot_hash}); restart the sweep")
+        raise RuntimeError(
+            f"robot file {spec.robot} changed during the sweep (hash {r.robot_hash} != "
+            f"{spec.robot_hash}); restart the sweep"
+        )
     return row
 
 
@@ -286,8 +381,12 @@ def _exit_with_parent(parent_pid: int) -> None:
 
 
 def _local_executor(workers: int) -> ProcessPoolExecutor:
-    return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
-                               initializer=_exit_with_parent, initargs=(os.getpid(),))
+    return ProcessPoolExecutor(
+        max_workers=workers,
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=_exit_with_parent,
+        initargs=(os.getpid(),),
+    )
 
 
 def _stop_local(executor: ProcessPoolExecutor, *, wait_s: float = 10.0) -> None:
@@ -317,16 +416,24 @@ def _check_sweep_cost(specs: Sequence[TrialSpec]) -> None:
     """Refuse a sweep larger than ``MAX_TRIALS`` or with a trial over the bounds of :func:`sim.trial.run_trial`
     before anything runs."""
     if len(specs) > MAX_TRIALS:
-        raise TrialInputError(f"the sweep has {len(specs):,} trials, more than MAX_TRIALS = {MAX_TRIALS:,} (the "
-                              "paper's has 3,840); sweep fewer values or --trials, or split it into several sweeps")
+        raise TrialInputError(
+            f"the sweep has {len(specs):,} trials, more than MAX_TRIALS = {MAX_TRIALS:,} (the "
+            "paper's has 3,840); sweep fewer values or --trials, or split it into several sweeps"
+        )
     for duration_s, dt_s, robot, joints in sorted({(s.duration_s, s.dt_s, s.robot, s.joints) for s in specs}):
         jm = sim_model(robot, joint_map=JointMap.parse(joints) if joints else None).joint_map
         check_trial_cost(duration_s, dt_s, n_joints=len(jm.wing) + len(jm.leg))
 
 
-def run_sweep(specs: Sequence[TrialSpec], *, db: str | Path, workers: int | None = None,
-              scheduler: str | None = None, progress: bool = True,
-              on_result: Callable[[dict], None] | None = None) -> SweepSummary:
+def run_sweep(
+    specs: Sequence[TrialSpec],
+    *,
+    db: str | Path,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: bool = True,
+    on_result: Callable[[dict], None] | None = None,
+) -> SweepSummary:
     """Run the trials of ``specs`` that are not yet in ``db``, storing each as it finishes.
 
     Repeated specs run once. Every bound is checked and the database opened (and its robot hashes compared)
@@ -346,7 +453,7 @@ def run_sweep(specs: Sequence[TrialSpec], *, db: str | Path, workers: int | None
     scheduler : str, optional
         Address of a Dask distributed scheduler (``tcp://HOST:PORT``); the trials run on its workers.
     progress : bool
-        Show a tqdm progress bar (rate and ETA) on stderr.
+        Show a tqdm progress bar (rate and ETA) on stderr when stderr is a terminal.
     on_result : callable, optional
         Called with each newly stored row (after its commit).
 
@@ -400,7 +507,16 @@ def run_sweep(specs: Sequence[TrialSpec], *, db: str | Path, workers: int | None
             if progress:
                 from tqdm import tqdm
 
-                bar = tqdm(total=len(specs), initial=skipped, unit="trial", dynamic_ncols=True, smoothing=0.05)
+                # disable=None: no bar when stderr is not a terminal (a redirected log gets no bar frames)
+                bar = tqdm(
+                    total=len(specs),
+                    initial=skipped,
+                    unit="trial",
+                    dynamic_ncols=True,
+                    smoothing=0.05,
+                    file=sys.stderr,
+                    disable=None,
+                )
             window = 2 * n_workers
             queue = deque(todo)
             pending: dict[Future, TrialSpec] = {}
@@ -438,7 +554,8 @@ def run_sweep(specs: Sequence[TrialSpec], *, db: str | Path, workers: int | None
                             f"trial (theta_w {spec.theta_w_deg:g}, theta_l {spec.theta_l_deg:g}, cv {spec.cv:g}, "
                             f"phase {spec.phase:g}, trial {spec.trial}) failed on a worker ({type(exc).__name__}: "
                             f"{(str(exc).splitlines() or [''])[0]}); the {store.count()} trials in "
-                            f"'{db}' are kept: fix the cause and rerun the same sweep to resume") from exc
+                            f"'{db}' are kept: fix the cause and rerun the same sweep to resume"
+                        ) from exc
                     row = fut.result()
                     cpu += row.get("cpu_s") or 0.0
                     if not store.add(row):
@@ -459,9 +576,15 @@ def run_sweep(specs: Sequence[TrialSpec], *, db: str | Path, workers: int | None
                         raise SweepAborted(
                             f"worker processes died {restarts} times (killed, or out of memory?); the "
                             f"{store.count()} trials in '{db}' are kept: rerun the same sweep to resume "
-                            "(with fewer --workers if memory ran out)")
-                    log.warning("a worker process died; restarting the pool and running its %d unfinished trials "
-                                "again (%d/%d)", len(queue), restarts, MAX_POOL_RESTARTS)
+                            "(with fewer --workers if memory ran out)"
+                        )
+                    log.warning(
+                        "a worker process died; restarting the pool and running its %d unfinished trials "
+                        "again (%d/%d)",
+                        len(queue),
+                        restarts,
+                        MAX_POOL_RESTARTS,
+                    )
                     executor = _local_executor(n_workers)
             ok = True
         finally:
@@ -476,8 +599,19 @@ def run_sweep(specs: Sequence[TrialSpec], *, db: str | Path, workers: int | None
                 else:
                     _stop_local(executor)
     wall = time.perf_counter() - t0
-    return SweepSummary(len(specs), skipped, ran, diverged, wall, ran / wall if wall > 0 else 0.0, cpu,
-                        n_workers, str(db), duplicates, restarts)
+    return SweepSummary(
+        len(specs),
+        skipped,
+        ran,
+        diverged,
+        wall,
+        ran / wall if wall > 0 else 0.0,
+        cpu,
+        n_workers,
+        str(db),
+        duplicates,
+        restarts,
+    )
 
 
 def success_table(rows: Iterable[dict]) -> dict[tuple[float, float, float], tuple[int, int]]:

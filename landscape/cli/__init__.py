@@ -20,13 +20,17 @@ from geometry.errors import UsageError
 from landscape.cli import analyze, bench, compute, physical, render, robot, serve, sim
 
 DEBUG_ENV = "LANDSCAPE_DEBUG"
-BUG_REPORT = ("this is a bug in selfrighting-landscape, not in your input; please report it with the command "
-              f"line (rerun with --debug or {DEBUG_ENV}=1 for the traceback)")
+BUG_REPORT = (
+    "this is a bug in selfrighting-landscape, not in your input; please report it with the command "
+    f"line (rerun with --debug or {DEBUG_ENV}=1 for the traceback)"
+)
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]}, invoke_without_command=True)
 @click.version_option(package_name="selfrighting-landscape")
-@click.option("--debug", is_flag=True, help=f"Show the traceback of an unexpected error (also {DEBUG_ENV}=1).")
+@click.option(
+    "--debug", is_flag=True, help=f"Show the traceback of an unexpected error (also {DEBUG_ENV}=1)."
+)
 @click.pass_context
 def cli(ctx, debug):
     """Potential-energy landscapes, self-righting barriers and self-righting trials of legged/winged robots.
@@ -37,8 +41,20 @@ def cli(ctx, debug):
         click.echo(ctx.get_help())
 
 
-for _cmd in (compute.compute, compute.barrier_map, render.render, robot.robot, bench.bench, sim.simulate,
-             sim.sweep, sim.export, analyze.analyze, analyze.report_cmd, serve.serve, physical.physical):
+for _cmd in (
+    compute.compute,
+    compute.barrier_map,
+    render.render,
+    robot.robot,
+    bench.bench,
+    sim.simulate,
+    sim.sweep,
+    sim.export,
+    analyze.analyze,
+    analyze.report_cmd,
+    serve.serve,
+    physical.physical,
+):
     cli.add_command(_cmd)
 
 

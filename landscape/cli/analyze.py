@@ -10,6 +10,20 @@ from pathlib import Path
 import click
 
 from geometry.errors import UsageError
+from landscape.cli.options import robot_option
+
+TRIALS_ROBOT = robot_option(
+    extra_help="The robot the trials ran on, if its stored URDF moved.",
+    default_help="the stored path, else the built-in robot if the trials ran on it",
+)
+
+
+def _robot_file(robot: str | None):
+    if robot is None:
+        return None
+    from landscape.cli.options import robot_urdf
+
+    return robot_urdf(robot)
 
 
 # ---------------------------------------------------------------------------------------------- commands
@@ -41,10 +55,19 @@ def _echo_section(s) -> None:
         click.echo(f"wrote {t.csv}")
 
 
-DB_OPT = click.option("--db", type=click.Path(dir_okay=False, path_type=Path), required=True,
-                      help="SQLite trial database (from `landscape sweep`).")
-OUT_OPT = click.option("--out", type=click.Path(file_okay=False, path_type=Path), default="analysis",
-                       show_default=True, help="Output directory.")
+DB_OPT = click.option(
+    "--db",
+    type=click.Path(dir_okay=False, path_type=Path),
+    required=True,
+    help="SQLite trial database (from `landscape sweep`).",
+)
+OUT_OPT = click.option(
+    "--out",
+    type=click.Path(file_okay=False, path_type=Path),
+    default="analysis",
+    show_default=True,
+    help="Output directory.",
+)
 
 
 @click.group("analyze")
@@ -55,7 +78,12 @@ def analyze():
 @analyze.command("probability")
 @DB_OPT
 @OUT_OPT
-@click.option("--phase", type=float, default=None, help="phi_1 of the trials to use (default: the most common).")
+@click.option(
+    "--phase",
+    type=float,
+    default=None,
+    help="phi_1 of the trials to use, a fraction of the leg period in [0, 1) [default: the most common].",
+)
 def probability_cmd(db, out, phase):
     """Self-righting probability over theta_w x theta_l per Cv, with Wilson 95 % intervals (Fig. 6)."""
     _check_phase(phase)
@@ -65,10 +93,14 @@ def probability_cmd(db, out, phase):
 @analyze.command("phase-map")
 @DB_OPT
 @OUT_OPT
-@click.option("--leg-period", type=float, default=0.8, show_default=True, help="Tl of the map, s.")
+@click.option(
+    "--leg-period", type=float, default=0.8, show_default=True, help="Tl, the leg period of the map, s."
+)
 def phase_map_cmd(db, out, leg_period):
     """Single-attempt outcome against phase and theta_l, per theta_w (Fig. 7)."""
-    _echo_section(_sections().section_phase_map(_sections().load_rows(db), _out(out), db, leg_period_s=leg_period))
+    _echo_section(
+        _sections().section_phase_map(_sections().load_rows(db), _out(out), db, leg_period_s=leg_period)
+    )
 
 
 @analyze.command("prediction")
@@ -82,62 +114,138 @@ def prediction_cmd(db, out):
 @analyze.command("evolution")
 @DB_OPT
 @OUT_OPT
-@click.option("--theta-w", type=float, default=None, help="Wing angle (default: the prediction study's).")
-@click.option("--theta-l", type=float, default=None, help="Leg amplitude (default: the prediction study's).")
-@click.option("--phase", type=float, default=None, help="phi_1 (default: a start that never rights without noise).")
-@click.option("--cv", type=float, default=0.15, show_default=True)
-@click.option("--seed", type=click.IntRange(min=0), default=1, show_default=True)
-@click.option("--wing-period", type=float, default=2.0, show_default=True)
-@click.option("--leg-period", type=float, default=0.8, show_default=True)
-@click.option("--attempts", type=click.IntRange(min=1), default=12, show_default=True)
+@click.option(
+    "--theta-w",
+    type=float,
+    default=None,
+    help="Wing opening angle, degrees [default: the prediction study's].",
+)
+@click.option(
+    "--theta-l",
+    type=float,
+    default=None,
+    help="Leg oscillation amplitude, degrees [default: the prediction study's].",
+)
+@click.option(
+    "--phase",
+    type=float,
+    default=None,
+    help="phi_1, the first attempt's phase, a fraction of the leg period in [0, 1) [default: a start "
+    "that never rights without noise].",
+)
+@click.option(
+    "--cv",
+    type=float,
+    default=0.15,
+    show_default=True,
+    help="Noise of the noisy sequence: Cv = sigma / Tl, dimensionless, >= 0.",
+)
+@click.option(
+    "--seed",
+    type=click.IntRange(min=0),
+    default=1,
+    show_default=True,
+    help="Random seed of the noisy sequence.",
+)
+@click.option(
+    "--wing-period", type=float, default=2.0, show_default=True, help="Tw, time between wing openings, s."
+)
+@click.option(
+    "--leg-period", type=float, default=0.8, show_default=True, help="Tl, leg oscillation period, s."
+)
+@click.option(
+    "--attempts",
+    type=click.IntRange(min=1),
+    default=12,
+    show_default=True,
+    help="Wing openings (attempts) to follow, a count.",
+)
 def evolution_cmd(db, out, theta_w, theta_l, phase, cv, seed, wing_period, leg_period, attempts):
     """Phases visited over attempts, without and with noise, over the phase map (Fig. 9)."""
     _check_phase(phase)
     if cv < 0:
         raise UsageError(f"--cv must be >= 0; got {cv}")
-    _echo_section(_sections().section_evolution(_sections().load_rows(db), _out(out), db, theta_w_deg=theta_w, theta_l_deg=theta_l,
-                                    phase=phase, cv=cv, seed=seed, wing_period_s=wing_period,
-                                    leg_period_s=leg_period, attempts=attempts))
+    _echo_section(
+        _sections().section_evolution(
+            _sections().load_rows(db),
+            _out(out),
+            db,
+            theta_w_deg=theta_w,
+            theta_l_deg=theta_l,
+            phase=phase,
+            cv=cv,
+            seed=seed,
+            wing_period_s=wing_period,
+            leg_period_s=leg_period,
+            attempts=attempts,
+        )
+    )
 
 
 @analyze.command("barrier")
 @DB_OPT
 @OUT_OPT
-@click.option("--step", type=float, default=1.0, show_default=True, help="Grid step of the grid barrier, degrees.")
-@click.option("--phase", type=float, default=None, help="phi_1 of the trials to use (default: the most common).")
-@click.option("--robot", type=click.Path(exists=True, dir_okay=False), default=None,
-              help="URDF the trials ran on, if its stored path moved (default: the stored path or the built-in).")
+@click.option(
+    "--step", type=float, default=1.0, show_default=True, help="Grid step of the grid barrier, degrees."
+)
+@click.option(
+    "--phase",
+    type=float,
+    default=None,
+    help="phi_1 of the trials to use, a fraction of the leg period in [0, 1) [default: the most common].",
+)
+@TRIALS_ROBOT
 def barrier_cmd(db, out, step, phase, robot):
     """Minimal barrier against self-righting probability and time to right: Spearman rho, logistic fit."""
     _check_phase(phase)
-    _echo_section(_sections().section_barrier(_sections().load_rows(db), _out(out), db, step_deg=step, phase=phase, robot=robot))
+    _echo_section(
+        _sections().section_barrier(
+            _sections().load_rows(db), _out(out), db, step_deg=step, phase=phase, robot=_robot_file(robot)
+        )
+    )
 
 
 @click.command("report")
 @DB_OPT
-@click.option("--out", type=click.Path(file_okay=False, path_type=Path), default="report", show_default=True)
-@click.option("--check/--no-check", default=False, show_default=True,
-              help="Open the page in headless Chromium: no console errors, every image loaded, a screenshot.")
-@click.option("--robot", type=click.Path(exists=True, dir_okay=False), default=None,
-              help="URDF the trials ran on, if its stored path moved (default: the stored path or the built-in).")
+@click.option(
+    "--out",
+    type=click.Path(file_okay=False, path_type=Path),
+    default="report",
+    show_default=True,
+    help="Directory for index.html and every figure (PNG, SVG) and table (CSV) it shows.",
+)
+@click.option(
+    "--check/--no-check",
+    default=False,
+    show_default=True,
+    help="Open the page in headless Chromium: no console errors, every image loaded, a screenshot.",
+)
+@TRIALS_ROBOT
 def report_cmd(db, out, check, robot):
     """One self-contained HTML page with every analysis, its figures (PNG, SVG) and tables (CSV)."""
     from landscape.viz.report import check_page
     from landscape.viz.sections import build_report
 
     out = _out(out)
-    page, sections = build_report(db, out, robot=robot)
+    page, sections = build_report(db, out, robot=_robot_file(robot))
     missing = [s.title for s in sections if s.missing]
-    click.echo(f"wrote {page} ({len(sections) - len(missing)}/{len(sections)} analyses"
-               + (f"; missing data for: {', '.join(missing)}" if missing else "") + ")")
+    click.echo(
+        f"wrote {page} ({len(sections) - len(missing)}/{len(sections)} analyses"
+        + (f"; missing data for: {', '.join(missing)}" if missing else "")
+        + ")"
+    )
     if check:
         try:
             res = check_page(page, screenshot=out / "screenshot.png")
         except RuntimeError as exc:
             raise UsageError(str(exc)) from None
-        click.echo(f"checked in {res.browser}: images {res.images_ok}/{res.images_total}, console errors "
-                   f"{len(res.console_errors)}, screenshot {res.screenshot}")
+        click.echo(
+            f"checked in {res.browser}: images {res.images_ok}/{res.images_total}, console errors "
+            f"{len(res.console_errors)}, screenshot {res.screenshot}"
+        )
         (out / "check.json").write_text(json.dumps(asdict(res), default=str, indent=1))
         if not res.ok:
-            raise click.ClickException("the report page failed the browser check: "
-                                       + "; ".join(res.console_errors[:3] or ["images missing"]))
+            raise click.ClickException(
+                "the report page failed the browser check: "
+                + "; ".join(res.console_errors[:3] or ["images missing"])
+            )

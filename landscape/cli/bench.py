@@ -4,17 +4,24 @@ from __future__ import annotations
 
 import click
 
-from landscape.cli.options import finite, robot_from, robot_options
+from landscape.cli.options import THETA_W_HELP, finite, robot_from, robot_options
 
 
 @click.command()
-@click.option("--theta-w", type=float, default=74.0, show_default=True, help="Wing angle of the timed pose, degrees.")
-@click.option("--repeat", type=click.IntRange(min=1, max=10_000), default=20, show_default=True,
-              help="Timed repetitions of the fast methods (the best is reported).")
+@click.option(
+    "--theta-w", type=float, default=74.0, show_default=True, help=f"{THETA_W_HELP} The timed pose."
+)
+@click.option(
+    "--repeat",
+    type=click.IntRange(min=1, max=10_000),
+    default=20,
+    show_default=True,
+    help="Timed repetitions of the fast methods (the best is reported).",
+)
 @robot_options
 def bench(theta_w, repeat, **kw):
     """Speed and memory against the lab's brute-force method, measured in this run, as ratios."""
     from landscape.analysis.bench import landscape_bench
 
     finite(theta_w, "theta-w")
-    click.echo(landscape_bench(robot_from(kw), theta_w_deg=theta_w, repeat=repeat))
+    click.echo(landscape_bench(robot_from(kw, theta_w_deg=theta_w), theta_w_deg=theta_w, repeat=repeat))

@@ -12,6 +12,7 @@ import click
 from landscape.cli.options import (
     MJ,
     MM,
+    THETA_W_HELP,
     finite,
     grid_step,
     memory_budget_bytes,
@@ -26,8 +27,10 @@ from landscape.cli.options import (
 def _fmt_exit(name: str, x, mg: float) -> str:
     if x is None:
         return f"  {name:<12} none"
-    return (f"  {name:<12} {x.barrier_j * MJ:9.3f} mJ  = CoM lift {x.barrier_j / mg * MM:7.3f} mm   "
-            f"saddle ({x.saddle_pitch_deg:7.2f}, {x.saddle_roll_deg:7.2f})  {x.direction}")
+    return (
+        f"  {name:<12} {x.barrier_j * MJ:9.3f} mJ  = CoM lift {x.barrier_j / mg * MM:7.3f} mm   "
+        f"saddle ({x.saddle_pitch_deg:7.2f}, {x.saddle_roll_deg:7.2f})  {x.direction}"
+    )
 
 
 def human_summary(c, robot, *, mass_note: str = "", units: str | None = None) -> str:
@@ -60,36 +63,73 @@ def human_summary(c, robot, *, mass_note: str = "", units: str | None = None) ->
 
 
 @click.command()
-@click.option("--theta-w", type=float, default=0.0, show_default=True, help="Wing angle, degrees.")
+@click.option("--theta-w", type=float, default=0.0, show_default=True, help=THETA_W_HELP)
 @click.option("--theta-l", type=float, default=0.0, show_default=True, help="Leg angle, degrees.")
 @click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees; divides 360.")
-@click.option("--start-pitch", type=float, default=None, help="Start by descent from this pitch, degrees.")
-@click.option("--start-roll", type=float, default=None, help="Start by descent from this roll, degrees.")
-@click.option("--connectivity", type=click.Choice(["8", "4"]), default="8", show_default=True,
-              help="Grid neighbours of the grid search (8: with diagonals).")
+@click.option(
+    "--start-pitch",
+    type=float,
+    default=None,
+    help="Start by descent from this pitch, degrees [default: the metastable minimum].",
+)
+@click.option(
+    "--start-roll",
+    type=float,
+    default=None,
+    help="Start by descent from this roll, degrees [default: the metastable minimum].",
+)
+@click.option(
+    "--connectivity",
+    type=click.Choice(["8", "4"]),
+    default="8",
+    show_default=True,
+    help="Grid neighbours of the grid search (8: with diagonals).",
+)
 @method_option
 @robot_options
-@click.option("--out", type=click.Path(file_okay=False), default=None,
-              help="Write landscape.npz, landscape.csv and summary.json into this directory.")
+@click.option(
+    "--out",
+    type=click.Path(file_okay=False),
+    default=None,
+    help="Write landscape.npz, landscape.csv and summary.json into this directory [default: write nothing].",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of the table.")
 def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, method, out, as_json, **kw):
     """Landscape, start minimum and minimal barriers at one (theta_w, theta_l)."""
     from landscape.computation import compute as run
     from landscape.viz import files
 
-    for name, v in (("theta-w", theta_w), ("theta-l", theta_l), ("step", step), ("start-pitch", start_pitch),
-                    ("start-roll", start_roll)):
+    for name, v in (
+        ("theta-w", theta_w),
+        ("theta-l", theta_l),
+        ("step", step),
+        ("start-pitch", start_pitch),
+        ("start-roll", start_roll),
+    ):
         finite(v, name)
     grid_step(step)
     if out:
         writable_dir(out, "--out")
-    robot = robot_from(kw)
-    c = run(robot, theta_w_deg=theta_w, theta_l_deg=theta_l, step_deg=step, start_pitch_deg=start_pitch,
-            start_roll_deg=start_roll, connectivity=int(connectivity), method=method,
-            memory_budget_bytes=memory_budget_bytes())
-    s = files.summary(c, robot_name=robot.name, robot_source=str(robot.source) if robot.source else None,
-                      robot_hash=robot.robot_hash, com_source=robot.com_source,
-                      description_hash=robot.description_hash)
+    robot = robot_from(kw, theta_w_deg=theta_w)
+    c = run(
+        robot,
+        theta_w_deg=theta_w,
+        theta_l_deg=theta_l,
+        step_deg=step,
+        start_pitch_deg=start_pitch,
+        start_roll_deg=start_roll,
+        connectivity=int(connectivity),
+        method=method,
+        memory_budget_bytes=memory_budget_bytes(),
+    )
+    s = files.summary(
+        c,
+        robot_name=robot.name,
+        robot_source=str(robot.source) if robot.source else None,
+        robot_hash=robot.robot_hash,
+        com_source=robot.com_source,
+        description_hash=robot.description_hash,
+    )
     if out:
         files.write_computation(c, s, Path(out))
     if as_json:
@@ -98,22 +138,46 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
         click.echo(files.json_text(s))
     else:
         mesh = kw["mesh"] is not None
-        click.echo(human_summary(c, robot, units=(kw["units"] or "m") if mesh else None,
-                                 mass_note="  (default; give --mass KG)" if mesh and kw["mass"] is None else ""))
+        click.echo(
+            human_summary(
+                c,
+                robot,
+                units=(kw["units"] or "m") if mesh else None,
+                mass_note="  (default; give --mass KG)" if mesh and kw["mass"] is None else "",
+            )
+        )
         if out:
             click.echo(f"wrote        {out}/landscape.npz, landscape.csv, summary.json")
 
 
 @click.command("barrier-map")
-@click.option("--theta-w", "theta_w", type=str, default="70:76:2", show_default=True,
-              help="Wing angles: list 70,72 or range START:STOP:STEP (inclusive), degrees.")
-@click.option("--theta-l", "theta_l", type=str, default="20:50:10", show_default=True,
-              help="Leg angles: list or range, degrees.")
+@click.option(
+    "--theta-w",
+    "theta_w",
+    type=str,
+    default="70:76:2",
+    show_default=True,
+    help="Wing angles: list 70,72 or range START:STOP:STEP (inclusive), degrees, from 0 to the wing "
+    "joints' limit.",
+)
+@click.option(
+    "--theta-l",
+    "theta_l",
+    type=str,
+    default="20:50:10",
+    show_default=True,
+    help="Leg angles: list or range, degrees.",
+)
 @click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees; divides 360.")
 @method_option
 @robot_options
-@click.option("--out", type=click.Path(file_okay=False), default="barrier-map", show_default=True,
-              help="Directory for barrier_map.csv and barrier_map.png.")
+@click.option(
+    "--out",
+    type=click.Path(file_okay=False),
+    default="barrier-map",
+    show_default=True,
+    help="Directory for barrier_map.csv and barrier_map.png.",
+)
 def barrier_map(theta_w, theta_l, step, method, out, **kw):
     """Minimal barrier over theta_w x theta_l: CSV and heat map (the source paper's Fig. 5)."""
     import numpy as np
@@ -125,18 +189,34 @@ def barrier_map(theta_w, theta_l, step, method, out, **kw):
     ws, ls_ = parse_values(theta_w, "theta-w"), parse_values(theta_l, "theta-l")
     grid_step(step)
     writable_dir(out, "--out")
-    robot = robot_from(kw)
+    robot = robot_from(kw, theta_w_deg=ws)
     t0 = time.perf_counter()
-    with tqdm(total=len(ws) * len(ls_), desc="barrier-map", unit="pose", file=sys.stderr, disable=None) as bar:
-        bm = run(robot, ws, ls_, step_deg=step, method=method, progress=bar.update,
-                 memory_budget_bytes=memory_budget_bytes())
+    with tqdm(
+        total=len(ws) * len(ls_), desc="barrier-map", unit="pose", file=sys.stderr, disable=None
+    ) as bar:
+        bm = run(
+            robot,
+            ws,
+            ls_,
+            step_deg=step,
+            method=method,
+            progress=bar.update,
+            memory_budget_bytes=memory_budget_bytes(),
+        )
     rows = files.barrier_map_rows(bm)
     outd = Path(out)
     csv_path = files.write_rows_csv(rows, outd / "barrier_map.csv")
     grid_mj = bm.righting_j * MJ
-    png = plots.render_barrier_map(ws, ls_, grid_mj, outd / "barrier_map.png",
-                                   title=f"Minimal righting barrier, {robot.name}, "
-                                         + ("exact" if method == "exact" else f"{step:g}° {method}"))
-    click.echo(f"{len(rows)} poses in {time.perf_counter() - t0:.2f} s; "
-               f"righting barrier {np.nanmin(grid_mj):.3f} .. {np.nanmax(grid_mj):.3f} mJ")
+    png = plots.render_barrier_map(
+        ws,
+        ls_,
+        grid_mj,
+        outd / "barrier_map.png",
+        title=f"Minimal righting barrier, {robot.name}, "
+        + ("exact" if method == "exact" else f"{step:g}° {method}"),
+    )
+    click.echo(
+        f"{len(rows)} poses in {time.perf_counter() - t0:.2f} s; "
+        f"righting barrier {np.nanmin(grid_mj):.3f} .. {np.nanmax(grid_mj):.3f} mJ"
+    )
     click.echo(f"wrote {csv_path} and {png}")

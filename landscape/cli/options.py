@@ -20,8 +20,35 @@ DEFAULT_MESH_MASS_KG = 1.0
 PLAUSIBLE_SIZE_M = (0.005, 5.0)
 """A ``--mesh`` body outside this size range (largest extent, m) gets a ``--units`` warning."""
 
-__all__ = ["MJ", "MM", "UsageError", "finite", "load_robot", "method_option", "parse_values", "robot_from",
-           "robot_options"]
+__all__ = [
+    "MJ",
+    "MM",
+    "THETA_W_OUT_OF_RANGE",
+    "RobotParam",
+    "UsageError",
+    "check_theta_w",
+    "finite",
+    "joints_option",
+    "load_robot",
+    "method_option",
+    "parse_values",
+    "robot_from",
+    "robot_option",
+    "robot_options",
+    "wing_range_deg",
+]
+
+THETA_W_HELP = "Wing opening angle, degrees, from 0 (closed) to the wing joints' limit."
+ROBOT_HELP = "The robot: a URDF file or a registered name (builtin)."
+JOINTS_HELP = (
+    "Joint map 'wing=J1,J2,...;leg=J' for a URDF whose joint names differ [default: the lab robot's "
+    "joint names]."
+)
+THETA_W_OUT_OF_RANGE = (
+    "--theta-w {got:g} deg is outside [{lo:g}, {hi:g}] deg, the wing opening range of {robot} (from closed, 0 deg, "
+    "to its wing joints' limit); choose a value inside it"
+)
+"""The one message every command that takes ``--theta-w`` refuses an out-of-range wing angle with."""
 
 
 def finite(value: float | None, name: str) -> float | None:
@@ -61,8 +88,16 @@ def grid_step(step_deg: float) -> float:
     return step_deg
 
 
-def load_robot(robot: str | None, mesh: str | None, *, com: str | None = None, mass: float = 1.0,
-               units: str = "m", com_model: str = "auto", joints: str | None = None):
+def load_robot(
+    robot: str | None,
+    mesh: str | None,
+    *,
+    com: str | None = None,
+    mass: float = 1.0,
+    units: str = "m",
+    com_model: str = "auto",
+    joints: str | None = None,
+):
     """The robot the options describe: a URDF, a single mesh, or the built-in robot
     (:func:`geometry.robot.load_robot`)."""
     from geometry.robots import load_robot as _load
@@ -79,65 +114,199 @@ def load_robot(robot: str | None, mesh: str | None, *, com: str | None = None, m
     return _load(robot, mesh=mesh, com=c, mass_kg=mass, units=units, com_model=com_model, joints=joints)
 
 
-METHOD_HELP = ("Barrier method (landscape.barriers): exact: no discretisation error (hull face-edge graph); grid: "
-               "the paper's grid search on the pitch-roll torus; sphere: the same search on an icosphere spaced "
-               "about --step apart.")
+METHOD_HELP = (
+    "Barrier method (landscape.barriers): exact: no discretisation error (hull face-edge graph); grid: "
+    "the paper's grid search on the pitch-roll torus; sphere: the same search on an icosphere spaced "
+    "about --step apart."
+)
 
 
 def method_option(f):
     """``--method``: a barrier method of the registry (:data:`landscape.barriers.METHODS`)."""
     from landscape.barriers import DEFAULT_METHOD, METHODS
 
-    return click.option("--method", type=click.Choice(list(METHODS)), default=DEFAULT_METHOD, show_default=True,
-                        help=METHOD_HELP)(f)
+    return click.option(
+        "--method",
+        type=click.Choice(list(METHODS)),
+        default=DEFAULT_METHOD,
+        show_default=True,
+        help=METHOD_HELP,
+    )(f)
+
+
+class RobotParam(click.ParamType):
+    """``--robot``: a registered robot name (:data:`geometry.robots.ROBOTS`) or an existing URDF file, as a str.
+
+    The same type in every command, so ``landscape CMD --help`` shows ``URDF|NAME`` everywhere and a missing file
+    is refused before any work, in one line.
+    """
+
+    name = "URDF|NAME"
+
+    def convert(self, value, param, ctx):
+        from pathlib import Path
+
+        from geometry.robots import ROBOTS
+
+        text = str(value)
+        if text in ROBOTS:
+            return text
+        path = Path(text)
+        if path.is_dir():
+            self.fail(f"{text} is a directory; give the .urdf file inside it", param, ctx)
+        if not path.is_file():
+            self.fail(
+                f"URDF file {text} not found; give a .urdf file or a registered robot name "
+                f"({', '.join(sorted(ROBOTS))})",
+                param,
+                ctx,
+            )
+        return text
+
+
+def robot_option(f=None, *, extra_help: str = "", default_help: str = "the built-in robot"):
+    """``--robot URDF|NAME``, the one robot option of every command (``extra_help`` follows its help, then
+    ``[default: default_help]``)."""
+
+    def deco(g):
+        text = " ".join(x for x in (ROBOT_HELP, extra_help, f"[default: {default_help}].") if x)
+        return click.option("--robot", type=RobotParam(), default=None, help=text)(g)
+
+    return deco if f is None else deco(f)
+
+
+def joints_option(f):
+    """``--joints MAP``, the joint map of a URDF whose joint names differ from the lab robot's."""
+    return click.option("--joints", type=str, default=None, help=JOINTS_HELP)(f)
+
+
+def robot_urdf(robot: str | None):
+    """The URDF path of a ``--robot`` value (a registered name, a path, or None for the built-in robot)."""
+    from geometry.robots import robot_urdf_path
+
+    return robot_urdf_path(robot)
+
+
+def wing_range_deg(theta_limits_deg: dict) -> tuple[float, float]:
+    """The wing angles every command accepts, degrees: from closed (0) to the wing joints' upper limit, within
+    the joints' limits (``theta_limits_deg["theta_w"]``, e.g. :meth:`geometry.Robot.theta_limits_deg`).
+
+    A trial opens the wings from closed, so a negative wing angle is not an opening; a landscape at one (the lab's
+    barrier table goes down to -10 deg) stays available from the library, :func:`landscape.computation.compute`.
+
+    Examples
+    --------
+    >>> wing_range_deg({"theta_w": (-10.0, 95.0), "theta_l": (-60.0, 60.0)})
+    (0.0, 95.0)
+    """
+    lo, hi = theta_limits_deg["theta_w"]
+    return max(float(lo), 0.0), float(hi)
+
+
+def check_theta_w(values_deg, theta_limits_deg: dict, robot_name: str) -> None:
+    """Refuse a wing angle outside :func:`wing_range_deg` with :data:`THETA_W_OUT_OF_RANGE` (one message for
+    every command).
+
+    Raises
+    ------
+    UsageError
+        If a value lies outside the range.
+    """
+    lo, hi = wing_range_deg(theta_limits_deg)
+    for v in values_deg if isinstance(values_deg, (list, tuple)) else [values_deg]:
+        if not lo - 1e-9 <= v <= hi + 1e-9:
+            raise UsageError(THETA_W_OUT_OF_RANGE.format(got=v, lo=lo, hi=hi, robot=robot_name))
 
 
 def robot_options(f):
     """Options shared by every command that takes a robot."""
     opts = [
-        click.option("--robot", type=str, default=None, help="URDF file (default: the built-in robot)."),
-        click.option("--mesh", type=str, default=None, help="A single rigid body: any mesh file trimesh reads."),
-        click.option("--com", type=str, default=None, help="With --mesh: CoM X,Y,Z in the mesh's units."),
-        click.option("--mass", type=float, default=None,
-                     help=f"With --mesh: mass, kg [default: {DEFAULT_MESH_MASS_KG:g}]."),
-        click.option("--units", type=click.Choice(["mm", "cm", "m"]), default=None,
-                     help="With --mesh: units of the mesh file [default: m]."),
-        click.option("--com-model", type=click.Choice(["auto", "solid", "shell"]), default=None,
-                     help="With --mesh and no --com: solid (closed mesh), shell (thin surface) or auto "
-                          "[default: auto]."),
-        click.option("--joints", type=str, default=None,
-                     help="Joint map 'wing=J1,J2,...;leg=J' for a URDF whose joint names differ."),
+        robot_option,
+        click.option(
+            "--mesh",
+            type=str,
+            default=None,
+            help="A single rigid body instead of a URDF: any mesh file trimesh reads [default: none].",
+        ),
+        click.option(
+            "--com",
+            type=str,
+            default=None,
+            help="With --mesh: CoM X,Y,Z in the mesh's units [default: from --com-model].",
+        ),
+        click.option(
+            "--mass",
+            type=float,
+            default=None,
+            help=f"With --mesh: mass, kg [default: {DEFAULT_MESH_MASS_KG:g}].",
+        ),
+        click.option(
+            "--units",
+            type=click.Choice(["mm", "cm", "m"]),
+            default=None,
+            help="With --mesh: units of the mesh file [default: m].",
+        ),
+        click.option(
+            "--com-model",
+            type=click.Choice(["auto", "solid", "shell"]),
+            default=None,
+            help="With --mesh and no --com: solid (closed mesh), shell (thin surface) or auto "
+            "[default: auto].",
+        ),
+        joints_option,
     ]
     for o in reversed(opts):
         f = o(f)
     return f
 
 
-def robot_from(kw: dict):
-    """The robot of a command's :func:`robot_options` keywords.
+def robot_from(kw: dict, *, theta_w_deg=None):
+    """The robot of a command's :func:`robot_options` keywords; a URDF robot's ``theta_w_deg`` (a value or a list)
+    is checked against its wing opening range (:func:`check_theta_w`).
 
     Mesh-only options without ``--mesh`` are refused (they would be ignored). A mesh whose size is implausible
     in its assumed units gets a warning on stderr naming the ``--units`` fix.
     """
     if kw["mesh"] is None:
-        given = [f"--{k.replace('_', '-')}" for k in ("com", "mass", "units", "com_model") if kw[k] is not None]
+        given = [
+            f"--{k.replace('_', '-')}" for k in ("com", "mass", "units", "com_model") if kw[k] is not None
+        ]
         if given:
-            raise UsageError(f"{', '.join(given)} only apply to a single body given with --mesh FILE; "
-                             "a URDF robot takes its masses and CoM from its <inertial> elements")
-        return load_robot(kw["robot"], None, joints=kw["joints"])
+            raise UsageError(
+                f"{', '.join(given)} only apply to a single body given with --mesh FILE; "
+                "a URDF robot takes its masses and CoM from its <inertial> elements"
+            )
+        robot = load_robot(kw["robot"], None, joints=kw["joints"])
+        if theta_w_deg is not None and robot.has_joints:
+            check_theta_w(theta_w_deg, robot.theta_limits_deg(), robot.name)
+        return robot
     mass = DEFAULT_MESH_MASS_KG if kw["mass"] is None else kw["mass"]
     units = kw["units"] or "m"
-    robot = load_robot(kw["robot"], kw["mesh"], com=kw["com"], mass=mass, units=units,
-                       com_model=kw["com_model"] or "auto", joints=kw["joints"])
+    robot = load_robot(
+        kw["robot"],
+        kw["mesh"],
+        com=kw["com"],
+        mass=mass,
+        units=units,
+        com_model=kw["com_model"] or "auto",
+        joints=kw["joints"],
+    )
     import numpy as np
 
-    size_m = max((float(np.ptp(p.hull_link_m, axis=0).max()) for p in robot.parts if len(p.hull_link_m)),
-                 default=0.0)
+    size_m = max(
+        (float(np.ptp(p.hull_link_m, axis=0).max()) for p in robot.parts if len(p.hull_link_m)), default=0.0
+    )
     if kw["units"] is None and not PLAUSIBLE_SIZE_M[0] <= size_m <= PLAUSIBLE_SIZE_M[1]:
         guess = "mm" if size_m > PLAUSIBLE_SIZE_M[1] else None
-        click.echo(f"landscape: warning: the mesh is {size_m:.3g} m across, read in metres (the default); "
-                   + (f"if it was saved in millimetres (CAD exports usually are), add --units {guess}"
-                      if guess else "give its --units if it was not saved in metres"), err=True)
+        click.echo(
+            f"landscape: warning: the mesh is {size_m:.3g} m across, read in metres (the default); "
+            + (
+                f"if it was saved in millimetres (CAD exports usually are), add --units {guess}"
+                if guess
+                else "give its --units if it was not saved in metres"
+            ),
+            err=True,
+        )
     return robot
 
 
@@ -163,8 +332,10 @@ def writable_file(path, option: str, *, inputs=()) -> None:
     p = Path(path)
     for src in inputs:
         if src is not None and Path(src).exists() and p.exists() and p.resolve() == Path(src).resolve():
-            raise UsageError(f"{option} {path} is also an input of this command; writing it would destroy the "
-                             "input. Choose another file name")
+            raise UsageError(
+                f"{option} {path} is also an input of this command; writing it would destroy the "
+                "input. Choose another file name"
+            )
     if p.is_dir():
         raise UsageError(f"{option} {path} is a directory; give a file name")
     writable_dir(p.parent if str(p.parent) else ".", option)

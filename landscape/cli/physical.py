@@ -7,6 +7,8 @@ from pathlib import Path
 
 import click
 
+from landscape.cli.options import joints_option, robot_option
+
 DATA_OPT = click.option(
     "--data",
     "data",
@@ -53,19 +55,8 @@ def table_cmd(data, out):
 
 @physical.command("kinematics")
 @DATA_OPT
-@click.option(
-    "--robot",
-    type=str,
-    default=None,
-    help="URDF of the model to compare (default: the built-in robot; the lab's is "
-    "../shared/ref/lab_robot/lab_robot.urdf).",
-)
-@click.option(
-    "--joints",
-    type=str,
-    default=None,
-    help="Joint map 'wing=J1,J2,...;leg=J' for a URDF whose joint names differ.",
-)
+@robot_option(extra_help="The model to compare (the lab's is ../shared/ref/lab_robot/lab_robot.urdf).")
+@joints_option
 @click.option("--no-model", is_flag=True, help="Only the robot's resting pitch.")
 def kinematics_cmd(data, robot, joints, no_model):
     """Body pitch while the wings are held open (leg still), robot against the model's metastable pitch at the

@@ -10,6 +10,9 @@ import click
 
 from landscape.barriers import EXITS
 from landscape.cli.options import (
+    THETA_W_HELP,
+    UsageError,
+    check_theta_w,
     finite,
     grid_step,
     memory_budget_bytes,
@@ -21,7 +24,7 @@ from landscape.cli.options import (
 
 
 @click.command()
-@click.option("--theta-w", type=float, default=0.0, show_default=True, help="Wing angle, degrees.")
+@click.option("--theta-w", type=float, default=0.0, show_default=True, help=THETA_W_HELP)
 @click.option("--theta-l", type=float, default=0.0, show_default=True, help="Leg angle, degrees.")
 @click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees; divides 360.")
 @method_option
@@ -41,7 +44,18 @@ from landscape.cli.options import (
     type=click.Path(dir_okay=False),
     help="A trial trace (`landscape simulate --trace FILE`) to draw as a pitch-roll path on the landscape "
     "(trajectories.png, trajectories_contour.png/.svg); repeat for several. Without --theta-w/--theta-l "
-    "the landscape is the traces' pose.",
+    "the landscape is the traces' pose [default: no traces].",
+)
+@click.option(
+    "--physical",
+    "physical_dir",
+    type=click.Path(file_okay=False),
+    default=None,
+    help="The lab's data-robot folder (e.g. ../shared/ref/physical_robot): draw the physical robot's recorded "
+    "attempts (one per wing opening, righted or not) over the landscape at their measured wing plateau and "
+    "theta_l 0 (trajectories.png, trajectories_contour.png/.svg). --theta-w W then picks the commanded wing angle "
+    "W (60, 75 or 90 degrees; without it, each one into OUT/wing_W/) and --theta-l L the trials' leg amplitude "
+    "(degrees; 0, the leg still, by default) [default: no physical attempts].",
 )
 @click.option(
     "--out",
@@ -50,9 +64,10 @@ from landscape.cli.options import (
     help="Directory for landscape.png/.vts/.html, contour.png/.svg, robot_start.png, robot_saddle.png.",
 )
 @click.pass_context
-def render(ctx, theta_w, theta_l, step, method, exit_kind, traces, out, **kw):
+def render(ctx, theta_w, theta_l, step, method, exit_kind, traces, physical_dir, out, **kw):
     """3-D landscape (PNG, VTK, HTML), 2-D contour map (PNG, SVG) and the robot at its minimum and saddle; with
-    --trace, the trials' paths over the landscape, righted and not righted apart."""
+    --trace (simulated trials) or --physical (the physical robot's recorded attempts), their paths over the
+    landscape, righted and not righted apart."""
     from landscape.computation import compute as run
     from landscape.viz.scene import render_computation
 
@@ -61,14 +76,30 @@ def render(ctx, theta_w, theta_l, step, method, exit_kind, traces, out, **kw):
     grid_step(step)
     writable_dir(out, "--out")
     robot = robot_from(kw)
+    if physical_dir is not None:
+        if traces:
+            raise UsageError(
+                "give either --trace FILE (simulated trials) or --physical DIR (recorded attempts), "
+                "not both; they are drawn on different landscapes"
+            )
+        _render_physical(ctx, robot, physical_dir, theta_w, theta_l, step, method, exit_kind, out)
+        return
     read = []
     if traces:
         from landscape.viz.trajectory import read_trace_csv
 
         read = [read_trace_csv(t) for t in traces]
         theta_w, theta_l = _traces_pose(ctx, read, theta_w, theta_l)
-    c = run(robot, theta_w_deg=theta_w, theta_l_deg=theta_l, step_deg=step, method=method,
-            memory_budget_bytes=memory_budget_bytes())
+    if robot.has_joints:
+        check_theta_w(theta_w, robot.theta_limits_deg(), robot.name)
+    c = run(
+        robot,
+        theta_w_deg=theta_w,
+        theta_l_deg=theta_l,
+        step_deg=step,
+        method=method,
+        memory_budget_bytes=memory_budget_bytes(),
+    )
     written, notes = render_computation(c, out, robot_name=robot.name, exit_kind=exit_kind)
     if read:
         import numpy as np
@@ -97,8 +128,6 @@ def _traces_pose(ctx, read, theta_w, theta_l):
     """The (theta_w, theta_l) of the traces, which must agree with each other and with the options if given."""
     from click.core import ParameterSource
 
-    from landscape.cli.options import UsageError
-
     first = read[0]
     for t in read[1:]:
         if (
@@ -121,3 +150,81 @@ def _traces_pose(ctx, read, theta_w, theta_l):
                 "traces' pose, or give traces of this pose"
             )
     return first.theta_w_deg, first.theta_l_deg
+
+
+def _render_physical(ctx, robot, data_dir, theta_w, theta_l, step, method, exit_kind, out) -> None:
+    """``render --physical``: per commanded wing angle, the landscape at the measured wing plateau and theta_l 0,
+    with the recorded attempts of the trials at that wing angle and leg amplitude ``theta_l`` drawn on it."""
+    import math
+    from pathlib import Path
+
+    import numpy as np
+    from click.core import ParameterSource
+
+    from landscape.analysis import physical as ph
+    from landscape.computation import compute as run
+    from landscape.viz.scene import render_computation
+    from landscape.viz.trajectory import render_trajectories
+
+    one = ctx.get_parameter_source("theta_w") is not ParameterSource.DEFAULT
+    if one and theta_w not in ph.WING_COMMANDS_DEG:
+        raise UsageError(
+            f"--theta-w {theta_w:g} with --physical picks the trials' commanded wing angle; the physical robot ran "
+            f"at {', '.join(f'{w:g}' for w in ph.WING_COMMANDS_DEG)} degrees"
+        )
+    commands = [theta_w] if one else list(ph.WING_COMMANDS_DEG)
+    # read every attempt first: a data problem is refused before any note or computation
+    by_command = {
+        cmd: ph.physical_attempts(data_dir, theta_w_cmd_deg=cmd, theta_l_deg=theta_l) for cmd in commands
+    }
+    if robot.source is None or "lab" not in robot.name:
+        click.echo(
+            f"landscape: note: the recorded attempts are of the lab's robot, drawn over {robot.name}'s landscape; "
+            "give --robot ../shared/ref/lab_robot/lab_robot.urdf for the lab robot's",
+            err=True,
+        )
+    if theta_l:
+        click.echo(
+            f"landscape: note: the trials' leg oscillates by ±{theta_l:g}°; the landscape is at theta_l 0, the "
+            "leg's mean position",
+            err=True,
+        )
+    written, notes = [], []
+    for cmd, attempts in by_command.items():
+        plateau = round(attempts[0].theta_w_measured_deg, 1)  # the servo's plateau, to 0.1 deg
+        if not math.isfinite(plateau):
+            notes.append(
+                f"no measured wing plateau (robot_attempts.mat) for {cmd:g}°: landscape at the command"
+            )
+            plateau = cmd
+        if robot.has_joints:
+            check_theta_w(plateau, robot.theta_limits_deg(), robot.name)
+        c = run(
+            robot,
+            theta_w_deg=plateau,
+            theta_l_deg=0.0,
+            step_deg=step,
+            method=method,
+            memory_budget_bytes=memory_budget_bytes(),
+        )
+        od = Path(out) if one else Path(out) / f"wing_{cmd:g}"
+        files, more = render_computation(c, od, robot_name=robot.name, exit_kind=exit_kind)
+        notes += more
+        files += render_trajectories(
+            c,
+            [np.column_stack([a.pitch_deg, a.roll_deg]) for a in attempts],
+            [a.righted for a in attempts],
+            od,
+            robot_name=robot.name,
+            exit_kind=exit_kind,
+            what="physical",
+        )
+        n_ok = sum(a.righted for a in attempts)
+        click.echo(
+            f"wing {cmd:g}° (measured plateau {plateau:.1f}°), leg {theta_l:g}°: {len(attempts)} attempts of "
+            f"{len({a.name for a in attempts})} trials, {n_ok} righted; wrote "
+            f"{', '.join(p.name for p in files)} in {od}"
+        )
+        written += files
+    for note in dict.fromkeys(notes):
+        click.echo(f"landscape: note: {note}", err=True)

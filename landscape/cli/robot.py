@@ -24,5 +24,3 @@ def robot_export(out):
     for name, data in files.items():
         (outd / name).write_bytes(data)
     click.echo(f"wrote {len(files)} files to {outd} (URDF: {outd / 'robot.urdf'})")
-
-

@@ -9,7 +9,15 @@ from pathlib import Path
 
 import click
 
-from landscape.cli.options import UsageError, parse_values, writable_file
+from landscape.cli.options import (
+    THETA_W_HELP,
+    UsageError,
+    check_theta_w,
+    joints_option,
+    parse_values,
+    robot_option,
+    writable_file,
+)
 from sim.protocol import (
     DEFAULT_DT_S,
     DEFAULT_DURATION_S,
@@ -21,16 +29,31 @@ from sim.protocol import (
     PAPER_TRIALS,
 )
 
-DURATION_OPT = click.option("--duration", type=float, default=DEFAULT_DURATION_S, show_default=True,
-                            help=f"Trial length, s (at most {MAX_DURATION_S:g}).")
-DT_OPT = click.option("--dt", type=float, default=None,
-                      help=f"Physics time step, s, in [{MIN_DT_S:g}, {MAX_DT_S:g}] [default: {DEFAULT_DT_S:g} for the "
-                           f"built-in robot, {OTHER_ROBOT_DT_S:g} for others: the largest steps that pass the "
-                           "convergence benchmark; a larger one gets a warning].")
+DURATION_OPT = click.option(
+    "--duration",
+    type=float,
+    default=DEFAULT_DURATION_S,
+    show_default=True,
+    help=f"Trial length, s (at most {MAX_DURATION_S:g}).",
+)
+DT_OPT = click.option(
+    "--dt",
+    type=float,
+    default=None,
+    help=f"Physics time step, s, in [{MIN_DT_S:g}, {MAX_DT_S:g}] [default: {DEFAULT_DT_S:g} for the "
+    f"built-in robot, {OTHER_ROBOT_DT_S:g} for others: the largest steps that pass the "
+    "convergence benchmark; a larger one gets a warning].",
+)
 
 
-MODEL_OPT = click.option("--model", "model_set", type=str, default="paper", show_default=True,
-                         help="Model parameter set: a shipped name (paper, physical) or a .toml file (sim/model_set.py).")
+MODEL_OPT = click.option(
+    "--model",
+    "model_set",
+    type=str,
+    default="paper",
+    show_default=True,
+    help="Model parameter set: a shipped name (paper, physical) or a .toml file (sim/model_set.py).",
+)
 
 
 def _warn_coarse_dt(dt: float | None, robot: str | None) -> None:
@@ -41,9 +64,21 @@ def _warn_coarse_dt(dt: float | None, robot: str | None) -> None:
 
     converged = default_dt_s(robot)
     if dt > converged * (1 + 1e-9):
-        click.echo(f"landscape: warning: --dt {dt:g} s is coarser than {converged:g} s, the largest step that passes "
-                   "the convergence benchmark for this robot (benchmarks/sim_convergence.py); outcomes may differ",
-                   err=True)
+        click.echo(
+            f"landscape: warning: --dt {dt:g} s is coarser than {converged:g} s, the largest step that passes "
+            "the convergence benchmark for this robot (benchmarks/sim_convergence.py); outcomes may differ",
+            err=True,
+        )
+
+
+def _check_wing(theta_w_deg, robot: str | None, joints: str | None) -> None:
+    """The wing angles checked against the robot's wing opening range, as ``landscape compute`` checks them."""
+    from landscape.cli.options import load_robot
+
+    r = load_robot(robot, None, joints=joints)
+    if not r.has_joints:  # no wing joints found: the simulator says which joint names it expected
+        return
+    check_theta_w(theta_w_deg, r.theta_limits_deg(), r.name)
 
 
 SCHEDULER_RE = re.compile(r"(tcp|tls|inproc|ucx)://[^\s:/]+(:\d{1,5})?")
@@ -75,44 +110,93 @@ def _human(r, robot: str) -> str:
     else:
         lines.append(f"outcome      not righted in {r.duration_s:g} s ({len(r.phases)} attempts)")
     lines.append("phases       " + " ".join(f"{p:.3f}" for p in r.phases))
-    lines.append(f"timing       {r.wall_s:.2f} s wall, {r.cpu_s:.2f} s CPU for {r.sim_s:.2f} s simulated; "
-                 f"max joint tracking error {r.max_tracking_error_deg:.2f}°")
+    lines.append(
+        f"timing       {r.wall_s:.2f} s wall, {r.cpu_s:.2f} s CPU for {r.sim_s:.2f} s simulated; "
+        f"max joint tracking error {r.max_tracking_error_deg:.2f}°"
+    )
     return "\n".join(lines)
 
 
 @click.command("simulate")
-@click.option("--theta-w", type=float, required=True, help="Wing opening angle, degrees.")
+@click.option("--theta-w", type=float, required=True, help=THETA_W_HELP)
 @click.option("--theta-l", type=float, required=True, help="Leg oscillation amplitude, degrees.")
-@click.option("--phase", type=float, default=0.0, show_default=True,
-              help="First attempt's phase phi_1 = dt_1 / Tl, in [0, 1).")
+@click.option(
+    "--phase",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="First attempt's phase phi_1 = dt_1 / Tl, in [0, 1).",
+)
 @click.option("--cv", type=float, default=0.0, show_default=True, help="Noise Cv = sigma / Tl (>= 0).")
-@click.option("--seed", type=click.IntRange(min=0), default=None, help="Random seed (default: fresh; reported).")
+@click.option(
+    "--seed",
+    type=click.IntRange(min=0),
+    default=None,
+    help="Random seed of the noise [default: a fresh seed, reported].",
+)
 @DURATION_OPT
 @DT_OPT
-@click.option("--trace", "trace_path", type=click.Path(dir_okay=False, path_type=Path), default=None,
-              help="Write the pitch/roll/energy trace to this CSV file.")
-@click.option("--video", "video_path", type=click.Path(dir_okay=False, path_type=Path), default=None,
-              help="Render the trial to this .mp4 or .gif file (25 frames/s, real time, offscreen): the robot, the "
-                   "time, the wing and leg angles and the energy in mJ.")
+@click.option(
+    "--trace",
+    "trace_path",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Write the pitch/roll/energy trace to this CSV file [default: no trace].",
+)
+@click.option(
+    "--video",
+    "video_path",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Render the trial to this .mp4 or .gif file (25 frames/s, real time, offscreen): the robot, the "
+    "time, the wing and leg angles and the energy in mJ [default: no video].",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of a summary.")
-@click.option("--robot", type=str, default=None, help="URDF file (default: the built-in robot).")
-@click.option("--joints", type=str, default=None, help="Joint map 'wing=J1,J2,...;leg=J'.")
-@click.option("--wing-period", type=float, default=2.0, show_default=True, help="Tw, time between wing openings, s.")
-@click.option("--leg-period", type=float, default=0.8, show_default=True, help="Tl, leg oscillation period, s.")
-@click.option("--attempts", type=click.IntRange(min=0), default=0, show_default=True,
-              help="At most this many wing openings (1: a single attempt, ending one Tw after it); 0: no limit.")
+@robot_option
+@joints_option
+@click.option(
+    "--wing-period", type=float, default=2.0, show_default=True, help="Tw, time between wing openings, s."
+)
+@click.option(
+    "--leg-period", type=float, default=0.8, show_default=True, help="Tl, leg oscillation period, s."
+)
+@click.option(
+    "--attempts",
+    type=click.IntRange(min=0),
+    default=0,
+    show_default=True,
+    help="At most this many wing openings (1: a single attempt, ending one Tw after it); 0: no limit.",
+)
 @MODEL_OPT
-def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, video_path, as_json, robot, joints,
-             wing_period, leg_period, attempts, model_set):
+def simulate(
+    theta_w,
+    theta_l,
+    phase,
+    cv,
+    seed,
+    duration,
+    dt,
+    trace_path,
+    video_path,
+    as_json,
+    robot,
+    joints,
+    wing_period,
+    leg_period,
+    attempts,
+    model_set,
+):
     """Run one self-righting trial in pybullet and report its outcome."""
     from geometry import JointMap
+    from landscape.cli.options import robot_urdf
     from landscape.viz.files import json_text
     from sim.model import default_robot_urdf
     from sim.model_set import load_model_set
     from sim.trial import run_trial
     from sim.world import SimulationDiverged
 
-    robot_path = str(robot) if robot else str(default_robot_urdf())
+    robot_path = str(robot_urdf(robot)) if robot else str(default_robot_urdf())
+    _check_wing(theta_w, robot_path, joints)
     _warn_coarse_dt(dt, robot_path)
     if trace_path is not None:
         writable_file(trace_path, "--trace", inputs=(robot_path,))
@@ -124,23 +208,49 @@ def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, video_
         check_video_path(video_path)
     try:
         act = ms.actuation(theta_w, theta_l, wing_period_s=wing_period, leg_period_s=leg_period)
-        r = run_trial(theta_w, theta_l, phase=phase, cv=cv, rng=seed, duration_s=duration, dt_s=dt,
-                      robot=robot_path, joint_map=JointMap.parse(joints) if joints else None,
-                      trace=trace_path is not None or video_path is not None,
-                      actuation=act, attempts=attempts or None, model_set=ms)
+        r = run_trial(
+            theta_w,
+            theta_l,
+            phase=phase,
+            cv=cv,
+            rng=seed,
+            duration_s=duration,
+            dt_s=dt,
+            robot=robot_path,
+            joint_map=JointMap.parse(joints) if joints else None,
+            trace=trace_path is not None or video_path is not None,
+            actuation=act,
+            attempts=attempts or None,
+            model_set=ms,
+        )
     except SimulationDiverged as exc:
         raise click.ClickException(str(exc).splitlines()[0]) from None
     if trace_path is not None:
         from landscape.viz.trajectory import trace_meta_lines
 
-        write_trace_csv(r.trace, trace_path, tuple(trace_meta_lines(
-            robot_hash=r.robot_hash, theta_w_deg=r.theta_w_deg, theta_l_deg=r.theta_l_deg, righted=r.success)))
+        write_trace_csv(
+            r.trace,
+            trace_path,
+            tuple(
+                trace_meta_lines(
+                    robot_hash=r.robot_hash,
+                    theta_w_deg=r.theta_w_deg,
+                    theta_l_deg=r.theta_l_deg,
+                    righted=r.success,
+                )
+            ),
+        )
     if video_path is not None:
         from landscape.viz.video import write_trial_video
 
         outcome = f"righted at {r.time_to_right_s:.2f} s" if r.success else "not righted"
-        write_trial_video(r.trace, video_path, robot=robot_path, joint_map=JointMap.parse(joints) if joints else None,
-                          title=f"{Path(robot_path).stem}  θw {theta_w:g}°  θl {theta_l:g}°  {outcome}")
+        write_trial_video(
+            r.trace,
+            video_path,
+            robot=robot_path,
+            joint_map=JointMap.parse(joints) if joints else None,
+            title=f"{Path(robot_path).stem}  θw {theta_w:g}°  θl {theta_l:g}°  {outcome}",
+        )
     if as_json:
         d = r.to_dict()
         d["robot"] = robot_path
@@ -154,31 +264,88 @@ def simulate(theta_w, theta_l, phase, cv, seed, duration, dt, trace_path, video_
 
 
 @click.command("sweep")
-@click.option("--theta-w", default="70,72,74,76", show_default=True, help="Wing angles, degrees: list or START:STOP:STEP.")
+@click.option(
+    "--theta-w",
+    default="70,72,74,76",
+    show_default=True,
+    help="Wing opening angles, degrees, from 0 (closed) to the wing joints' limit: list or START:STOP:STEP.",
+)
 @click.option("--theta-l", default="20,30,40,50", show_default=True, help="Leg amplitudes, degrees.")
-@click.option("--cv", default="0,0.05,0.1,0.15,0.2,0.25", show_default=True, help="Noise levels Cv = sigma / Tl.")
+@click.option(
+    "--cv", default="0,0.05,0.1,0.15,0.2,0.25", show_default=True, help="Noise levels Cv = sigma / Tl."
+)
 @click.option("--phase", default="0.7", show_default=True, help="First-attempt phases phi_1 in [0, 1).")
-@click.option("--trials", type=click.IntRange(1, MAX_TRIALS), default=PAPER_TRIALS, show_default=True,
-              help=f"Trials per parameter combination (a sweep holds at most {MAX_TRIALS:,} trials).")
-@click.option("--wing-period", default="2", show_default=True, help="Tw values, s (time between wing openings).")
+@click.option(
+    "--trials",
+    type=click.IntRange(1, MAX_TRIALS),
+    default=PAPER_TRIALS,
+    show_default=True,
+    help=f"Trials per parameter combination (a sweep holds at most {MAX_TRIALS:,} trials).",
+)
+@click.option(
+    "--wing-period", default="2", show_default=True, help="Tw values, s (time between wing openings)."
+)
 @click.option("--leg-period", default="0.8", show_default=True, help="Tl values, s (leg oscillation period).")
-@click.option("--attempts", type=click.IntRange(min=0), default=0, show_default=True,
-              help="At most this many wing openings per trial (1: single-attempt trials for the phase map); 0: no "
-                   "limit.")
-@click.option("--db", type=click.Path(dir_okay=False, path_type=Path), required=True, help="SQLite results file.")
+@click.option(
+    "--attempts",
+    type=click.IntRange(min=0),
+    default=0,
+    show_default=True,
+    help="At most this many wing openings per trial (1: single-attempt trials for the phase map); 0: no "
+    "limit.",
+)
+@click.option(
+    "--db", type=click.Path(dir_okay=False, path_type=Path), required=True, help="SQLite results file."
+)
 @DURATION_OPT
 @DT_OPT
-@click.option("--seed", "base_seed", type=click.IntRange(min=0), default=0, show_default=True,
-              help="Base seed mixed into every trial's seed.")
-@click.option("--workers", type=click.IntRange(min=1), default=None, help="Local worker processes (default: all cores).")
-@click.option("--scheduler", type=str, default=None, help="Dask scheduler address tcp://HOST:PORT.")
-@click.option("--robot", type=str, default=None, help="URDF file (default: the built-in robot).")
-@click.option("--joints", type=str, default=None, help="Joint map 'wing=J1,J2,...;leg=J' for a URDF whose joint names differ.")
-@click.option("--no-progress", is_flag=True, help="No progress bar.")
+@click.option(
+    "--seed",
+    "base_seed",
+    type=click.IntRange(min=0),
+    default=0,
+    show_default=True,
+    help="Base seed mixed into every trial's seed.",
+)
+@click.option(
+    "--workers", type=click.IntRange(min=1), default=None, help="Local worker processes [default: all cores]."
+)
+@click.option(
+    "--scheduler",
+    type=str,
+    default=None,
+    help="Dask scheduler address tcp://HOST:PORT [default: none, local worker processes].",
+)
+@robot_option
+@joints_option
+@click.option(
+    "--no-progress",
+    is_flag=True,
+    help="No progress bar (it is also off when stderr is not a terminal, e.g. redirected to a log).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object.")
 @MODEL_OPT
-def sweep(theta_w, theta_l, cv, phase, trials, wing_period, leg_period, attempts, db, duration, dt, base_seed,
-          workers, scheduler, robot, joints, no_progress, as_json, model_set):
+def sweep(
+    theta_w,
+    theta_l,
+    cv,
+    phase,
+    trials,
+    wing_period,
+    leg_period,
+    attempts,
+    db,
+    duration,
+    dt,
+    base_seed,
+    workers,
+    scheduler,
+    robot,
+    joints,
+    no_progress,
+    as_json,
+    model_set,
+):
     """Run (or resume) a sweep of self-righting trials into an SQLite database."""
     from dataclasses import asdict
 
@@ -189,15 +356,39 @@ def sweep(theta_w, theta_l, cv, phase, trials, wing_period, leg_period, attempts
     if workers is not None and scheduler is not None:
         raise UsageError("give either --workers N (local processes) or --scheduler ADDRESS (Dask), not both")
     if scheduler is not None and not SCHEDULER_RE.fullmatch(scheduler):
-        raise UsageError(f"--scheduler {scheduler!r} is not a scheduler address; give tcp://HOST:PORT "
-                         "(as printed by `dask scheduler`)")
-    tw, tl, cvs, phs = (parse_values(theta_w, "theta-w"), parse_values(theta_l, "theta-l"), parse_values(cv, "cv"),
-                        parse_values(phase, "phase"))
+        raise UsageError(
+            f"--scheduler {scheduler!r} is not a scheduler address; give tcp://HOST:PORT "
+            "(as printed by `dask scheduler`)"
+        )
+    tw, tl, cvs, phs = (
+        parse_values(theta_w, "theta-w"),
+        parse_values(theta_l, "theta-l"),
+        parse_values(cv, "cv"),
+        parse_values(phase, "phase"),
+    )
     wps, lps = parse_values(wing_period, "wing-period"), parse_values(leg_period, "leg-period")
+    if robot is not None:
+        from landscape.cli.options import robot_urdf
+
+        robot = str(robot_urdf(robot))
+    _check_wing(tw, robot, joints)
     _warn_coarse_dt(dt, robot)
-    specs = sweep_specs(tw, tl, cvs, phase=phs, trials=trials, duration_s=duration, dt_s=dt, robot=robot,
-                        base_seed=base_seed, wing_period_s=wps, leg_period_s=lps, attempts=attempts,
-                        joint_map=joints, model_set=model_set)
+    specs = sweep_specs(
+        tw,
+        tl,
+        cvs,
+        phase=phs,
+        trials=trials,
+        duration_s=duration,
+        dt_s=dt,
+        robot=robot,
+        base_seed=base_seed,
+        wing_period_s=wps,
+        leg_period_s=lps,
+        attempts=attempts,
+        joint_map=joints,
+        model_set=model_set,
+    )
     try:
         summary = run_sweep(specs, db=db, workers=workers, scheduler=scheduler, progress=not no_progress)
     except SweepAborted as exc:  # not the input's fault; what finished is stored, and rerunning resumes
@@ -205,11 +396,13 @@ def sweep(theta_w, theta_l, cv, phase, trials, wing_period, leg_period, attempts
     if as_json:
         click.echo(json_text(asdict(summary)))
         return
-    click.echo(f"{summary.total} trials: {summary.skipped} already in {db}, ran {summary.ran} "
-               f"({summary.diverged} diverged) in {summary.wall_s:.1f} s on {summary.workers} workers "
-               f"= {summary.trials_per_s:.2f} trials/s, {summary.cpu_s:.0f} trial CPU-s"
-               + (f"; {summary.duplicates} repeated settings dropped" if summary.duplicates else "")
-               + (f"; {summary.pool_restarts} lost workers replaced" if summary.pool_restarts else ""))
+    click.echo(
+        f"{summary.total} trials: {summary.skipped} already in {db}, ran {summary.ran} "
+        f"({summary.diverged} diverged) in {summary.wall_s:.1f} s on {summary.workers} workers "
+        f"= {summary.trials_per_s:.2f} trials/s, {summary.cpu_s:.0f} trial CPU-s"
+        + (f"; {summary.duplicates} repeated settings dropped" if summary.duplicates else "")
+        + (f"; {summary.pool_restarts} lost workers replaced" if summary.pool_restarts else "")
+    )
     keys = {s.key() for s in specs}
     rows = [r for r in read_rows(db) if tuple(r[c] for c in KEY_COLUMNS) in keys]
     click.echo("success   theta_w  theta_l  cv     rate")
@@ -218,9 +411,16 @@ def sweep(theta_w, theta_l, cv, phase, trials, wing_period, leg_period, attempts
 
 
 @click.command("export")
-@click.option("--db", type=click.Path(dir_okay=False, path_type=Path), required=True, help="SQLite results file.")
-@click.option("--csv", "csv_path", type=click.Path(dir_okay=False, path_type=Path), required=True,
-              help="CSV file to write.")
+@click.option(
+    "--db", type=click.Path(dir_okay=False, path_type=Path), required=True, help="SQLite results file."
+)
+@click.option(
+    "--csv",
+    "csv_path",
+    type=click.Path(dir_okay=False, path_type=Path),
+    required=True,
+    help="CSV file to write.",
+)
 def export(db, csv_path):
     """Export every stored trial to CSV."""
     from sim.store import export_csv

@@ -5,7 +5,7 @@ Marks come in as plain coordinates: a path is an (L, 2) array of (pitch, roll) i
 rows of NaN break it into pieces (where it wraps round the torus), with its energies (L,) in J.
 
 pyvista (the optional dependency ``render``) is imported on first use, so the contour map needs only
-matplotlib. The interactive HTML export needs ``trame-pyvista`` and ``nest-asyncio2`` as well.
+matplotlib. The interactive HTML export uses plotly (a dependency) and embeds plotly.js, so the page works offline.
 
 Off-screen rendering without an X server works through the vtk wheel's EGL or OSMesa back end, which
 loads the system's libraries at run time (Debian: ``libegl1 libegl-mesa0 libgl1-mesa-dri`` for EGL, or
@@ -35,12 +35,18 @@ START_COLOUR = "#e41a1c"
 SADDLE_COLOUR = "#ff7f00"
 PATH_COLOUR = "#ff2bd6"
 RELIEF = 0.3  # height of the 3-D relief as a fraction of the 360 deg base
-OFF_SCREEN_HINT = ("install the EGL libraries (Debian/Ubuntu: apt-get install libegl1 libegl-mesa0 "
-                   "libgl1-mesa-dri) or OSMesa (libosmesa6, with VTK_DEFAULT_OPENGL_WINDOW=vtkOSOpenGLRenderWindow)")
-PYVISTA_MISSING = ("3-D rendering needs pyvista and vtk, which the install brings; reinstall from the clone with "
-                   "`.venv/bin/pip install -e .` (or pip install pyvista vtk)")
-TRAME_MISSING = ("the interactive HTML export needs trame-pyvista and nest-asyncio2; "
-                 "pip install trame-pyvista nest-asyncio2")
+OFF_SCREEN_HINT = (
+    "install the EGL libraries (Debian/Ubuntu: apt-get install libegl1 libegl-mesa0 "
+    "libgl1-mesa-dri) or OSMesa (libosmesa6, with VTK_DEFAULT_OPENGL_WINDOW=vtkOSOpenGLRenderWindow)"
+)
+PYVISTA_MISSING = (
+    "3-D rendering needs pyvista and vtk, which the install brings; reinstall from the clone with "
+    "`.venv/bin/pip install -e .` (or pip install pyvista vtk)"
+)
+PLOTLY_MISSING = (
+    "the interactive HTML export needs plotly, which the install brings; reinstall from the clone "
+    "with `.venv/bin/pip install -e .` (or pip install plotly)"
+)
 
 
 class MissingDependencyError(ImportError):
@@ -83,8 +89,13 @@ def off_screen_problem(timeout_s: float = 120.0) -> str | None:
     except ImportError:
         return PYVISTA_MISSING
     try:
-        res = subprocess.run([sys.executable, "-c", _PROBE], capture_output=True, text=True, timeout=timeout_s,
-                             env={**os.environ, "PYTHONWARNINGS": "ignore"})
+        res = subprocess.run(
+            [sys.executable, "-c", _PROBE],
+            capture_output=True,
+            text=True,
+            timeout=timeout_s,
+            env={**os.environ, "PYTHONWARNINGS": "ignore"},
+        )
     except subprocess.TimeoutExpired:
         return f"off-screen test render took over {timeout_s:g} s; {OFF_SCREEN_HINT}"
     if res.returncode == 0:
@@ -132,8 +143,10 @@ def _check_surface(energy_j, pitch_deg, roll_deg):
     p = np.asarray(pitch_deg, dtype=np.float64)
     r = np.asarray(roll_deg, dtype=np.float64)
     if e.shape != (len(p), len(r)) or e.ndim != 2 or min(e.shape) < 2:
-        raise ValueError(f"energy_j must have shape (len(pitch_deg), len(roll_deg)) >= (2, 2); got {e.shape} "
-                         f"for {len(p)} pitch and {len(r)} roll angles")
+        raise ValueError(
+            f"energy_j must have shape (len(pitch_deg), len(roll_deg)) >= (2, 2); got {e.shape} "
+            f"for {len(p)} pitch and {len(r)} roll angles"
+        )
     if not np.isfinite(e).all():
         raise ValueError("energy_j must be finite everywhere")
     return e, p, r
@@ -149,14 +162,31 @@ def _marks(minimum_deg, minimum_j, saddle_deg, saddle_j, path_deg, path_j):
         pd = np.asarray(path_deg, dtype=np.float64).reshape(-1, 2)
         pj = None if path_j is None else np.asarray(path_j, dtype=np.float64).reshape(-1)
         if pj is not None and len(pj) != len(pd):
-            raise ValueError(f"path_j must have one energy per path point; got {len(pj)} for {len(pd)} points")
+            raise ValueError(
+                f"path_j must have one energy per path point; got {len(pj)} for {len(pd)} points"
+            )
         path = (pd, pj)
     return mark, path
 
 
 # ------------------------------------------------------------------------------------------------ 3-D landscape
-def _landscape_plotter(energy_j, pitch_deg, roll_deg, *, minimum_deg, minimum_j, saddle_deg, saddle_j,
-                       path_deg, path_j, title, off_screen, window_size, elevation_deg, azimuth_deg):
+def _landscape_plotter(
+    energy_j,
+    pitch_deg,
+    roll_deg,
+    *,
+    minimum_deg,
+    minimum_j,
+    saddle_deg,
+    saddle_j,
+    path_deg,
+    path_j,
+    title,
+    off_screen,
+    window_size,
+    elevation_deg,
+    azimuth_deg,
+):
     pv = _pv()
     e, p, r = _check_surface(energy_j, pitch_deg, roll_deg)
     mark, path = _marks(minimum_deg, minimum_j, saddle_deg, saddle_j, path_deg, path_j)
@@ -175,10 +205,25 @@ def _landscape_plotter(energy_j, pitch_deg, roll_deg, *, minimum_deg, minimum_j,
     grid.point_data["energy (mJ)"] = e_mj.ravel(order="F")
     pl = pv.Plotter(off_screen=off_screen, window_size=list(window_size))
     pl.set_background("white")
-    pl.add_mesh(grid, scalars="energy (mJ)", cmap="viridis", smooth_shading=True, specular=0.15,
-                scalar_bar_args={"title": "energy (mJ)", "color": "black", "vertical": True,
-                                 "position_x": 0.9, "position_y": 0.3, "height": 0.45, "width": 0.04,
-                                 "fmt": "%.0f", "title_font_size": 16, "label_font_size": 14})
+    pl.add_mesh(
+        grid,
+        scalars="energy (mJ)",
+        cmap="viridis",
+        smooth_shading=True,
+        specular=0.15,
+        scalar_bar_args={
+            "title": "energy (mJ)",
+            "color": "black",
+            "vertical": True,
+            "position_x": 0.9,
+            "position_y": 0.3,
+            "height": 0.45,
+            "width": 0.04,
+            "fmt": "%.0f",
+            "title_font_size": 16,
+            "label_font_size": 14,
+        },
+    )
     lift = 0.01 * base_deg
     if path is not None and path[1] is not None:
         pd, pj = path
@@ -187,8 +232,13 @@ def _landscape_plotter(energy_j, pitch_deg, roll_deg, *, minimum_deg, minimum_j,
             if sl.stop - sl.start < 2:
                 continue
             pts = np.column_stack([pd[sl], z_of(pj[sl] * MJ_PER_J) + lift])
-            pl.add_mesh(pv.lines_from_points(pts), color=PATH_COLOUR, line_width=6, render_lines_as_tubes=True,
-                        label=label)
+            pl.add_mesh(
+                pv.lines_from_points(pts),
+                color=PATH_COLOUR,
+                line_width=6,
+                render_lines_as_tubes=True,
+                label=label,
+            )
             label = None
     labels = {"minimum": ("start minimum", START_COLOUR), "saddle": ("saddle", SADDLE_COLOUR)}
     for name, (at, ej) in mark.items():
@@ -196,11 +246,26 @@ def _landscape_plotter(energy_j, pitch_deg, roll_deg, *, minimum_deg, minimum_j,
             continue
         text, colour = labels[name]
         pt = np.array([[at[0], at[1], float(z_of(ej * MJ_PER_J)) + 2 * lift]])
-        pl.add_points(pt, color=colour, point_size=24, render_points_as_spheres=True,
-                      label=f"{text} ({at[0]:.1f}, {at[1]:.1f}) deg, {ej * MJ_PER_J:.1f} mJ")
-    pl.show_grid(xtitle="pitch (deg)", ytitle="roll (deg)", ztitle="energy (mJ)", color="black", font_size=12,
-                 n_xlabels=5, n_ylabels=5, n_zlabels=3, fmt="%.0f", location="outer",
-                 axes_ranges=[p.min(), p.max(), r.min(), r.max(), lo_mj, hi_mj])
+        pl.add_points(
+            pt,
+            color=colour,
+            point_size=24,
+            render_points_as_spheres=True,
+            label=f"{text} ({at[0]:.1f}, {at[1]:.1f}) deg, {ej * MJ_PER_J:.1f} mJ",
+        )
+    pl.show_grid(
+        xtitle="pitch (deg)",
+        ytitle="roll (deg)",
+        ztitle="energy (mJ)",
+        color="black",
+        font_size=12,
+        n_xlabels=5,
+        n_ylabels=5,
+        n_zlabels=3,
+        fmt="%.0f",
+        location="outer",
+        axes_ranges=[p.min(), p.max(), r.min(), r.max(), lo_mj, hi_mj],
+    )
     if mark or path is not None:
         pl.add_legend(bcolor="white", border=True, size=(0.42, 0.13), loc="upper left", face="circle")
     if title:
@@ -216,12 +281,24 @@ def _landscape_plotter(energy_j, pitch_deg, roll_deg, *, minimum_deg, minimum_j,
     return pl
 
 
-def render_landscape(energy_j: ArrayLike, pitch_deg: ArrayLike, roll_deg: ArrayLike, path: str | Path, *,
-                     minimum_deg: ArrayLike | None = None, minimum_j: float | None = None,
-                     saddle_deg: ArrayLike | None = None, saddle_j: float | None = None,
-                     path_deg: ArrayLike | None = None, path_j: ArrayLike | None = None, title: str = "",
-                     off_screen: bool = True, window_size: tuple[int, int] = (1280, 960),
-                     elevation_deg: float = 40.0, azimuth_deg: float = -55.0) -> Path:
+def render_landscape(
+    energy_j: ArrayLike,
+    pitch_deg: ArrayLike,
+    roll_deg: ArrayLike,
+    path: str | Path,
+    *,
+    minimum_deg: ArrayLike | None = None,
+    minimum_j: float | None = None,
+    saddle_deg: ArrayLike | None = None,
+    saddle_j: float | None = None,
+    path_deg: ArrayLike | None = None,
+    path_j: ArrayLike | None = None,
+    title: str = "",
+    off_screen: bool = True,
+    window_size: tuple[int, int] = (1280, 960),
+    elevation_deg: float = 40.0,
+    azimuth_deg: float = -55.0,
+) -> Path:
     """PNG of the landscape surface over pitch and roll, height and colour = energy in mJ, with the marks.
 
     Parameters
@@ -264,46 +341,186 @@ def render_landscape(energy_j: ArrayLike, pitch_deg: ArrayLike, roll_deg: ArrayL
     path = Path(path)
     _pv()
     with _errors_only():
-        pl = _landscape_plotter(energy_j, pitch_deg, roll_deg, minimum_deg=minimum_deg, minimum_j=minimum_j,
-                                saddle_deg=saddle_deg, saddle_j=saddle_j, path_deg=path_deg, path_j=path_j,
-                                title=title, off_screen=off_screen, window_size=window_size,
-                                elevation_deg=elevation_deg, azimuth_deg=azimuth_deg)
+        pl = _landscape_plotter(
+            energy_j,
+            pitch_deg,
+            roll_deg,
+            minimum_deg=minimum_deg,
+            minimum_j=minimum_j,
+            saddle_deg=saddle_deg,
+            saddle_j=saddle_j,
+            path_deg=path_deg,
+            path_j=path_j,
+            title=title,
+            off_screen=off_screen,
+            window_size=window_size,
+            elevation_deg=elevation_deg,
+            azimuth_deg=azimuth_deg,
+        )
         return _screenshot(pl, path)
 
 
-def export_landscape_html(energy_j: ArrayLike, pitch_deg: ArrayLike, roll_deg: ArrayLike, path: str | Path, *,
-                          minimum_deg: ArrayLike | None = None, minimum_j: float | None = None,
-                          saddle_deg: ArrayLike | None = None, saddle_j: float | None = None,
-                          path_deg: ArrayLike | None = None, path_j: ArrayLike | None = None,
-                          title: str = "", elevation_deg: float = 40.0, azimuth_deg: float = -55.0) -> Path:
-    """Interactive HTML of the same scene as :func:`render_landscape` (arguments alike).
+def _html_title(title: str) -> str:
+    return f"Energy landscape: {title}" if title else "Energy landscape"
+
+
+def landscape_figure(
+    energy_j: ArrayLike,
+    pitch_deg: ArrayLike,
+    roll_deg: ArrayLike,
+    *,
+    minimum_deg: ArrayLike | None = None,
+    minimum_j: float | None = None,
+    saddle_deg: ArrayLike | None = None,
+    saddle_j: float | None = None,
+    path_deg: ArrayLike | None = None,
+    path_j: ArrayLike | None = None,
+    title: str = "",
+    elevation_deg: float = 40.0,
+    azimuth_deg: float = -55.0,
+):
+    """The scene of :func:`render_landscape` as an interactive plotly figure (arguments alike): the surface with
+    energy in mJ as height and colour, the barrier path and the marks.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
 
     Raises
     ------
+    ValueError
+        If the arrays' shapes disagree or an energy is not finite.
     MissingDependencyError
-        If pyvista or trame-pyvista is not installed; nothing is written then.
+        If plotly is not installed.
     """
-    _pv()
+    try:
+        import plotly.graph_objects as go
+    except ImportError:
+        raise MissingDependencyError(PLOTLY_MISSING) from None
+    e, p, r = _check_surface(energy_j, pitch_deg, roll_deg)
+    mark, path = _marks(minimum_deg, minimum_j, saddle_deg, saddle_j, path_deg, path_j)
+    e_mj = e * MJ_PER_J
+    span_mj = float(np.ptp(e_mj)) or 1.0
+    lift_mj = 0.01 * span_mj
+    fig = go.Figure()
+    # plotly's surface takes z[row = y][column = x]: roll down the rows, pitch across
+    fig.add_trace(
+        go.Surface(
+            x=p,
+            y=r,
+            z=e_mj.T,
+            colorscale="Viridis",
+            name="energy",
+            colorbar={"title": {"text": "energy (mJ)"}},
+            hovertemplate="pitch %{x:.1f}°<br>roll %{y:.1f}°<br>%{z:.2f} mJ<extra></extra>",
+        )
+    )
+    if path is not None and path[1] is not None:
+        pd, pj = path
+        fig.add_trace(
+            go.Scatter3d(
+                x=pd[:, 0],
+                y=pd[:, 1],
+                z=pj * MJ_PER_J + lift_mj,
+                mode="lines",
+                line={"color": PATH_COLOUR, "width": 8},
+                name="barrier path",
+                connectgaps=False,
+            )
+        )
+    labels = {"minimum": ("start minimum", START_COLOUR), "saddle": ("saddle", SADDLE_COLOUR)}
+    for name, (at, ej) in mark.items():
+        if ej is None:
+            continue
+        text, colour = labels[name]
+        fig.add_trace(
+            go.Scatter3d(
+                x=[at[0]],
+                y=[at[1]],
+                z=[ej * MJ_PER_J + 2 * lift_mj],
+                mode="markers",
+                marker={"size": 7, "color": colour, "line": {"color": "black", "width": 1}},
+                name=f"{text} ({at[0]:.1f}°, {at[1]:.1f}°), {ej * MJ_PER_J:.1f} mJ",
+            )
+        )
+    el, az = np.deg2rad(elevation_deg), np.deg2rad(azimuth_deg)
+    eye = 2.0 * np.array([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
+    fig.update_layout(
+        title={"text": title or "Energy landscape"},
+        scene={
+            "xaxis": {"title": {"text": "pitch (°)"}},
+            "yaxis": {"title": {"text": "roll (°)"}},
+            "zaxis": {"title": {"text": "energy (mJ)"}},
+            "aspectmode": "manual",
+            "aspectratio": {"x": 1.0, "y": float(np.ptp(r) / np.ptp(p)), "z": 3 * RELIEF},
+            "camera": {"eye": {"x": eye[0], "y": eye[1], "z": eye[2]}},
+        },
+        legend={"x": 0.0, "y": 1.0},
+        margin={"l": 0, "r": 0, "t": 40, "b": 0},
+    )
+    return fig
+
+
+def export_landscape_html(
+    energy_j: ArrayLike,
+    pitch_deg: ArrayLike,
+    roll_deg: ArrayLike,
+    path: str | Path,
+    *,
+    minimum_deg: ArrayLike | None = None,
+    minimum_j: float | None = None,
+    saddle_deg: ArrayLike | None = None,
+    saddle_j: float | None = None,
+    path_deg: ArrayLike | None = None,
+    path_j: ArrayLike | None = None,
+    title: str = "",
+    elevation_deg: float = 40.0,
+    azimuth_deg: float = -55.0,
+) -> Path:
+    """Interactive HTML of the same scene as :func:`render_landscape` (arguments alike): one self-contained page
+    that works offline (plotly.js is embedded, nothing is fetched), titled "Energy landscape: ``title``".
+
+    Returns
+    -------
+    Path
+        The HTML file written; parent folders are created.
+
+    Raises
+    ------
+    ValueError
+        If the arrays' shapes disagree or an energy is not finite.
+    MissingDependencyError
+        If plotly is not installed; nothing is written then.
+    """
+    import html
+
+    fig = landscape_figure(
+        energy_j,
+        pitch_deg,
+        roll_deg,
+        minimum_deg=minimum_deg,
+        minimum_j=minimum_j,
+        saddle_deg=saddle_deg,
+        saddle_j=saddle_j,
+        path_deg=path_deg,
+        path_j=path_j,
+        title=title,
+        elevation_deg=elevation_deg,
+        azimuth_deg=azimuth_deg,
+    )
+    page = fig.to_html(
+        include_plotlyjs=True,
+        full_html=True,
+        include_mathjax=False,
+        config={"displaylogo": False, "responsive": True},
+        default_height="95vh",
+    )
+    head = f"<head><title>{html.escape(_html_title(title))}</title>"
+    if "<head>" not in page:
+        raise RuntimeError("plotly wrote a page without <head>; cannot title it")
     path = Path(path)
-    with _errors_only():
-        pl = _landscape_plotter(energy_j, pitch_deg, roll_deg, minimum_deg=minimum_deg, minimum_j=minimum_j,
-                                saddle_deg=saddle_deg, saddle_j=saddle_j, path_deg=path_deg, path_j=path_j,
-                                title=title, off_screen=True, window_size=(1024, 768),
-                                elevation_deg=elevation_deg, azimuth_deg=azimuth_deg)
-        try:
-            # pyvista >= 0.49 exports through the plotter.trame component that trame-pyvista registers;
-            # older versions export themselves and import trame on the way.
-            exporter = getattr(pl, "trame", None) if hasattr(pl, "_trame_component") else pl
-            if exporter is None:
-                raise MissingDependencyError(TRAME_MISSING)
-            path.parent.mkdir(parents=True, exist_ok=True)
-            try:
-                exporter.export_html(str(path))
-            except ImportError as exc:
-                first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-                raise MissingDependencyError(f"{TRAME_MISSING} ({first})") from None
-        finally:
-            pl.close()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(page.replace("<head>", head, 1), encoding="utf-8")
     return path
 
 
@@ -363,10 +580,17 @@ def _on_top(pl, actors) -> None:
     pl.render_window.AddRenderer(overlay)
 
 
-def render_robot(meshes_world: Sequence[tuple[ArrayLike, ArrayLike]], path: str | Path, *,
-                 com_m: ArrayLike | None = None, title: str = "", off_screen: bool = True,
-                 window_size: tuple[int, int] = (1024, 768), elevation_deg: float = 12.0,
-                 azimuth_deg: float = 35.0) -> Path:
+def render_robot(
+    meshes_world: Sequence[tuple[ArrayLike, ArrayLike]],
+    path: str | Path,
+    *,
+    com_m: ArrayLike | None = None,
+    title: str = "",
+    off_screen: bool = True,
+    window_size: tuple[int, int] = (1024, 768),
+    elevation_deg: float = 12.0,
+    azimuth_deg: float = 35.0,
+) -> Path:
     """PNG of the robot's parts on a ground plane at z = 0.
 
     Parameters
@@ -417,15 +641,26 @@ def render_robot(meshes_world: Sequence[tuple[ArrayLike, ArrayLike]], path: str 
     with _errors_only():
         pl = pv.Plotter(off_screen=off_screen, window_size=list(window_size))
         pl.set_background("white")
-        ground = pv.Plane(center=(centre[0], centre[1], 0.0), direction=(0, 0, 1), i_size=1.6 * size,
-                          j_size=1.6 * size, i_resolution=8, j_resolution=8)
+        ground = pv.Plane(
+            center=(centre[0], centre[1], 0.0),
+            direction=(0, 0, 1),
+            i_size=1.6 * size,
+            j_size=1.6 * size,
+            i_resolution=8,
+            j_resolution=8,
+        )
         pl.add_mesh(ground, color="#d9d9d9", show_edges=True, edge_color="#a0a0a0")
         for k, m in enumerate(polys):
             pl.add_mesh(m, color=palette[k % len(palette)], smooth_shading=False, specular=0.3)
         if com_m is not None:
             c = np.asarray(com_m, dtype=np.float64).reshape(3)
-            dot = pl.add_points(c[None], color=START_COLOUR, point_size=16, render_points_as_spheres=True,
-                                label="centre of mass (drawn through the body)")
+            dot = pl.add_points(
+                c[None],
+                color=START_COLOUR,
+                point_size=16,
+                render_points_as_spheres=True,
+                label="centre of mass (drawn through the body)",
+            )
             plumb = pl.add_mesh(pv.Line(c, (c[0], c[1], 0.0)), color=START_COLOUR, line_width=3)
             pl.add_legend(bcolor="white", border=True, size=(0.4, 0.06), loc="lower left", face="circle")
             _on_top(pl, [dot, plumb])
@@ -440,10 +675,19 @@ def render_robot(meshes_world: Sequence[tuple[ArrayLike, ArrayLike]], path: str 
 
 
 # ------------------------------------------------------------------------------------------------ 2-D contour map
-def render_contour(energy_j: ArrayLike, pitch_deg: ArrayLike, roll_deg: ArrayLike, path: str | Path, *,
-                   minimum_deg: ArrayLike | None = None, saddle_deg: ArrayLike | None = None,
-                   saddle_j: float | None = None, path_deg: ArrayLike | None = None, title: str = "",
-                   levels: int = 24) -> Path:
+def render_contour(
+    energy_j: ArrayLike,
+    pitch_deg: ArrayLike,
+    roll_deg: ArrayLike,
+    path: str | Path,
+    *,
+    minimum_deg: ArrayLike | None = None,
+    saddle_deg: ArrayLike | None = None,
+    saddle_j: float | None = None,
+    path_deg: ArrayLike | None = None,
+    title: str = "",
+    levels: int = 24,
+) -> Path:
     """Contour map of the landscape over pitch (x) and roll (y) with the marks, for papers (PNG, SVG, PDF).
 
     The format follows the suffix of ``path``. In SVG output the marks are groups with the ids
@@ -486,20 +730,40 @@ def render_contour(energy_j: ArrayLike, pitch_deg: ArrayLike, roll_deg: ArrayLik
     ax.contour(p, r, e_mj, levels=filled.levels, colors="k", linewidths=0.3, alpha=0.5)
     fig.colorbar(filled, ax=ax, label="energy (mJ)", format="%.0f")
     if saddle_j is not None:
-        level = ax.contour(p, r, e_mj, levels=[float(saddle_j) * MJ_PER_J], colors=SADDLE_COLOUR,
-                           linewidths=1.2, linestyles="--")
+        level = ax.contour(
+            p,
+            r,
+            e_mj,
+            levels=[float(saddle_j) * MJ_PER_J],
+            colors=SADDLE_COLOUR,
+            linewidths=1.2,
+            linestyles="--",
+        )
         level.set_gid("saddle-level")
         ax.plot([], [], "--", color=SADDLE_COLOUR, lw=1.2, label=f"saddle level {saddle_j * MJ_PER_J:.1f} mJ")
     if trail is not None:
-        (line,) = ax.plot(trail[0][:, 0], trail[0][:, 1], "-", color=PATH_COLOUR, lw=2.0, label="barrier path")
+        (line,) = ax.plot(
+            trail[0][:, 0], trail[0][:, 1], "-", color=PATH_COLOUR, lw=2.0, label="barrier path"
+        )
         line.set_path_effects([patheffects.withStroke(linewidth=3.5, foreground="black")])
         line.set_gid("barrier-path")
-    styles = {"minimum": ("start-minimum", "start minimum", "o", START_COLOUR),
-              "saddle": ("saddle", "saddle", "X", SADDLE_COLOUR)}
+    styles = {
+        "minimum": ("start-minimum", "start minimum", "o", START_COLOUR),
+        "saddle": ("saddle", "saddle", "X", SADDLE_COLOUR),
+    }
     for name, (at, _) in mark.items():
         gid, text, marker, colour = styles[name]
-        (pt,) = ax.plot(at[0], at[1], marker, ms=10, mfc=colour, mec="black", mew=1.0, ls="none",
-                        label=f"{text} ({at[0]:.1f}°, {at[1]:.1f}°)")
+        (pt,) = ax.plot(
+            at[0],
+            at[1],
+            marker,
+            ms=10,
+            mfc=colour,
+            mec="black",
+            mew=1.0,
+            ls="none",
+            label=f"{text} ({at[0]:.1f}°, {at[1]:.1f}°)",
+        )
         pt.set_gid(gid)
     ax.set_xlabel("pitch (°)")
     ax.set_ylabel("roll (°)")

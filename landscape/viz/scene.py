@@ -48,8 +48,9 @@ def nearest_twin_deg(pitch_deg: float, roll_deg: float, near_deg: NDArray[np.flo
     return float(twins[k, 0]), float(twins[k, 1])
 
 
-def posed_meshes_world(pose: Pose, pitch_deg: float, roll_deg: float
-                       ) -> tuple[list[tuple[NDArray[np.float64], NDArray[np.int64]]], NDArray[np.float64]]:
+def posed_meshes_world(
+    pose: Pose, pitch_deg: float, roll_deg: float
+) -> tuple[list[tuple[NDArray[np.float64], NDArray[np.int64]]], NDArray[np.float64]]:
     """The posed robot's part meshes resting on the ground at body pitch and roll.
 
     Each part is drawn as the convex hull of its geometry (the hull is what decides the contact). Parts are
@@ -84,8 +85,6 @@ def posed_meshes_world(pose: Pose, pitch_deg: float, roll_deg: float
 # ------------------------------------------------------------------------------------------------ command
 
 
-
-
 def landscape_marks(c, exit_kind: str = "righting") -> dict:
     """The start minimum, saddle and barrier path of one exit of a computation, placed on the drawn torus copy.
 
@@ -98,29 +97,39 @@ def landscape_marks(c, exit_kind: str = "righting") -> dict:
     from landscape.energy import height_at
 
     ex = getattr(c.barrier, EXITS[exit_kind])
-    marks = {"minimum_deg": (c.minimum.pitch_deg, c.minimum.roll_deg), "minimum_j": c.minimum.energy_j,
-             "saddle_deg": None, "saddle_j": None, "path_deg": None, "path_j": None}
+    marks = {
+        "minimum_deg": (c.minimum.pitch_deg, c.minimum.roll_deg),
+        "minimum_j": c.minimum.energy_j,
+        "saddle_deg": None,
+        "saddle_j": None,
+        "path_deg": None,
+        "path_j": None,
+    }
     if ex is not None:
         mg = c.mass_kg * c.landscape.g_m_s2
         path_deg = wrapped_path_deg(ex.path_deg)
         ok = np.isfinite(path_deg[:, 0])
         path_j = np.full(len(path_deg), np.nan)
         path_j[ok] = mg * height_at(c.pose, path_deg[ok, 0], path_deg[ok, 1])
-        marks.update(path_deg=path_deg, path_j=path_j, saddle_j=c.minimum.energy_j + ex.barrier_j,
-                     saddle_deg=nearest_twin_deg(ex.saddle_pitch_deg, ex.saddle_roll_deg, path_deg),
-                     minimum_deg=nearest_twin_deg(c.minimum.pitch_deg, c.minimum.roll_deg, path_deg[:1]))
+        marks.update(
+            path_deg=path_deg,
+            path_j=path_j,
+            saddle_j=c.minimum.energy_j + ex.barrier_j,
+            saddle_deg=nearest_twin_deg(ex.saddle_pitch_deg, ex.saddle_roll_deg, path_deg),
+            minimum_deg=nearest_twin_deg(c.minimum.pitch_deg, c.minimum.roll_deg, path_deg[:1]),
+        )
     return marks
 
 
 def render_computation(c, out_dir, *, robot_name: str, exit_kind: str = "righting") -> tuple[list, list[str]]:
     """Every figure of one computation into ``out_dir``: the contour map (PNG, SVG), the landscape as a VTK grid
-    and a 3-D PNG, the robot at its start and at the saddle (PNG), and interactive HTML when its extra is there.
+    and a 3-D PNG, the robot at its start and at the saddle (PNG), and the interactive HTML page (offline, plotly).
 
     Returns
     -------
     written : list of Path
     notes : list of str
-        What was skipped and why (e.g. the HTML export without its optional packages).
+        What was skipped and why (e.g. the HTML export without plotly).
 
     Raises
     ------
@@ -137,14 +146,19 @@ def render_computation(c, out_dir, *, robot_name: str, exit_kind: str = "rightin
     ex = getattr(c.barrier, EXITS[exit_kind])
     marks = landscape_marks(c, exit_kind)
     pose_text = "" if c.theta_w_deg is None else f"  wing {c.theta_w_deg:g}°, leg {c.theta_l_deg:g}°"
-    barrier_text = f"{exit_kind} barrier none" if ex is None else f"{exit_kind} barrier {ex.barrier_j * 1e3:.2f} mJ"
+    barrier_text = (
+        f"{exit_kind} barrier none" if ex is None else f"{exit_kind} barrier {ex.barrier_j * 1e3:.2f} mJ"
+    )
     title = f"{robot_name}{pose_text}  {barrier_text}"
     outd = Path(out_dir)
     written, notes = [], []
     contour = {k: marks[k] for k in ("minimum_deg", "saddle_deg", "saddle_j", "path_deg")}
     for suffix in ("png", "svg"):
-        written.append(rd.render_contour(energy_j, angles_deg, angles_deg, outd / f"contour.{suffix}",
-                                         title=title, **contour))
+        written.append(
+            rd.render_contour(
+                energy_j, angles_deg, angles_deg, outd / f"contour.{suffix}", title=title, **contour
+            )
+        )
     try:
         written.append(rd.write_vtk(energy_j, angles_deg, angles_deg, outd / "landscape.vts"))
         problem = rd.off_screen_problem()
@@ -152,19 +166,29 @@ def render_computation(c, out_dir, *, robot_name: str, exit_kind: str = "rightin
         problem = str(exc)
     if problem is not None:
         raise UsageError(f"{problem} (wrote only {', '.join(p.name for p in written)} in {outd})")
-    written.append(rd.render_landscape(energy_j, angles_deg, angles_deg, outd / "landscape.png", title=title,
-                                       **marks))
+    written.append(
+        rd.render_landscape(energy_j, angles_deg, angles_deg, outd / "landscape.png", title=title, **marks)
+    )
     robots = [("start", "start minimum", c.minimum.pitch_deg, c.minimum.roll_deg)]
     if ex is not None:
         robots.append(("saddle", f"{exit_kind} saddle", ex.saddle_pitch_deg, ex.saddle_roll_deg))
     for name, what, p, r in robots:
         meshes, com = posed_meshes_world(c.pose, p, r)
-        written.append(rd.render_robot(meshes, outd / f"robot_{name}.png", com_m=com,
-                                       title=f"{robot_name}{pose_text}\n{what}: pitch {p:.1f}°, roll {r:.1f}°\n"
-                                             f"CoM {com[2] * 1e3:.1f} mm above the ground"))
+        written.append(
+            rd.render_robot(
+                meshes,
+                outd / f"robot_{name}.png",
+                com_m=com,
+                title=f"{robot_name}{pose_text}\n{what}: pitch {p:.1f}°, roll {r:.1f}°\n"
+                f"CoM {com[2] * 1e3:.1f} mm above the ground",
+            )
+        )
     try:
-        written.append(rd.export_landscape_html(energy_j, angles_deg, angles_deg, outd / "landscape.html",
-                                                title=title, **marks))
+        written.append(
+            rd.export_landscape_html(
+                energy_j, angles_deg, angles_deg, outd / "landscape.html", title=title, **marks
+            )
+        )
     except rd.MissingDependencyError as exc:
         notes.append(f"skipped landscape.html: {exc}")
     return written, notes

@@ -73,7 +73,7 @@ def test_compute_lab_robot(capsys, lab_robot):
     (["compute", "--start-pitch", "inf", "--mesh", "{box}"], "finite"),
     (["compute", "--mesh", "{box}", "--com", "1,2"], "three finite numbers"),
     (["compute", "--mesh", "{box}", "--mass", "-1"], "positive"),
-    (["compute", "--mesh", "{box}", "--robot", "x.urdf"], "not both"),
+    (["compute", "--mesh", "{box}", "--robot", "builtin"], "not both"),
     (["barrier-map", "--theta-w", "", "--mesh", "{box}"], "empty"),
     (["compute", "--no-such-option"], "No such option"),
 ])
@@ -87,7 +87,7 @@ def test_bad_input_one_line(capsys, box_stl, argv, message):
 
 def test_lab_robot_bad_angles(capsys, lab_robot):
     code, _, err = run(capsys, "compute", "--theta-w", "120", "--robot", str(lab_robot.source))
-    assert code == 2 and "limits [-10, 95]" in err and err.count("\n") == 1
+    assert code == 2 and "outside [0, 95] deg, the wing opening range of lab_robot" in err and err.count("\n") == 1
     code, _, err = run(capsys, "compute", "--robot", str(lab_robot.source), "--joints", "wing=x;leg=leg")
     assert code == 2 and "joint 'x'" in err
 
@@ -178,7 +178,7 @@ def test_unexpected_exception_is_reported_as_a_bug_not_as_bad_input(capsys, monk
 
 def test_bad_input_is_exit_2_and_one_line(capsys):
     code, out, err = run(capsys, "compute", "--theta-w", "120")
-    assert code == 2 and len(err.strip().splitlines()) == 1 and "outside joint" in err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "outside [0, 95] deg" in err
 
 
 def test_no_arguments_prints_help_and_exits_0(capsys):

@@ -90,7 +90,7 @@ def test_simulate_human_summary(sim_robot):
     "args, message",
     [
         (["--theta-w", "80", "--theta-l", "30", "--phase", "1.2"], "phase must be in [0, 1)"),
-        (["--theta-w", "120", "--theta-l", "30"], "theta_w = 120 deg is outside"),
+        (["--theta-w", "120", "--theta-l", "30"], "--theta-w 120 deg is outside [0, 95] deg"),
         (["--theta-w", "80", "--theta-l", "30", "--robot", "/nonexistent.urdf"], "not found"),
         (["--theta-w", "80", "--theta-l", "30", "--dt", "0"], "dt must be in"),
     ],
@@ -152,3 +152,42 @@ def test_sweep_and_export(tmp_path, sim_robot):
     assert len(out.read_text().splitlines()) == 3
     r = invoke(export, "--db", tmp_path / "missing.sqlite", "--csv", out)
     assert r.exit_code == 2 and "not found" in r.output
+
+
+def test_sweep_log_has_no_progress_bar_frames(tmp_path):
+    """stderr redirected to a file (not a terminal): no tqdm frames (carriage returns, rates) in the log (#17)."""
+    import subprocess
+    import sys
+
+    log = tmp_path / "sweep.log"
+    with open(log, "w") as f:
+        r = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "landscape",
+                "sweep",
+                "--theta-w",
+                "74",
+                "--theta-l",
+                "30",
+                "--cv",
+                "0",
+                "--trials",
+                "2",
+                "--duration",
+                "0.1",
+                "--workers",
+                "1",
+                "--db",
+                str(tmp_path / "s.sqlite"),
+            ],
+            stdout=subprocess.PIPE,
+            stderr=f,
+            text=True,
+            timeout=300,
+        )
+    assert r.returncode == 0, log.read_text()
+    assert "2 trials: 0 already in" in r.stdout
+    text = log.read_text()
+    assert "\r" not in text and "trial/s" not in text and "trial]" not in text, text

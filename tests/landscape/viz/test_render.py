@@ -30,7 +30,6 @@ def _importable(name: str) -> bool:
 
 
 HAS_PYVISTA = _importable("pyvista")
-HAS_TRAME = _importable("trame_pyvista") and _importable("nest_asyncio2")
 needs_pyvista = pytest.mark.skipif(not HAS_PYVISTA, reason="pyvista not installed (pip install -e .)")
 BOX_M = (0.04, 0.02, 0.01)
 
@@ -227,17 +226,46 @@ def test_robot_png_shows_parts_on_the_ground(pv, tmp_path):
         rd.render_robot([(v, box.faces + 8)], tmp_path / "x.png")
 
 
-@needs_pyvista
-def test_html_export_needs_trame(tmp_path, bowl):
-    out = tmp_path / "ls.html"
-    if HAS_TRAME:
-        assert rd.export_landscape_html(path=out, **bowl).stat().st_size > 0
-    else:
-        if rd.off_screen_problem() is not None:
-            pytest.skip(rd.off_screen_problem())
-        with pytest.raises(rd.MissingDependencyError, match="trame-pyvista"):
-            rd.export_landscape_html(path=out, **bowl)
-        assert not out.exists()
+def test_html_export_is_offline_titled_and_holds_the_landscape(tmp_path, bowl):
+    """landscape.html: one page that fetches nothing (plotly.js embedded), titled by what it shows (#17)."""
+    import json
+    import re
+
+    out = rd.export_landscape_html(path=tmp_path / "sub" / "ls.html", title="box  wing 74°", **bowl)
+    page = out.read_text(encoding="utf-8")
+    assert re.search(r"<title>(.*?)</title>", page).group(1) == "Energy landscape: box  wing 74°"
+    assert "OfflineLocalView" not in page and "VTK.js" not in page
+    # nothing to fetch: no script or stylesheet from elsewhere, plotly.js itself inline
+    assert not re.search(r"<script[^>]*\bsrc=", page) and not re.search(r"<link[^>]*\bhref=", page)
+    assert "Plotly.newPlot" in page and len(page) > 1_000_000
+    m = re.search(r'Plotly\.newPlot\(\s*"[^"]+",\s*(\[.*?\]),\s*\{"template"', page, re.S)
+    surface = json.loads(m.group(1))[0]
+    assert surface["type"] == "surface"
+    np.testing.assert_allclose(_plotly_array(surface["z"]), bowl["energy_j"].T * 1e3, rtol=1e-12)
+    np.testing.assert_allclose(_plotly_array(surface["x"]), bowl["pitch_deg"])
+
+
+def _plotly_array(v):
+    """An array as plotly writes it into a page: a list, or base64 data with a dtype and shape."""
+    import base64
+
+    if isinstance(v, dict):
+        a = np.frombuffer(base64.b64decode(v["bdata"]), dtype=np.dtype(v["dtype"]))
+        return a.reshape([int(n) for n in str(v.get("shape", len(a))).split(",")])
+    return np.asarray(v, dtype=float)
+
+
+def test_html_figure_marks_and_path(bowl):
+    fig = rd.landscape_figure(**bowl)
+    names = [t.name for t in fig.data]
+    assert names[:2] == ["energy", "barrier path"]
+    assert names[2].startswith("start minimum (0.0°, 0.0°), 100.0 mJ") and names[3].startswith(
+        "saddle (0.0°, 45.0°)"
+    )
+    lift = 0.01 * np.ptp(bowl["energy_j"]) * 1e3
+    assert fig.data[3].z[0] == pytest.approx(120.0 + 2 * lift)
+    with pytest.raises(ValueError):
+        rd.landscape_figure(bowl["energy_j"][:-1], bowl["pitch_deg"], bowl["roll_deg"])
 
 
 # ------------------------------------------------------------------------------------------------ command line
@@ -258,10 +286,8 @@ def test_cli_render_writes_every_figure(pv, capsys, box_stl, tmp_path):
         assert (out / name).stat().st_size > 0, name
     assert _rgb(out / "landscape.png").shape == (960, 1280, 3)
     assert _rgb(out / "robot_start.png").std() > 20
-    if HAS_TRAME:
-        assert (out / "landscape.html").stat().st_size > 0
-    else:
-        assert stderr.count("\n") == 1 and "skipped landscape.html" in stderr and "trame-pyvista" in stderr
+    assert "<title>Energy landscape: " in (out / "landscape.html").read_text(encoding="utf-8")
+    assert stderr == ""  # the HTML page needs nothing optional
     robot = Robot.from_mesh(box_stl, units="mm")
     _, e = compute(robot, step_deg=10.0).landscape.inclusive()
     grid = pv.read(out / "landscape.vts")

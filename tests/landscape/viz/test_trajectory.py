@@ -209,3 +209,51 @@ def test_lab_robot_trace_on_the_builtin_landscape_is_refused(tmp_path):
     r = run_trial(74.0, 30.0, phase=0.7, cv=0.0, rng=1, duration_s=0.3, robot=LAB_URDF, dt_s=5e-4, trace=True)
     res = invoke("render", "--trace", _write(r, tmp_path / "lab.csv"), "--step", 5, "--out", tmp_path / "o")
     assert (res.exit_code, res.stderr.count("\n")) == (2, 1) and "another robot" in res.stderr
+
+
+# ------------------------------------------------------------------------------------------------ physical robot
+from tests.conftest import SHARED as CONF_SHARED  # noqa: E402
+
+PHYSICAL = CONF_SHARED / "ref" / "physical_robot"
+CONF_LAB_URDF = CONF_SHARED / "ref" / "lab_robot" / "lab_robot.urdf"
+
+
+def test_render_physical_bad_input_is_one_line(tmp_path):
+    r = invoke("render", "--physical", tmp_path / "absent", "--out", tmp_path / "o")
+    assert (r.exit_code, r.stderr.count("\n")) == (2, 1) and "does not exist" in r.stderr
+    r = invoke("render", "--physical", tmp_path, "--trace", tmp_path / "t.csv", "--out", tmp_path / "o")
+    assert (r.exit_code, r.stderr.count("\n")) == (2, 1) and "not both" in r.stderr
+
+
+@pytest.mark.shared
+@pytest.mark.skipif(
+    not (PHYSICAL / "robot_attempts.mat").is_file() or not CONF_LAB_URDF.is_file(),
+    reason="../shared/ref/physical_robot or lab_robot is absent",
+)
+def test_render_physical_draws_every_recorded_attempt_of_the_wing_angle(tmp_path):
+    from landscape.analysis import physical as ph
+
+    r = invoke(
+        "render", "--physical", PHYSICAL, "--theta-w", 70, "--robot", CONF_LAB_URDF, "--out", tmp_path / "o"
+    )
+    assert (r.exit_code, r.stderr.count("\n")) == (2, 1) and "ran at 60, 75, 90" in r.stderr
+    attempts = ph.physical_attempts(PHYSICAL, theta_w_cmd_deg=90.0, theta_l_deg=0.0)  # the default leg: still
+    n_ok = sum(a.righted for a in attempts)
+    assert 0 < n_ok < len(attempts)  # both colours are drawn
+    if rd.off_screen_problem() is not None:
+        pytest.skip(rd.off_screen_problem())
+    out = tmp_path / "o"
+    r = invoke(
+        "render", "--physical", PHYSICAL, "--theta-w", 90, "--robot", CONF_LAB_URDF, "--step", 5, "--out", out
+    )
+    assert r.exit_code == 0, r.stderr
+    assert (
+        f"wing 90° (measured plateau 82.1°), leg 0°: {len(attempts)} attempts of 5 trials, {n_ok} righted"
+        in (r.stdout)
+    )
+    svg = (out / "trajectories_contour.svg").read_text()
+    assert len(re.findall(r'id="attempt-\d+-righted"', svg)) == n_ok
+    assert len(re.findall(r'id="attempt-\d+-not-righted"', svg)) == len(attempts) - n_ok
+    assert f"{len(attempts)} physical attempts: {n_ok} righted" in svg
+    assert "wing 82.1°" in svg  # the landscape of the measured plateau
+    assert (out / "trajectories.png").stat().st_size > 10_000
