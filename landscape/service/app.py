@@ -16,7 +16,6 @@ message and is logged with its traceback on the server, never sent.
 from __future__ import annotations
 
 import asyncio
-import hmac
 import json
 import logging
 import re
@@ -36,10 +35,20 @@ from starlette.staticfiles import StaticFiles
 
 from geometry.errors import UsageError
 
+from .auth import (
+    LINK_COOKIE,
+    LINK_COOKIE_PATH,
+    LINK_TTL_S,
+    bearer_ok,
+    link_cookie,
+    link_cookie_ok,
+    opened_by_link,
+)
 from .config import ServiceConfig
 from .errors import NotFoundError, TimeLimitError, TooLargeError, UploadError, status_of
 from .jobs import MapJobs, SweepJobs
 from .landscapes import Landscapes, ResultCache
+from .poses import PoseCache, check_pose_request
 from .robots import RobotRegistry
 
 log = logging.getLogger(__name__)
@@ -136,6 +145,7 @@ def create_app(config: ServiceConfig) -> FastAPI:
         threads=config.compute_threads,
     )
     maps = MapJobs(registry, limits=limits)
+    poses = PoseCache()
 
     def clean(text: str) -> str:
         return scrub(text, data)
@@ -198,23 +208,26 @@ def create_app(config: ServiceConfig) -> FastAPI:
         return JSONResponse({"detail": INTERNAL}, status_code=500)
 
     # ------------------------------------------------------------------ middleware
-    if config.token:
-        token = config.token.encode()
+    token = config.token.encode() if config.token else None
+    if token is not None:
 
         @app.middleware("http")
         async def _auth(request: Request, call_next):
-            if request.url.path.startswith("/api/"):
-                got = request.headers.get("authorization", "")
-                scheme, _, value = got.partition(" ")
-                if scheme.lower() != "bearer" or not hmac.compare_digest(value.strip().encode(), token):
-                    return JSONResponse(
-                        {
-                            "detail": "missing or wrong token: send 'Authorization: Bearer TOKEN' "
-                            "(the --token or LANDSCAPE_TOKEN the server was started with)"
-                        },
-                        status_code=401,
-                        headers={"WWW-Authenticate": "Bearer"},
-                    )
+            if request.url.path.startswith("/api/") and not (
+                bearer_ok(request.headers.get("authorization", ""), token)
+                or (
+                    opened_by_link(request.method, request.url.path)
+                    and link_cookie_ok(request.cookies.get(LINK_COOKIE, ""), token)
+                )
+            ):
+                return JSONResponse(
+                    {
+                        "detail": "missing or wrong token: send 'Authorization: Bearer TOKEN' "
+                        "(the --token or LANDSCAPE_TOKEN the server was started with)"
+                    },
+                    status_code=401,
+                    headers={"WWW-Authenticate": "Bearer"},
+                )
             return await call_next(request)
 
     app.add_middleware(_BodyLimit, upload_bytes=limits.max_upload_bytes)
@@ -233,6 +246,25 @@ def create_app(config: ServiceConfig) -> FastAPI:
         )
 
     app.mount("/static", StaticFiles(directory=STATIC), name="static")
+
+    @app.post("/api/link-access")
+    async def link_access():
+        """With a token: a cookie that lets links the page opens in a new tab (a sweep's report and the files it
+        links) load without the Authorization header; GET of those paths only, for an hour. No token: no cookie."""
+        if token is None:
+            return {"cookie": None, "paths": None, "expires_s": None}
+        resp = JSONResponse(
+            {"cookie": LINK_COOKIE, "paths": "GET /api/sweeps/{id}/report[/{file}]", "expires_s": LINK_TTL_S}
+        )
+        resp.set_cookie(
+            LINK_COOKIE,
+            link_cookie(token),
+            max_age=LINK_TTL_S,
+            path=LINK_COOKIE_PATH,
+            httponly=True,
+            samesite="strict",
+        )
+        return resp
 
     @app.get("/api/health")
     async def health():
@@ -312,6 +344,22 @@ def create_app(config: ServiceConfig) -> FastAPI:
             filename=name,
             background=BackgroundTask(shutil.rmtree, tmp, ignore_errors=True),
         )
+
+    @app.get("/api/robot-pose")
+    async def robot_pose(
+        robot: str = Query("builtin", description="robot id (GET /api/robots) or 'builtin'"),
+        theta_w: float = Query(0.0, description="wing angle, degrees (ignored by a rigid robot)"),
+        theta_l: float = Query(0.0, description="leg angle, degrees (ignored by a rigid robot)"),
+        pitch: float = Query(0.0, description="body pitch, degrees, in [-360, 360]"),
+        roll: float = Query(0.0, description="body roll, degrees, in [-360, 360]"),
+    ):
+        """The robot's part meshes (convex hulls) posed at (theta_w, theta_l) and turned to (pitch, roll), resting
+        on the ground in the world frame, m: ``parts`` of ``vertices_m`` and ``faces``, ``com_m``,
+        ``com_height_m``."""
+        entry = await asyncio.to_thread(registry.get, robot)
+        key = check_pose_request(entry, theta_w, theta_l, pitch, roll)
+        body = await asyncio.to_thread(poses.body, entry, key)
+        return Response(body, media_type="application/json")
 
     # ------------------------------------------------------------------ barrier maps
     def _rows_response(rows: list[dict], fmt: str):

@@ -1,6 +1,8 @@
 """The page in a real browser: headless Chromium, driven over the Chrome DevTools protocol, opens the page served by
-a real uvicorn on 127.0.0.1, moves the theta_w slider, sees the righting barrier change to the service's number
-for the new angle, and logs no console error. Skipped when Chromium or the websockets package is absent."""
+a real uvicorn on 127.0.0.1, moves the theta_w slider, sees the righting barrier and the robot drawn at the start
+and at the saddle change to the service's numbers for the new angle, and logs no console error; with a token, the
+page given #token=T works and a sweep's report opens from its link. Skipped when Chromium or the websockets package
+is absent."""
 
 from __future__ import annotations
 
@@ -16,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from .test_sweeps import _call, _free_port, start_server, stop_server
+from .test_sweeps import TINY, _call, _free_port, _wait, start_server, stop_server
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser") or shutil.which("google-chrome")
 
@@ -127,6 +129,38 @@ def page(devtools_port: int):
         yield CDP(ws)
 
 
+ROBOT_VIEW = """(() => {{
+  const d = document.getElementById('{div}').data || [];
+  const m = d.find((t) => t.type === 'mesh3d' && t.name === 'robot');
+  const c = d.find((t) => t.type === 'scatter3d' && t.name === 'CoM');
+  return m && c && m.x.length > 0 && m.i.length > 0 ? [m.x.length, m.i.length, Math.min(...m.z), c.z[0]] : null;
+}})()"""
+
+
+def _want_view(port: int, theta_w: float, pitch: float, roll: float, token: str | None = None) -> list:
+    """What the robot view must show, from the API: vertices, faces, lowest z (mm) and CoM height (mm)."""
+    q = f"theta_w={theta_w}&theta_l=0&pitch={pitch}&roll={roll}"
+    pose = _call(port, "GET", f"/api/robot-pose?{q}", token=token)
+    return [
+        sum(len(p["vertices_m"]) for p in pose["parts"]),
+        sum(len(p["faces"]) for p in pose["parts"]),
+        0.0,
+        pose["com_height_m"] * 1e3,
+    ]
+
+
+def _wait_view(cdp: CDP, div: str, want: list) -> list:
+    """Wait until the robot view ``div`` draws the posed robot ``want`` (vertices, faces, lowest z, CoM z)."""
+    t0 = time.monotonic()
+    got = None
+    while time.monotonic() - t0 < 60:
+        got = cdp.eval(ROBOT_VIEW.format(div=div))
+        if got and got[:2] == want[:2] and got[2:] == pytest.approx(want[2:], abs=1e-3):
+            return got
+        time.sleep(0.1)
+    raise AssertionError(f"{div} shows {got}, want {want}")
+
+
 def test_slider_updates_the_barrier_without_console_errors(chromium, tmp_path):
     port = _free_port()
     server = start_server(tmp_path / "data", port, tmp_path / "server.log")
@@ -141,6 +175,9 @@ def test_slider_updates_the_barrier_without_console_errors(chromium, tmp_path):
             )
             assert cdp.eval("document.getElementById('theta-w').value") == "74"
             assert cdp.eval("document.querySelector('#contour .main-svg') !== null")
+            s74 = _call(port, "GET", "/api/landscape?theta_w=74&theta_l=0&method=exact&step=2")
+            start74 = _want_view(port, 74, s74["minimum"]["pitch_deg"], s74["minimum"]["roll_deg"])
+            _wait_view(cdp, "robot-start", start74)
             cdp.eval(
                 "(() => { const s = document.getElementById('theta-w'); s.value = '60';"
                 " s.dispatchEvent(new Event('input', {bubbles: true})); })()"
@@ -151,6 +188,18 @@ def test_slider_updates_the_barrier_without_console_errors(chromium, tmp_path):
             )
             want = _call(port, "GET", "/api/landscape?theta_w=60&theta_l=0&method=exact&step=2")
             assert float(second) == pytest.approx(want["barrier"]["righting_j"] * 1e3, abs=5e-4)
+            # the robot views follow the slider: the robot at theta_w 60 at its start and at its saddle
+            m, r = want["minimum"], want["paths"]["righting"]
+            start60 = _want_view(port, 60, m["pitch_deg"], m["roll_deg"])
+            saddle60 = _want_view(port, 60, r["saddle_pitch_deg"], r["saddle_roll_deg"])
+            assert start60 != start74
+            _wait_view(cdp, "robot-start", start60)
+            _wait_view(cdp, "robot-saddle", saddle60)
+            lift_mm = saddle60[3] - start60[3]
+            assert lift_mm == pytest.approx(r["barrier_j"] / (want["mass_kg"] * 9.81) * 1e3, abs=1e-3)
+            assert "mm above the ground" in cdp.eval(
+                "document.getElementById('robot-start-caption').textContent"
+            )
             assert re.match(r"theta_w 60°", cdp.eval("document.getElementById('status').textContent"))
             time.sleep(0.5)
             cdp.eval("1")  # collect the events logged meanwhile
@@ -177,9 +226,76 @@ def test_screenshot_of_the_page(chromium, tmp_path):
             )
             cdp.send("Page.navigate", url=f"http://127.0.0.1:{port}/")
             cdp.wait_for("/^[0-9.]+$/.test(document.getElementById('righting-mj').textContent)")
+            cdp.wait_for(ROBOT_VIEW.format(div="robot-saddle"))
             time.sleep(1.0)
+            assert cdp.eval(MODEBAR_CLEAR) == []
             png = base64.b64decode(cdp.send("Page.captureScreenshot", format="png")["data"])
             Path(tmp_path / "page.png").write_bytes(png)
             assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 20_000
+    finally:
+        stop_server(server, signal.SIGTERM)
+
+
+MODEBAR_CLEAR = """(() => {
+  const hit = (a, b) => a.left < b.right && b.left < a.right && a.top < b.bottom && b.top < a.bottom;
+  const bad = [];
+  for (const div of document.querySelectorAll('.plot')) {
+    const bar = div.querySelector('.modebar');
+    if (!bar) continue;
+    const m = bar.getBoundingClientRect();
+    const texts = [...div.querySelectorAll('svg text')].filter((t) => !bar.contains(t) && t.textContent.trim());
+    const area = [...div.querySelectorAll('.nsewdrag')];
+    const caption = div.parentElement.querySelector('figcaption');
+    for (const el of texts.concat(area, caption ? [caption] : [])) {
+      if (hit(m, el.getBoundingClientRect())) bad.push(div.id + ': ' + (el.textContent || el.getAttribute('class')));
+    }
+  }
+  return bad;
+})()"""
+
+
+def test_with_a_token_the_page_works_and_a_report_opens_from_its_link(chromium, tmp_path):
+    """The page given #token=T calls the API with the token, and the report link (opened by the browser, which
+    cannot add the Authorization header) loads the report, not a 401; the page's cookie opens nothing else."""
+    token = "t0k3n-of-the-browser-test"
+    port = _free_port()
+    server = start_server(tmp_path / "data", port, tmp_path / "server.log", token=token)
+    try:
+        job = _call(port, "POST", "/api/sweeps", {**TINY, "trials": 1}, token=token)
+        with page(chromium) as cdp:
+            for domain in ("Runtime.enable", "Log.enable", "Page.enable"):
+                cdp.send(domain)
+            cdp.send("Page.navigate", url=f"http://127.0.0.1:{port}/#token={token}")
+            cdp.wait_for("/^[0-9.]+$/.test(document.getElementById('righting-mj').textContent)")
+            cdp.wait_for(ROBOT_VIEW.format(div="robot-start"))
+            assert cdp.eval("location.hash") == ""  # the token leaves the address bar
+            _wait(
+                lambda: _call(port, "GET", f"/api/sweeps/{job['id']}", token=token),
+                lambda j: j["status"] == "done",
+            )
+            href = cdp.wait_for(
+                "(() => { const a = document.querySelector('#sweeps a'); return a ? a.href : ''; })()"
+            )
+            assert href.endswith(f"/api/sweeps/{job['id']}/report")
+            time.sleep(0.3)
+            cdp.eval("1")
+            assert cdp.errors() == []
+            cdp.send("Page.navigate", url=href)  # a navigation, as the new tab makes: no Authorization header
+            cdp.wait_for(
+                f"location.pathname === '/api/sweeps/{job['id']}/report' && document.readyState === 'complete'"
+            )
+            text = cdp.eval("document.body.innerText")
+            assert (
+                "missing or wrong token" not in text
+                and cdp.eval("document.querySelectorAll('h1, h2').length") > 0
+            )
+            # the files the report links load too, and the cookie does not open the API
+            links = cdp.eval(
+                "[...document.querySelectorAll('a[href]')].map((a) => a.href)"
+                ".filter((h) => h.includes('/report/') && !h.includes('#'))"
+            )
+            for link in links[:3]:
+                assert cdp.eval(f"fetch({json.dumps(link)}).then((r) => r.status)") == 200, link
+            assert cdp.eval("fetch('/api/sweeps').then((r) => r.status)") == 401
     finally:
         stop_server(server, signal.SIGTERM)

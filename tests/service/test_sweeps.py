@@ -100,20 +100,26 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
-def _call(port: int, method: str, path: str, body: dict | None = None) -> dict:
+def _call(port: int, method: str, path: str, body: dict | None = None, *, token: str | None = None) -> dict:
+    headers = {"Content-Type": "application/json"}
+    if token:
+        headers["Authorization"] = f"Bearer {token}"
     req = urllib.request.Request(
         f"http://127.0.0.1:{port}{path}",
         method=method,
         data=None if body is None else json.dumps(body).encode(),
-        headers={"Content-Type": "application/json"},
+        headers=headers,
     )
     with urllib.request.urlopen(req, timeout=30) as resp:
         return json.loads(resp.read())
 
 
-def start_server(data: Path, port: int, log: Path) -> subprocess.Popen:
+def start_server(data: Path, port: int, log: Path, *, token: str | None = None) -> subprocess.Popen:
     """``landscape serve`` in a process group of its own (its sweep workers die with it)."""
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    env.pop("LANDSCAPE_TOKEN", None)
+    if token:
+        env["LANDSCAPE_TOKEN"] = token  # not on the command line, where ps shows it
     with log.open("ab") as out:  # the child keeps its own descriptor
         proc = subprocess.Popen(
             [
@@ -139,7 +145,7 @@ def start_server(data: Path, port: int, log: Path) -> subprocess.Popen:
     t0 = time.monotonic()
     while time.monotonic() - t0 < 60:
         try:
-            _call(port, "GET", "/api/health")
+            _call(port, "GET", "/api/health", token=token)
             return proc
         except (urllib.error.URLError, ConnectionError):
             if proc.poll() is not None:

@@ -1,10 +1,13 @@
 // The page of `landscape serve`: every number comes from the service's /api (the library computes it); this
 // script only asks and draws. A token given as #token=T in the address is kept for this tab and sent as
-// "Authorization: Bearer T".
+// "Authorization: Bearer T"; links opened in a new tab (a sweep's report) cannot send that header, so the page
+// asks the service for a link cookie (POST /api/link-access: HttpOnly, for report pages only, one hour) and renews
+// it while it is open.
 "use strict";
 
 const $ = (id) => document.getElementById(id);
-const state = { robot: "builtin", seq: 0, shown: 0, timer: null, info: null };
+const state = { robot: "builtin", seq: 0, shown: 0, robotShown: 0, timer: null, info: null };
+const LINK_RENEW_MS = 10 * 60 * 1000;  // the link cookie lasts an hour
 
 (function keepToken() {
   const m = /token=([^&]+)/.exec(location.hash);
@@ -38,6 +41,11 @@ function say(text, isError = false) {
 }
 
 const fmt = (x, digits = 3) => (x === null || x === undefined ? "none" : Number(x).toFixed(digits));
+
+async function renewLinkAccess() {
+  if (!sessionStorage.getItem("landscape-token")) return;
+  try { await api("/api/link-access", { method: "POST" }); } catch (err) { say(err.message, true); }
+}
 
 // ------------------------------------------------------------------------------------------------ robots
 async function loadRobots(select) {
@@ -113,6 +121,7 @@ async function fetchLandscape() {
     state.shown = seq;
     showNumbers(body);
     draw(body);
+    drawRobots(body, seq);
     say(`theta_w ${fmt(body.theta_w_deg, 0)}°, theta_l ${fmt(body.theta_l_deg, 0)}°: ` +
         `righting barrier ${fmt(body.barrier.righting_j === null ? null : body.barrier.righting_j * 1e3)} mJ`);
   } catch (err) {
@@ -145,6 +154,9 @@ const hasWebGL = (() => {
   catch (e) { return false; }
 })();
 
+// The plots' titles are the HTML captions above them; the top margin keeps plotly's mode bar clear of the plot.
+const MODEBAR_PX = 36;
+
 function draw(s) {
   const g = s.grid;
   const minE = s.minimum.energy_j * 1e3;
@@ -158,7 +170,7 @@ function draw(s) {
   };
   const contour = [
     { type: "contour", x: g.roll_deg, y: g.pitch_deg, z: g.energy_mj, colorscale: "Viridis", ncontours: 30,
-      colorbar: { title: { text: "mJ" } } },
+      colorbar: { title: { text: "mJ", side: "right" } } },
     Object.assign({ type: "scatter", mode: "lines", line: { color: "white", width: 2 } }, marks.path),
     Object.assign({ type: "scatter", mode: "markers", marker: { color: "cyan", size: 10, symbol: "circle" } }, marks.min),
   ];
@@ -167,8 +179,8 @@ function draw(s) {
       marks.saddle));
   }
   const axes = { xaxis: { title: { text: "roll (°)" } }, yaxis: { title: { text: "pitch (°)" } } };
-  Plotly.react("contour", contour, Object.assign({ margin: { t: 30 }, title: { text: "energy (mJ)" },
-    showlegend: false, uirevision: "keep" }, axes), { responsive: true });
+  Plotly.react("contour", contour, Object.assign({ margin: { t: MODEBAR_PX }, showlegend: false,
+    uirevision: "keep" }, axes), { responsive: true });
   if (!hasWebGL) {
     $("surface").textContent = "The 3-D surface needs WebGL, which this browser does not offer; the contour map shows the same landscape.";
     return;
@@ -184,10 +196,99 @@ function draw(s) {
     surface.push(Object.assign({ type: "scatter3d", mode: "markers", marker: { color: "red", size: 5 },
       z: [saddleE] }, marks.saddle));
   }
-  Plotly.react("surface", surface, { margin: { t: 30, l: 0, r: 0, b: 0 }, showlegend: false, uirevision: "keep",
-    title: { text: "landscape" },
-    scene: { xaxis: { title: { text: "roll (°)" } }, yaxis: { title: { text: "pitch (°)" } },
+  Plotly.react("surface", surface, { margin: { t: MODEBAR_PX, l: 0, r: 0, b: 0 }, showlegend: false,
+    uirevision: "keep", scene: { xaxis: { title: { text: "roll (°)" } }, yaxis: { title: { text: "pitch (°)" } },
       zaxis: { title: { text: "mJ" } } } }, { responsive: true });
+}
+
+// ------------------------------------------------------------------------------------------------ robot view
+const wrapDeg = (a) => ((((a + 180) % 360) + 360) % 360) - 180;
+
+async function fetchPose(s, pitch, roll) {
+  const p = new URLSearchParams({ robot: state.robot, theta_w: s.theta_w_deg ?? 0, theta_l: s.theta_l_deg ?? 0,
+    pitch: wrapDeg(pitch), roll: wrapDeg(roll) });
+  return (await api("/api/robot-pose?" + p.toString())).body;
+}
+
+function robotTraces(pose) {
+  const x = [], y = [], z = [], i = [], j = [], k = [];
+  for (const part of pose.parts) {
+    const base = x.length;
+    for (const v of part.vertices_m) { x.push(v[0] * 1e3); y.push(v[1] * 1e3); z.push(v[2] * 1e3); }
+    for (const f of part.faces) { i.push(base + f[0]); j.push(base + f[1]); k.push(base + f[2]); }
+  }
+  const c = pose.com_m.map((q) => q * 1e3);
+  return [
+    { type: "mesh3d", name: "robot", x, y, z, i, j, k, color: "#8094b0", opacity: 0.8, flatshading: true, hoverinfo: "skip",
+      lighting: { ambient: 0.55, diffuse: 0.8, specular: 0.1 } },
+    { type: "scatter3d", mode: "markers", name: "CoM", x: [c[0]], y: [c[1]], z: [c[2]],
+      marker: { color: "red", size: 5 }, hovertemplate: "CoM %{z:.1f} mm above the ground<extra></extra>" },
+    { type: "scatter3d", mode: "lines", name: "CoM height", x: [c[0], c[0]], y: [c[1], c[1]], z: [0, c[2]],
+      line: { color: "red", width: 3, dash: "dash" }, hoverinfo: "skip" },
+  ];
+}
+
+function groundTrace(box) {
+  const [x0, x1] = box.x, [y0, y1] = box.y;
+  return { type: "mesh3d", name: "ground", x: [x0, x1, x1, x0], y: [y0, y0, y1, y1], z: [0, 0, 0, 0],
+    i: [0, 0], j: [1, 2], k: [2, 3], color: "#c9b98f", opacity: 0.55, hoverinfo: "skip" };
+}
+
+function boxOf(poses) {
+  // one box for both views, so the two robots are drawn at the same scale
+  let lo = [Infinity, Infinity, 0], hi = [-Infinity, -Infinity, -Infinity];
+  for (const pose of poses) {
+    for (const part of pose.parts) {
+      for (const v of part.vertices_m) {
+        for (let a = 0; a < 3; a++) { lo[a] = Math.min(lo[a], v[a] * 1e3); hi[a] = Math.max(hi[a], v[a] * 1e3); }
+      }
+    }
+  }
+  const pad = 0.15 * Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-3);
+  return { x: [lo[0] - pad, hi[0] + pad], y: [lo[1] - pad, hi[1] + pad], z: [0, hi[2] + pad] };
+}
+
+function robotLayout(box) {
+  const ex = box.x[1] - box.x[0], ey = box.y[1] - box.y[0], ez = box.z[1] - box.z[0];
+  const m = Math.max(ex, ey, ez);
+  return { margin: { t: MODEBAR_PX, l: 0, r: 0, b: 0 }, showlegend: false, uirevision: "keep",
+    scene: { aspectmode: "manual", aspectratio: { x: ex / m, y: ey / m, z: ez / m },
+      xaxis: { title: { text: "x (mm)" }, range: box.x }, yaxis: { title: { text: "y (mm)" }, range: box.y },
+      zaxis: { title: { text: "z (mm)" }, range: box.z },
+      camera: { eye: { x: 1.2, y: -1.2, z: 0.7 } } } };
+}
+
+async function drawRobots(s, seq) {
+  const r = s.paths.righting;
+  try {
+    const [start, saddle] = await Promise.all([
+      fetchPose(s, s.minimum.pitch_deg, s.minimum.roll_deg),
+      r ? fetchPose(s, r.saddle_pitch_deg, r.saddle_roll_deg) : Promise.resolve(null),
+    ]);
+    if (seq < state.robotShown || seq < state.shown) return;  // a newer pose is drawn or on its way
+    state.robotShown = seq;
+    $("robot-start-caption").textContent = `at the start minimum (pitch ${fmt(start.pitch_deg, 1)}°, roll ` +
+      `${fmt(start.roll_deg, 1)}°): CoM ${fmt(start.com_height_m * 1e3, 1)} mm above the ground`;
+    $("robot-saddle-caption").textContent = saddle
+      ? `at the righting saddle (pitch ${fmt(saddle.pitch_deg, 1)}°, roll ${fmt(saddle.roll_deg, 1)}°): CoM ` +
+        `${fmt(saddle.com_height_m * 1e3, 1)} mm, lifted ${fmt((saddle.com_height_m - start.com_height_m) * 1e3, 1)} mm`
+      : "no righting saddle at this pose";
+    if (!hasWebGL) {
+      for (const id of ["robot-start", "robot-saddle"]) {
+        $(id).textContent = "The robot view needs WebGL, which this browser does not offer.";
+      }
+      return;
+    }
+    const box = boxOf(saddle ? [start, saddle] : [start]);
+    Plotly.react("robot-start", [groundTrace(box), ...robotTraces(start)], robotLayout(box), { responsive: true });
+    if (saddle) {
+      Plotly.react("robot-saddle", [groundTrace(box), ...robotTraces(saddle)], robotLayout(box), { responsive: true });
+    } else {
+      Plotly.purge("robot-saddle");
+    }
+  } catch (err) {
+    if (seq >= state.shown) say(err.message, true);
+  }
 }
 
 for (const id of ["theta-w", "theta-l"]) $(id).addEventListener("input", () => requestLandscape());
@@ -200,8 +301,9 @@ function drawMap(rows) {
     const r = rows.find((q) => q.theta_w_deg === w && q.theta_l_deg === l);
     return r && r.righting_j !== null ? r.righting_j * 1e3 : null;
   }));
-  Plotly.react("map", [{ type: "heatmap", x: ws, y: ls, z, colorscale: "Viridis", colorbar: { title: { text: "mJ" } } }],
-    { margin: { t: 30 }, title: { text: "minimal righting barrier (mJ)" },
+  Plotly.react("map", [{ type: "heatmap", x: ws, y: ls, z, colorscale: "Viridis",
+    colorbar: { title: { text: "mJ", side: "right" } } }],
+    { margin: { t: MODEBAR_PX },
       xaxis: { title: { text: "θw (°)" } }, yaxis: { title: { text: "θl (°)" } } }, { responsive: true });
 }
 
@@ -264,7 +366,7 @@ async function refreshSweeps() {
     }
     if (j.done > 0) {
       const a = document.createElement("a");
-      a.href = j.report_url; a.target = "_blank"; a.textContent = "report";
+      a.href = j.report_url; a.target = "_blank"; a.rel = "noopener"; a.textContent = "report";
       act.appendChild(a);
     }
     tr.appendChild(act);
@@ -273,4 +375,5 @@ async function refreshSweeps() {
 }
 
 setInterval(refreshSweeps, 2000);
-loadRobots().then(refreshSweeps).catch((err) => say(err.message, true));
+setInterval(renewLinkAccess, LINK_RENEW_MS);
+renewLinkAccess().then(loadRobots).then(refreshSweeps).catch((err) => say(err.message, true));
