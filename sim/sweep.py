@@ -489,129 +489,138 @@ def run_sweep(
             store.check_model_set(name, ms_hash)
         done = store.done_keys()
         todo = [s for s in specs if s.key() not in done]
-        skipped = len(specs) - len(todo)
-        client = executor = None
-        ran = diverged = duplicates = restarts = 0
-        cpu = 0.0
-        bar = None
+        run = _Sweep(store, str(db), on_result, skipped=len(specs) - len(todo))
+        client = None
         ok = False
         try:
             if scheduler:
                 from distributed import Client
 
                 client = Client(scheduler, timeout="30s", set_as_default=False)
-                executor = client.get_executor(pure=False)
+                run.executor = client.get_executor(pure=False)
                 n_workers = max(1, sum(client.nthreads().values()))
             elif todo:
-                executor = _local_executor(n_workers)
+                run.executor = _local_executor(n_workers)
             if progress:
-                from tqdm import tqdm
-
-                # disable=None: no bar when stderr is not a terminal (a redirected log gets no bar frames)
-                bar = tqdm(
-                    total=len(specs),
-                    initial=skipped,
-                    unit="trial",
-                    dynamic_ncols=True,
-                    smoothing=0.05,
-                    file=sys.stderr,
-                    disable=None,
-                )
-            window = 2 * n_workers
-            queue = deque(todo)
-            pending: dict[Future, TrialSpec] = {}
-            while True:
-                broken = False
-                while len(pending) < window and queue and not broken:
-                    spec = queue.popleft()
-                    if store.has(spec.key()):  # stored meanwhile by another sweep on this database
-                        skipped += 1
-                        if bar is not None:
-                            bar.update(1)
-                        continue
-                    try:
-                        pending[executor.submit(run_spec, spec)] = spec
-                    except BrokenProcessPool:
-                        queue.appendleft(spec)
-                        broken = True
-                if not pending and not broken:
-                    break
-                finished = wait(pending, return_when=FIRST_COMPLETED)[0] if pending else set()
-                if broken or any(isinstance(f.exception(), BrokenProcessPool) for f in finished):
-                    # a worker died: every unfinished future of this pool fails; keep the results that came in
-                    # and submit the rest again to a new pool
-                    wait(pending)
-                    finished = set(pending)
-                    broken = True
-                for fut in finished:
-                    spec = pending.pop(fut)
-                    exc = fut.exception()
-                    if isinstance(exc, BrokenProcessPool):
-                        queue.appendleft(spec)
-                        continue
-                    if exc is not None:
-                        raise SweepAborted(
-                            f"trial (theta_w {spec.theta_w_deg:g}, theta_l {spec.theta_l_deg:g}, cv {spec.cv:g}, "
-                            f"phase {spec.phase:g}, trial {spec.trial}) failed on a worker ({type(exc).__name__}: "
-                            f"{(str(exc).splitlines() or [''])[0]}); the {store.count()} trials in "
-                            f"'{db}' are kept: fix the cause and rerun the same sweep to resume"
-                        ) from exc
-                    row = fut.result()
-                    cpu += row.get("cpu_s") or 0.0
-                    if not store.add(row):
-                        duplicates += 1
-                        skipped += 1
-                    else:
-                        ran += 1
-                        diverged += row["status"] == "diverged"
-                        if on_result is not None:
-                            on_result(row)
-                    if bar is not None:
-                        bar.update(1)
-                if broken:
-                    restarts += 1
-                    executor.shutdown(wait=True)
-                    executor = None
-                    if restarts > MAX_POOL_RESTARTS:
-                        raise SweepAborted(
-                            f"worker processes died {restarts} times (killed, or out of memory?); the "
-                            f"{store.count()} trials in '{db}' are kept: rerun the same sweep to resume "
-                            "(with fewer --workers if memory ran out)"
-                        )
-                    log.warning(
-                        "a worker process died; restarting the pool and running its %d unfinished trials "
-                        "again (%d/%d)",
-                        len(queue),
-                        restarts,
-                        MAX_POOL_RESTARTS,
-                    )
-                    executor = _local_executor(n_workers)
+                run.bar = _progress_bar(len(specs), run.skipped)
+            run.loop(todo, window=2 * n_workers, new_pool=lambda: _local_executor(n_workers))
             ok = True
         finally:
-            if bar is not None:
-                bar.close()
-            if client is not None:
-                executor.shutdown(wait=ok)  # no future is left on success; on error cancel the rest
-                client.close(timeout=30)
-            elif executor is not None:
-                if ok:
-                    executor.shutdown(wait=True)
-                else:
-                    _stop_local(executor)
+            run.close(client, ok)
     wall = time.perf_counter() - t0
-    return SweepSummary(
-        len(specs),
-        skipped,
-        ran,
-        diverged,
-        wall,
-        ran / wall if wall > 0 else 0.0,
-        cpu,
-        n_workers,
-        str(db),
-        duplicates,
-        restarts,
-    )
+    return SweepSummary(len(specs), run.skipped, run.ran, run.diverged, wall, run.ran / wall if wall > 0 else 0.0,
+                        run.cpu, n_workers, str(db), run.duplicates, run.restarts)
+
+
+def _progress_bar(total: int, initial: int):
+    from tqdm import tqdm
+
+    # disable=None: no bar when stderr is not a terminal (a redirected log gets no bar frames)
+    return tqdm(total=total, initial=initial, unit="trial", dynamic_ncols=True, smoothing=0.05, file=sys.stderr,
+                disable=None)
+
+
+class _Sweep:
+    """One :func:`run_sweep` in progress: the store, the executor, the progress bar and the counts."""
+
+    def __init__(self, store: TrialStore, db: str, on_result: Callable[[dict], None] | None, *, skipped: int):
+        self.store, self.db, self.on_result = store, db, on_result
+        self.executor = self.bar = None
+        self.skipped = skipped
+        self.ran = self.diverged = self.duplicates = self.restarts = 0
+        self.cpu = 0.0
+
+    def loop(self, todo: Sequence[TrialSpec], *, window: int, new_pool: Callable[[], ProcessPoolExecutor]) -> None:
+        """Keep ``window`` trials in flight until every trial of ``todo`` is stored; a dead local worker costs
+        a new pool and the resubmission of its unfinished trials."""
+        queue = deque(todo)
+        pending: dict[Future, TrialSpec] = {}
+        while True:
+            broken = self._submit(queue, pending, window)
+            if not pending and not broken:
+                return
+            finished = wait(pending, return_when=FIRST_COMPLETED)[0] if pending else set()
+            if broken or any(isinstance(f.exception(), BrokenProcessPool) for f in finished):
+                # a worker died: every unfinished future of this pool fails; keep the results that came in
+                # and submit the rest again to a new pool
+                wait(pending)
+                finished = set(pending)
+                broken = True
+            for fut in finished:
+                self._collect(fut, pending.pop(fut), queue)
+            if broken:
+                self._restart(queue, new_pool)
+
+    def _submit(self, queue: deque, pending: dict, window: int) -> bool:
+        """Fill the window; True if the pool broke while submitting."""
+        while len(pending) < window and queue:
+            spec = queue.popleft()
+            if self.store.has(spec.key()):  # stored meanwhile by another sweep on this database
+                self.skipped += 1
+                self._tick()
+                continue
+            try:
+                pending[self.executor.submit(run_spec, spec)] = spec
+            except BrokenProcessPool:
+                queue.appendleft(spec)
+                return True
+        return False
+
+    def _collect(self, fut: Future, spec: TrialSpec, queue: deque) -> None:
+        exc = fut.exception()
+        if isinstance(exc, BrokenProcessPool):
+            queue.appendleft(spec)
+            return
+        if exc is not None:
+            raise SweepAborted(
+                f"trial (theta_w {spec.theta_w_deg:g}, theta_l {spec.theta_l_deg:g}, cv {spec.cv:g}, "
+                f"phase {spec.phase:g}, trial {spec.trial}) failed on a worker ({type(exc).__name__}: "
+                f"{(str(exc).splitlines() or [''])[0]}); the {self.store.count()} trials in "
+                f"'{self.db}' are kept: fix the cause and rerun the same sweep to resume"
+            ) from exc
+        row = fut.result()
+        self.cpu += row.get("cpu_s") or 0.0
+        if not self.store.add(row):
+            self.duplicates += 1
+            self.skipped += 1
+        else:
+            self.ran += 1
+            self.diverged += row["status"] == "diverged"
+            if self.on_result is not None:
+                self.on_result(row)
+        self._tick()
+
+    def _restart(self, queue: deque, new_pool: Callable[[], ProcessPoolExecutor]) -> None:
+        self.restarts += 1
+        self.executor.shutdown(wait=True)
+        self.executor = None
+        if self.restarts > MAX_POOL_RESTARTS:
+            raise SweepAborted(
+                f"worker processes died {self.restarts} times (killed, or out of memory?); the "
+                f"{self.store.count()} trials in '{self.db}' are kept: rerun the same sweep to resume "
+                "(with fewer --workers if memory ran out)"
+            )
+        log.warning("a worker process died; restarting the pool and running its %d unfinished trials again "
+                    "(%d/%d)", len(queue), self.restarts, MAX_POOL_RESTARTS)
+        self.executor = new_pool()
+
+    def _tick(self) -> None:
+        if self.bar is not None:
+            self.bar.update(1)
+
+    def close(self, client, ok: bool) -> None:
+        """Close the bar; wait for the workers (local) or the client (Dask), or stop them after an error."""
+        if self.bar is not None:
+            self.bar.close()
+        if client is not None:
+            if self.executor is not None:
+                self.executor.shutdown(wait=ok)  # no future is left on success; on error cancel the rest
+            client.close(timeout=30)
+        elif self.executor is not None:
+            if ok:
+                self.executor.shutdown(wait=True)
+            else:
+                _stop_local(self.executor)
 
 
 def success_table(rows: Iterable[dict]) -> dict[tuple[float, float, float], tuple[int, int]]:
