@@ -125,6 +125,57 @@ class TrialSpec:
         return tuple(getattr(self, c) for c in KEY_COLUMNS)
 
 
+def _sweep_grids(theta_w_deg, theta_l_deg, cv, phase, wing_period_s, leg_period_s, *, trials: int,
+                 attempts: int) -> dict[str, list[float]]:
+    """The sweep's value lists, checked: none empty, all finite, Cv >= 0, phases in [0, 1), the whole sweep
+    within ``MAX_TRIALS``, and every (Tw, Tl, theta_w) an actuation cycle that fits its period."""
+    grids = {
+        "theta-w": [float(x) for x in theta_w_deg],
+        "theta-l": [float(x) for x in theta_l_deg],
+        "cv": [float(x) for x in cv],
+        "phase": [float(x) for x in phase],
+        "wing-period": [float(x) for x in wing_period_s],
+        "leg-period": [float(x) for x in leg_period_s],
+    }
+    for name, vals in grids.items():
+        if not vals:
+            raise TrialInputError(f"--{name} is empty; the sweep needs at least one value")
+        if not np.isfinite(vals).all():
+            raise TrialInputError(f"--{name} values must be finite; got {vals}")
+    if any(c < 0 for c in grids["cv"]):
+        raise TrialInputError(f"--cv values must be >= 0; got {grids['cv']}")
+    if any(not 0 <= p < 1 for p in grids["phase"]):
+        raise TrialInputError(f"--phase values must be in [0, 1); got {grids['phase']}")
+    if trials < 1:
+        raise TrialInputError(f"--trials must be >= 1; got {trials}")
+    n_trials = int(np.prod([len(v) for v in grids.values()], dtype=object)) * int(trials)
+    if n_trials > MAX_TRIALS:
+        raise TrialInputError(
+            f"the sweep has {n_trials:,} trials, more than MAX_TRIALS = {MAX_TRIALS:,} (the "
+            "paper's has 3,840); sweep fewer values or --trials, or split it into several sweeps"
+        )
+    if int(attempts) != attempts or attempts < 0:
+        raise TrialInputError(f"--attempts must be a whole number >= 0 (0: no limit); got {attempts}")
+    for tw_s, tl_s in itertools.product(grids["wing-period"], grids["leg-period"]):
+        for tw_deg in grids["theta-w"]:
+            try:
+                Actuation(tw_deg, 0.0, wing_period_s=tw_s, leg_period_s=tl_s)
+            except ValueError as exc:
+                raise TrialInputError(f"--wing-period {tw_s:g} / --leg-period {tl_s:g}: {exc}") from None
+    return grids
+
+
+def _check_joint_ranges(grids: dict[str, list[float]], theta_limits_deg: dict) -> None:
+    """Every theta_w and theta_l inside [0, the joints' upper limit] (trials open from closed)."""
+    for name, key in (("theta-w", "theta_w"), ("theta-l", "theta_l")):
+        lo, hi = theta_limits_deg[key]
+        bad = [v for v in grids[name] if not (max(lo, 0.0) <= v <= hi)]
+        if bad:
+            raise TrialInputError(
+                f"--{name} {bad[0]:g} is outside [{max(lo, 0.0):g}, {hi:g}] deg allowed by the robot's joints"
+            )
+
+
 def sweep_specs(
     theta_w_deg: Iterable[float],
     theta_l_deg: Iterable[float],
@@ -163,49 +214,12 @@ def sweep_specs(
     """
     if isinstance(joint_map, str):
         joint_map = JointMap.parse(joint_map)
-    grids = {
-        "theta-w": [float(x) for x in theta_w_deg],
-        "theta-l": [float(x) for x in theta_l_deg],
-        "cv": [float(x) for x in cv],
-        "phase": [float(x) for x in phase],
-        "wing-period": [float(x) for x in wing_period_s],
-        "leg-period": [float(x) for x in leg_period_s],
-    }
-    for name, vals in grids.items():
-        if not vals:
-            raise TrialInputError(f"--{name} is empty; the sweep needs at least one value")
-        if not np.isfinite(vals).all():
-            raise TrialInputError(f"--{name} values must be finite; got {vals}")
-    if any(c < 0 for c in grids["cv"]):
-        raise TrialInputError(f"--cv values must be >= 0; got {grids['cv']}")
-    if any(not 0 <= p < 1 for p in grids["phase"]):
-        raise TrialInputError(f"--phase values must be in [0, 1); got {grids['phase']}")
-    if trials < 1:
-        raise TrialInputError(f"--trials must be >= 1; got {trials}")
-    n_trials = int(np.prod([len(v) for v in grids.values()], dtype=object)) * int(trials)
-    if n_trials > MAX_TRIALS:
-        raise TrialInputError(
-            f"the sweep has {n_trials:,} trials, more than MAX_TRIALS = {MAX_TRIALS:,} (the "
-            "paper's has 3,840); sweep fewer values or --trials, or split it into several sweeps"
-        )
-    if int(attempts) != attempts or attempts < 0:
-        raise TrialInputError(f"--attempts must be a whole number >= 0 (0: no limit); got {attempts}")
-    for tw_s, tl_s in itertools.product(grids["wing-period"], grids["leg-period"]):
-        for tw_deg in grids["theta-w"]:
-            try:
-                Actuation(tw_deg, 0.0, wing_period_s=tw_s, leg_period_s=tl_s)
-            except ValueError as exc:
-                raise TrialInputError(f"--wing-period {tw_s:g} / --leg-period {tl_s:g}: {exc}") from None
+    grids = _sweep_grids(theta_w_deg, theta_l_deg, cv, phase, wing_period_s, leg_period_s, trials=trials,
+                         attempts=attempts)
     path = Path(robot) if robot is not None else default_robot_urdf()
     model = sim_model(path, joint_map=joint_map)
     joints = "" if joint_map is None or joint_map == JointMap() else joint_map.text()
-    for name, key in (("theta-w", "theta_w"), ("theta-l", "theta_l")):
-        lo, hi = model.theta_limits_deg[key]
-        bad = [v for v in grids[name] if not (max(lo, 0.0) <= v <= hi)]
-        if bad:
-            raise TrialInputError(
-                f"--{name} {bad[0]:g} is outside [{max(lo, 0.0):g}, {hi:g}] deg allowed by the robot's joints"
-            )
+    _check_joint_ranges(grids, model.theta_limits_deg)
     from .model_set import MODELS_DIR, load_model_set
 
     ms = load_model_set(model_set)
