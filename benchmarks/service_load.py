@@ -26,6 +26,7 @@ import httpx
 import trimesh
 
 ROOT = Path(__file__).resolve().parents[1]
+LAB = Path(os.environ.get("LANDSCAPE_SHARED") or ROOT.parent / "shared") / "ref" / "lab_robot" / "lab_robot.urdf"
 
 
 def _free_port() -> int:
@@ -146,7 +147,25 @@ def main() -> None:
                     timed_get(c, url, {"theta_w": 20 + k * 0.5, "step": args.step})
                     for k in range(args.samples)
                 ]
+                lab = []
+                if LAB.is_file():  # the lab robot, uploaded as a zip of its URDF and meshes
+                    import io
+                    import zipfile
+
+                    buf = io.BytesIO()
+                    with zipfile.ZipFile(buf, "w") as z:
+                        for f in LAB.parent.iterdir():
+                            if f.suffix in (".urdf", ".obj"):
+                                z.write(f, f"lab_robot/{f.name}")
+                    lab_id = c.post("/api/robots", files={"file": ("lab.zip", buf.getvalue())}).json()["id"]
+                    timed_get(c, url, {"robot": lab_id, "theta_w": 59, "step": args.step})
+                    lab = [
+                        timed_get(c, url, {"robot": lab_id, "theta_w": 40 + (k % 20), "theta_l": 1 + k,
+                                           "step": args.step})
+                        for k in range(args.samples)
+                    ]
             lat, errors, wall = asyncio.run(load(base, robots, args.clients, args.requests, args.step))
+            peak_mb = _peak_rss_mb(proc.pid)
         finally:
             os.killpg(proc.pid, signal.SIGTERM)
             proc.wait(timeout=30)
@@ -188,15 +207,50 @@ def main() -> None:
             "",
         ),
     ]
+    if lab:
+        rows.insert(3, ("uncached, new theta_l (lab robot)", len(lab), None, statistics.median(lab), _pct(lab, 99),
+                        0, "<= 100"))
+    cli = _cli_seconds(args.step)
+    rows.append(("baseline: `landscape compute` as a process", 3, None, cli, cli, 0, ""))
     print(f"landscape serve on loopback, step {args.step:g} deg, method exact, {os.cpu_count()} cores")
     print(
-        f"{'run':<38} {'requests':>8} {'req/s':>8} {'p50 ms':>8} {'p99 ms':>8} {'errors':>6}  target p50 ms"
+        f"{'run':<42} {'requests':>8} {'req/s':>8} {'p50 ms':>8} {'p99 ms':>8} {'errors':>6}  target p50 ms"
     )
     for name, n, thr, p50, p99, err, target in rows:
         print(
-            f"{name:<38} {n:>8d} {'' if thr is None else f'{thr:.1f}':>8} {p50 * 1e3:>8.1f} {p99 * 1e3:>8.1f} "
+            f"{name:<42} {n:>8d} {'' if thr is None else f'{thr:.1f}':>8} {p50 * 1e3:>8.1f} {p99 * 1e3:>8.1f} "
             f"{err:>6d}  {target}"
         )
+    print(f"server peak resident memory over the whole run: {peak_mb:.0f} MB (the in-memory cache is bounded)")
+    print(f"ratio: uncached built-in p50 / command-line process = {rows[1][3] / cli:.3f} "
+          f"({cli / rows[1][3]:.0f}x faster); cached p50 / process = {rows[0][3] / cli:.4f}")
+
+
+def _peak_rss_mb(pid: int) -> float:
+    """Peak resident memory (VmHWM) of the server process and its children, MB."""
+    import psutil
+
+    procs = [psutil.Process(pid), *psutil.Process(pid).children(recursive=True)]
+    total = 0.0
+    for pr in procs:
+        try:
+            with open(f"/proc/{pr.pid}/status") as f:
+                total += next(int(line.split()[1]) for line in f if line.startswith("VmHWM")) / 1024
+        except (OSError, StopIteration):
+            pass
+    return total
+
+
+def _cli_seconds(step: float) -> float:
+    """Median wall time of the same answer from the command line (a new process each time), s."""
+    exe = Path(sys.executable).parent / "landscape"
+    times = []
+    for k in range(3):
+        t0 = time.perf_counter()
+        subprocess.run([str(exe), "compute", "--theta-w", str(41 + k), "--theta-l", "7", "--step", str(step),
+                        "--json"], check=True, capture_output=True)
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
 
 
 if __name__ == "__main__":
