@@ -62,11 +62,13 @@ def _examples() -> list[tuple[str, list[str]]]:
     """Every `$ landscape ...` line of the README with the output lines printed under it."""
     out: list[tuple[str, list[str]]] = []
     for block in _fenced_blocks(info=""):
+        current = None  # output lines belong to the command above them in the same block
         for line in block.splitlines():
             if line.startswith("$ landscape"):
-                out.append((line[2:].strip(), []))
-            elif out and line.strip() and not line.startswith("$"):
-                out[-1][1].append(line.rstrip())
+                current = (line[2:].strip(), [])
+                out.append(current)
+            elif current is not None and line.strip() and not line.startswith("$"):
+                current[1].append(line.rstrip())
     return out
 
 
