@@ -728,3 +728,81 @@ def follow_path(pts, part_ptr, rot, trans, com, rtol, u0, max_moves):
                 return ups, False
         ups[s] = u
     return ups, True
+
+
+# ------------------------------------------------------------------------- exact method (barriers/exact.py)
+@numba.njit(cache=True)
+def minimax_graph(ptr, other, edge, weight, sources, goal, stop):
+    """Bottleneck Dijkstra on an undirected graph in CSR form (``ptr``, neighbour ``other``, ``edge`` index and
+    ``weight`` of each adjacency): the lowest possible maximum edge weight from the sources.
+
+    Goal nodes are settled but never expanded; with ``stop`` the search ends at the first goal settled. The heap
+    orders (level, node) as Python tuples do, so the result equals landscape.barriers.exact's reference search.
+    Returns (level per node, parent edge per node, first goal settled or -1).
+    """
+    n = ptr.shape[0] - 1
+    level = np.full(n, np.inf)
+    parent = np.full(n, -1, dtype=np.int64)
+    done = np.zeros(n, dtype=np.bool_)
+    cap = other.shape[0] + sources.shape[0] + 1
+    he = np.zeros(cap)
+    hi = np.zeros(cap, dtype=np.int64)
+    size = 0
+    for k in range(sources.shape[0]):
+        s = sources[k]
+        level[s] = -np.inf
+        size = _push(he, hi, size, -np.inf, s)
+    first = -1
+    while size > 0:
+        lv, x, size = _pop(he, hi, size)
+        if done[x]:
+            continue
+        done[x] = True
+        if goal[x]:
+            if first < 0:
+                first = x
+                if stop:
+                    break
+            continue
+        for q in range(ptr[x], ptr[x + 1]):
+            y = other[q]
+            if done[y]:
+                continue
+            w = weight[q]
+            nl = lv if lv >= w else w
+            if nl < level[y] or (nl == level[y] and parent[y] < 0 and level[y] != -np.inf):
+                level[y] = nl
+                parent[y] = edge[q]
+                size = _push(he, hi, size, nl, y)
+    return level, parent, first
+
+
+@numba.njit(cache=True)
+def _wrap180(x):
+    return (x + 180.0) % 360.0 - 180.0
+
+
+@numba.njit(cache=True)
+def torus_path(pr, p_start, r_start):
+    """A continuous torus path through canonical (pitch, roll) points (M, 2), degrees: each point's
+    representative ((p, r) or (180 - p, r + 180), shifted by whole turns) nearest the previous one, in the larger
+    of the pitch and roll differences (ties keep (p, r); at a pole the roll is the previous one's)."""
+    m = pr.shape[0]
+    out = np.zeros((m, 2))
+    p_ref = p_start
+    r_ref = r_start
+    for k in range(m):
+        p = pr[k, 0]
+        r = pr[k, 1]
+        pole = abs(abs(p) - 90.0) < 1e-9
+        p1 = p_ref + _wrap180(p - p_ref)
+        r1 = r_ref if pole else r_ref + _wrap180(r - r_ref)
+        p2 = p_ref + _wrap180(180.0 - p - p_ref)
+        r2 = r_ref if pole else r_ref + _wrap180(r + 180.0 - r_ref)
+        if max(abs(p2 - p_ref), abs(r2 - r_ref)) < max(abs(p1 - p_ref), abs(r1 - r_ref)) - 1e-12:
+            p_ref, r_ref = p2, r2
+        else:
+            p_ref, r_ref = p1, r1
+        out[k, 0] = p_ref
+        out[k, 1] = r_ref
+    return out

@@ -59,6 +59,7 @@ from scipy.spatial import ConvexHull, QhullError
 from geometry import Pose
 from geometry.errors import UsageError
 from geometry.frames import canonical_pitch_roll_deg, pitch_roll_from_up, up_vector
+from landscape import _kernels
 from landscape.barriers._base import Barrier, Exit
 from landscape.energy import G_M_S2
 from landscape.grid import wrap_deg
@@ -397,8 +398,10 @@ def _critical_points(partial: ExactLandscape, d, nbr_ptr, nbr_idx, margin, peak_
     maxima_vertex = np.flatnonzero(worst > tol_m).astype(np.int64)
     row = np.full(len(face_up), -1, dtype=np.int64)
     row[minima_face] = np.arange(len(minima_face))
-    joins = np.array([[row[_descend_face(partial, int(f))] for f in partial.arc_faces[s]] for s in saddles_arc],
-                     dtype=np.int64).reshape(-1, 2)
+    ends = partial.arc_faces[saddles_arc]
+    faces, where = np.unique(ends, return_inverse=True)  # roll down from each face once
+    reached = np.array([row[_descend_face(partial, int(f))] for f in faces], dtype=np.int64)
+    joins = reached[where.reshape(-1)].reshape(-1, 2)
     return CriticalPoints(
         minima_face, _deg(face_up[minima_face]), scale * face_h[minima_face],
         saddles_arc, _deg(peak_up[saddles_arc]), scale * arc_max[saddles_arc], joins,
@@ -562,11 +565,33 @@ def _descend_from(ex: ExactLandscape, u: NDArray[np.float64]) -> int:
 
 
 # --------------------------------------------------------------------------------------------- searches
+def _adjacency(n: int, eu, ev, ew):
+    """The undirected graph's adjacency in CSR form: pointer, neighbour, edge index and weight of each entry
+    (neighbours of a node in edge order, the ``eu`` ends before the ``ev`` ends)."""
+    ptr = np.zeros(n + 1, dtype=np.int64)
+    ends = np.concatenate([eu, ev])
+    order = np.argsort(ends, kind="stable")
+    np.cumsum(np.bincount(ends, minlength=n), out=ptr[1:])
+    m = len(eu)
+    edge = order % m
+    other = np.concatenate([ev, eu])[order].astype(np.int64)
+    return ptr, other, edge.astype(np.int64), np.asarray(ew, dtype=np.float64)[edge]
+
+
 def _minimax(n: int, eu, ev, ew, sources: list[int], goal: NDArray[np.bool_], stop: bool):
     """Bottleneck Dijkstra on an undirected graph: lowest possible maximum edge weight from the sources.
 
     Goal nodes are settled but never expanded. Returns (level per node, parent edge per node, first goal).
+    Compiled (``_kernels.minimax_graph``); :func:`_minimax_reference` is the same search in Python.
     """
+    ptr, other, edge, weight = _adjacency(n, eu, ev, ew)
+    level, parent, first = _kernels.minimax_graph(ptr, other, edge, weight, np.asarray(sources, dtype=np.int64),
+                                                  np.ascontiguousarray(goal, dtype=np.bool_), bool(stop))
+    return level, parent, int(first)
+
+
+def _minimax_reference(n: int, eu, ev, ew, sources: list[int], goal: NDArray[np.bool_], stop: bool):
+    """:func:`_minimax` with Python's heapq (the reference the compiled search is tested against)."""
     ptr = np.zeros(n + 1, dtype=np.int64)
     ends = np.concatenate([eu, ev])
     order = np.argsort(ends, kind="stable")
@@ -627,6 +652,26 @@ def _arc_points(ex: ExactLandscape, arc: int, s0: float, s1: float) -> NDArray[n
     return np.cos(s)[:, None] * u0 + np.sin(s)[:, None] * g.arc_t[arc]
 
 
+def _pieces_points(ex: ExactLandscape, pieces: list[tuple]) -> NDArray[np.float64]:
+    """The points of :func:`_arc_points` along each piece, without each piece's first point, in one array
+    (the same numbers: ``np.linspace``'s arithmetic, done for all pieces at once)."""
+    g = ex._g
+    arcs = np.array([pc[0] for pc in pieces], dtype=np.int64)
+    s0 = np.array([pc[1] for pc in pieces], dtype=np.float64)
+    s1 = np.array([pc[2] for pc in pieces], dtype=np.float64)
+    n = np.maximum(2, np.ceil(np.abs(s1 - s0) / np.deg2rad(PATH_STEP_DEG)).astype(np.int64) + 1)
+    div = (n - 1).astype(np.float64)
+    delta = s1 - s0
+    step = delta / div
+    owner = np.repeat(np.arange(len(arcs)), n - 1)
+    i = (np.arange(len(owner)) - np.repeat(np.cumsum(n - 1) - (n - 1), n - 1) + 1).astype(np.float64)
+    s = np.where(step[owner] == 0, i / div[owner] * delta[owner], i * step[owner]) + s0[owner]
+    last = np.cumsum(n - 1) - 1
+    s[last] = s1
+    u0 = ex.face_up[ex.arc_faces[arcs[owner], 0]]
+    return np.cos(s)[:, None] * u0 + np.sin(s)[:, None] * g.arc_t[arcs[owner]]
+
+
 def _wrap(x: float) -> float:
     return (x + 180.0) % 360.0 - 180.0
 
@@ -645,7 +690,13 @@ def _nearest_rep(p: float, r: float, p_ref: float, r_ref: float) -> tuple[float,
 
 
 def _torus_path(us: NDArray[np.float64], start_deg: tuple[float, float]) -> NDArray[np.float64]:
-    """A continuous torus path through up-directions: each point's representative nearest the previous one."""
+    """A continuous torus path through up-directions: each point's representative nearest the previous one
+    (:func:`_nearest_rep`, compiled as ``_kernels.torus_path``)."""
+    return _kernels.torus_path(np.ascontiguousarray(_deg(us)), float(start_deg[0]), float(start_deg[1]))
+
+
+def _torus_path_reference(us: NDArray[np.float64], start_deg: tuple[float, float]) -> NDArray[np.float64]:
+    """:func:`_torus_path` in Python (the reference the compiled one is tested against)."""
     out = [start_deg]
     for p, r in _deg(us).tolist():
         out.append(_nearest_rep(p, r, *out[-1]))
@@ -681,7 +732,8 @@ def _exit(ex: ExactLandscape, level_m: float, start_h: float, start_deg, pieces,
     """pieces: list of (arc, s0, s1, peak_h, peak_up) traversed in order; the saddle is the highest piece's
     peak (the first of equals) unless ``peak`` names the piece."""
     us = [up_vector(*np.deg2rad(start_deg))[None, :]]
-    us += [_arc_points(ex, a, s0, s1)[1:] for a, s0, s1, _, _ in pieces]
+    if pieces:
+        us.append(_pieces_points(ex, pieces))
     path = _torus_path(np.concatenate(us), start_deg)
     k = peak if peak is not None else int(np.argmax([ph for *_, ph, _ in pieces])) if pieces else -1
     saddle_up = pieces[k][4] if pieces else up_vector(*np.deg2rad(start_deg))
@@ -719,6 +771,16 @@ def _piece(ex: ExactLandscape, arc: int, forward: bool) -> tuple:
     """A whole arc, forward (face 0 -> face 1) or back."""
     theta = float(ex._g.arc_theta[arc])
     return _pieces(ex, arc, 0.0 if forward else theta, theta if forward else 0.0)[0]
+
+
+def _whole_pieces(ex: ExactLandscape, arcs, forward) -> list[tuple]:
+    """:func:`_piece` of each arc in one call: whole arcs, forward (face 0 -> face 1) or back."""
+    arcs = np.asarray(arcs, dtype=np.int64)
+    forward = np.asarray(forward, dtype=bool)
+    if not len(arcs):
+        return []
+    theta = ex._g.arc_theta[arcs]
+    return _pieces(ex, arcs, np.where(forward, 0.0, theta), np.where(forward, theta, 0.0))
 
 
 def _escape_saddle(ex: ExactLandscape, pieces: list[tuple], f0: int, level_m: float) -> int:
@@ -823,7 +885,8 @@ def _escape_exit(ex: ExactLandscape, f0: int, h0: float, start_deg) -> Exit | No
     lev, par, first = _minimax(n_f, fa, fb, ex.arc_max_m, [f0], goal, True)
     if first < 0:
         return None
-    pieces = [_piece(ex, e, bool(fb[e] == x)) for e, x in _chain(par, fa, fb, first)]
+    chain = _chain(par, fa, fb, first)
+    pieces = _whole_pieces(ex, [e for e, _ in chain], [fb[e] == x for e, x in chain])
     k = _escape_saddle(ex, pieces, f0, float(lev[first]))
     return _exit(ex, float(lev[first]), h0, start_deg, pieces, None, peak=k)
 
@@ -860,7 +923,12 @@ class _RightingGraph:
         lev, par, first = _minimax(len(self.goal), eu, ev, ew, [f0], self.goal, True)
         if first < 0:
             return None
-        pieces = [self.edge_pieces(ex, int(idx[e]), x) for e, x in _chain(par, eu, ev, self.target)]
+        chain = [(int(idx[e]), x) for e, x in _chain(par, eu, ev, self.target)]
+        n_in = len(self.arcs_in)
+        inner = [(e, x) for e, x in chain if e < n_in]
+        whole = iter(_whole_pieces(ex, [self.arcs_in[e] for e, _ in inner],
+                                   [ex.arc_faces[self.arcs_in[e], 1] == x for e, x in inner]))
+        pieces = [next(whole) if e < n_in else self.pieces_out[e - n_in] for e, _ in chain]
         return _exit(ex, float(lev[self.target]), h0, start_deg, pieces, kind)
 
 
