@@ -345,9 +345,61 @@ class BarrierMap:
     righting_j: NDArray[np.float64] = field(repr=False)
 
 
+MAP_POSES_PER_WORKER = 16
+"""Fewest poses per worker process :func:`barrier_map` starts on its own (``workers=None``)."""
+
+_MAP_TASK: dict = {}  # the robot and options of the barrier map being computed, inherited by forked workers
+
+
+def _map_pose(w: float, leg: float, start: tuple[float, float]) -> Computation:
+    """One pose of a barrier map, without its landscape grid and pose (run in the parent or a forked worker)."""
+    t = _MAP_TASK
+    c = compute(t["robot"], theta_w_deg=w, theta_l_deg=leg, step_deg=t["step_deg"], start_deg=start,
+                method=t["method"], memory_budget_bytes=t["memory_budget_bytes"])
+    return replace(c, landscape=None, pose=None)
+
+
+def _map_pose_star(args) -> Computation:
+    return _map_pose(*args)
+
+
+def map_workers(n_poses: int, workers: int | None = None) -> int:
+    """Worker processes :func:`barrier_map` uses for ``n_poses`` poses.
+
+    ``workers=None`` chooses: one per CPU this process may run on, at most one per
+    :data:`MAP_POSES_PER_WORKER` poses, and 1 (no workers) unless this is the main thread and the only one
+    (workers are forked, which is unsafe in a process running other threads, e.g. the service) and the
+    ``fork`` start method exists. An explicit ``workers`` is used as given (capped at ``n_poses``).
+
+    Raises
+    ------
+    UsageError
+        If ``workers`` is below 1.
+
+    Examples
+    --------
+    >>> map_workers(5, 1), map_workers(1, 4), map_workers(3, 2)
+    (1, 1, 2)
+    """
+    import multiprocessing
+    import os
+    import threading
+
+    if workers is not None:
+        if int(workers) != workers or workers < 1:
+            raise UsageError(f"workers must be a whole number >= 1; got {workers!r}")
+        return max(1, min(int(workers), n_poses))
+    if "fork" not in multiprocessing.get_all_start_methods():
+        return 1
+    if threading.current_thread() is not threading.main_thread() or threading.active_count() > 1:
+        return 1
+    cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    return max(1, min(cpus, n_poses // MAP_POSES_PER_WORKER))
+
+
 def barrier_map(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float], *, step_deg: float = 1.0,
                 method: str = DEFAULT_METHOD, progress=None,
-                memory_budget_bytes: float = MEMORY_BUDGET_BYTES) -> BarrierMap:
+                memory_budget_bytes: float = MEMORY_BUDGET_BYTES, workers: int | None = None) -> BarrierMap:
     """Start minimum and barriers at every (theta_w, theta_l), the starts from one shared continuation.
 
     Parameters
@@ -359,7 +411,11 @@ def barrier_map(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float]
     step_deg, method
         As in :func:`compute`.
     progress : callable, optional
-        Called with 1 after each pose (e.g. a progress bar's ``update``).
+        Called with 1 after each pose (e.g. a progress bar's ``update``), in the calling process.
+    workers : int, optional
+        Worker processes (forked) the poses are spread over; the results are the same, in the same order.
+        Default: :func:`map_workers` chooses (several only on a multi-core machine, from a process's main and
+        only thread, for at least :data:`MAP_POSES_PER_WORKER` poses per worker); 1 computes in this process.
 
     Raises
     ------
@@ -380,16 +436,33 @@ def barrier_map(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float]
             robot.joint_values_rad(w, leg)
     barrier_method(method)
     check_memory(step_deg, memory_budget_bytes)
+    n_workers = map_workers(len(ws) * len(ls_), workers)
     starts = sweep_starts(robot, ws, ls_)
-    out = []
+    tasks = [(w, leg, starts[(w, leg)]) for w in ws for leg in ls_]
+    warm_up()  # load the kernels once, before any fork, so the workers inherit them
+    _MAP_TASK.update(robot=robot, step_deg=step_deg, method=method, memory_budget_bytes=memory_budget_bytes)
+    try:
+        if n_workers == 1:
+            results = map(_map_pose_star, tasks)
+            out = _collect(results, progress)
+        else:
+            import multiprocessing
+
+            with multiprocessing.get_context("fork").Pool(n_workers) as pool:
+                out = _collect(pool.imap(_map_pose_star, tasks, chunksize=1), progress)
+    finally:
+        _MAP_TASK.clear()
     grid = np.full((len(ws), len(ls_)), np.nan)
-    for i, w in enumerate(ws):
-        for j, leg in enumerate(ls_):
-            c = compute(robot, theta_w_deg=w, theta_l_deg=leg, step_deg=step_deg, start_deg=starts[(w, leg)],
-                        method=method, memory_budget_bytes=memory_budget_bytes)
-            if c.barrier.righting is not None:
-                grid[i, j] = c.barrier.righting.barrier_j
-            out.append(replace(c, landscape=None, pose=None))
-            if progress is not None:
-                progress(1)
+    for k, c in enumerate(out):
+        if c.barrier.righting is not None:
+            grid[k // len(ls_), k % len(ls_)] = c.barrier.righting.barrier_j
     return BarrierMap(tuple(ws), tuple(ls_), tuple(out), grid)
+
+
+def _collect(results, progress) -> list[Computation]:
+    out = []
+    for c in results:
+        out.append(c)
+        if progress is not None:
+            progress(1)
+    return out

@@ -209,6 +209,7 @@ class _Graph:
     arc_len: NDArray[np.float64]      # (A,) edge length, m
     pair_arc: tuple                   # (sorted keys min * K + max of vertex pairs, arc of each)
     face_next: NDArray[np.int64]      # where a face that is no minimum tips: face >= 0, or -2 - vertex
+    descended: dict = field(default_factory=dict)  # face -> minimum face it rolls down to (filled on demand)
 
 
 # --------------------------------------------------------------------------------------------- construction
@@ -236,11 +237,13 @@ def _faces(pts: NDArray[np.float64], tol_m: float):
 
 
 def _csr(n: int, rows: NDArray[np.int64], cols: NDArray[np.int64]):
-    order = np.lexsort((cols, rows))
-    rows, cols = rows[order], cols[order]
-    keep = np.ones(len(rows), dtype=bool)
-    keep[1:] = (rows[1:] != rows[:-1]) | (cols[1:] != cols[:-1])
-    rows, cols = rows[keep], cols[keep]
+    """The distinct (row, col) pairs as CSR: pointer per row and columns, sorted within each row."""
+    span = int(cols.max()) + 1 if len(cols) else 1
+    key = np.sort(rows.astype(np.int64) * span + cols)
+    keep = np.ones(len(key), dtype=bool)
+    keep[1:] = key[1:] != key[:-1]
+    key = key[keep]
+    rows, cols = key // span, key % span
     ptr = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.bincount(rows, minlength=n), out=ptr[1:])
     return ptr, cols.astype(np.int64)
@@ -518,14 +521,26 @@ def _face_exits(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin
 def _descend_face(ex: ExactLandscape, f: int) -> int:
     """The minimum face reached by quasi-static rolling from resting on face f."""
     nxt = ex._g.face_next
+    memo = ex._g.descended  # a deterministic function of the face: each face is rolled down from once
+    seen = []
     for _ in range(len(nxt) + 1):
+        if f in memo:
+            out = memo[f]
+            break
+        seen.append(f)
         if nxt[f] == -1:
-            return f
+            out = f
+            break
         if nxt[f] >= 0:
             f = int(nxt[f])
         else:
-            return _descend_from(ex, _cell_step(ex, int(-2 - nxt[f]), ex.face_up[f]))
-    raise RuntimeError(f"rolling down from face {f} did not settle; please report this body")
+            out = _descend_from(ex, _cell_step(ex, int(-2 - nxt[f]), ex.face_up[f]))
+            break
+    else:
+        raise RuntimeError(f"rolling down from face {f} did not settle; please report this body")
+    for x in seen:
+        memo[x] = out
+    return out
 
 
 def _descend_from(ex: ExactLandscape, u: NDArray[np.float64]) -> int:
