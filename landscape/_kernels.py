@@ -806,3 +806,120 @@ def torus_path(pr, p_start, r_start):
         out[k, 0] = p_ref
         out[k, 1] = r_ref
     return out
+
+
+@numba.njit(cache=True)
+def _norm3_seq(x0, x1, x2):
+    """|x| as ``np.linalg.norm(axis=1)`` computes it: sqrt((x0^2 + x1^2) + x2^2)."""
+    return np.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+
+
+@numba.njit(cache=True)
+def _dot3_einsum(a0, a1, a2, b0, b1, b2):
+    """a.b as ``np.einsum("ij,ij->i", a, b)`` computes it for three columns: (a0 b0 + a2 b2) + a1 b1."""
+    return (a0 * b0 + a2 * b2) + a1 * b1
+
+
+@numba.njit(cache=True)
+def face_margins(pts, normal, proj, face_ptr, face_idx, half_ptr, half_a, half_b):
+    """Signed distance of each face's CoM projection ``proj`` (F, 3) inside its boundary, m: the minimum over
+    the face's boundary half-edges (``half_ptr`` CSR, end vertices ``half_a``, ``half_b``) of the distance to the
+    edge line, positive toward the face's vertex centroid (``face_ptr``/``face_idx`` CSR). The arithmetic of
+    landscape.barriers.exact's NumPy reference, operation for operation."""
+    n_f = face_ptr.shape[0] - 1
+    out = np.full(n_f, np.inf)
+    for f in range(n_f):
+        c0 = 0.0
+        c1 = 0.0
+        c2 = 0.0
+        for q in range(face_ptr[f], face_ptr[f + 1]):
+            v = face_idx[q]
+            c0 += pts[v, 0]
+            c1 += pts[v, 1]
+            c2 += pts[v, 2]
+        cnt = float(face_ptr[f + 1] - face_ptr[f])
+        c0 /= cnt
+        c1 /= cnt
+        c2 /= cnt
+        n0 = normal[f, 0]
+        n1 = normal[f, 1]
+        n2 = normal[f, 2]
+        best = np.inf
+        for h in range(half_ptr[f], half_ptr[f + 1]):
+            a = half_a[h]
+            b = half_b[h]
+            d0 = pts[b, 0] - pts[a, 0]
+            d1 = pts[b, 1] - pts[a, 1]
+            d2 = pts[b, 2] - pts[a, 2]
+            ln = _norm3_seq(d0, d1, d2)
+            e0 = d0 / ln
+            e1 = d1 / ln
+            e2 = d2 / ln
+            m0 = n1 * e2 - n2 * e1
+            m1 = n2 * e0 - n0 * e2
+            m2 = n0 * e1 - n1 * e0
+            lm = _norm3_seq(m0, m1, m2)
+            m0 /= lm
+            m1 /= lm
+            m2 /= lm
+            side = _dot3_einsum(c0 - pts[a, 0], c1 - pts[a, 1], c2 - pts[a, 2], m0, m1, m2)
+            sg = np.sign(side)
+            m0 *= sg
+            m1 *= sg
+            m2 *= sg
+            dist = _dot3_einsum(proj[f, 0] - pts[a, 0], proj[f, 1] - pts[a, 1], proj[f, 2] - pts[a, 2], m0, m1, m2)
+            if best == best and (dist != dist or dist < best):  # np.minimum: NaN wins
+                best = dist
+        out[f] = best
+    return out
+
+
+@numba.njit(cache=True)
+def face_exits(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, tol_m):
+    """Where each face tips when the CoM's projection ``proj`` lies outside it: the boundary half-edge nearest
+    the projection (ties to the first), giving -1 (the face is a minimum: ``margin > tol_m``), the face across
+    that edge, or -2 - k for pivoting on its end vertex k when the nearest point is within ``tol_m`` of it.
+    The arithmetic of landscape.barriers.exact's NumPy reference, operation for operation."""
+    n_f = half_ptr.shape[0] - 1
+    out = np.full(n_f, -1, dtype=np.int64)
+    for f in range(n_f):
+        best = -1
+        best_d = np.inf
+        best_s = 0.0
+        best_len = 0.0
+        for h in range(half_ptr[f], half_ptr[f + 1]):
+            a = half_a[h]
+            b = half_b[h]
+            s0 = pts[b, 0] - pts[a, 0]
+            s1 = pts[b, 1] - pts[a, 1]
+            s2 = pts[b, 2] - pts[a, 2]
+            ln = _norm3_seq(s0, s1, s2)
+            num = _dot3_einsum(proj[f, 0] - pts[a, 0], proj[f, 1] - pts[a, 1], proj[f, 2] - pts[a, 2], s0, s1, s2)
+            s = num / (ln * ln)
+            if s != s:
+                pass
+            elif s < 0.0:
+                s = 0.0
+            elif s > 1.0:
+                s = 1.0
+            x0 = pts[a, 0] + s * s0 - proj[f, 0]
+            x1 = pts[a, 1] + s * s1 - proj[f, 1]
+            x2 = pts[a, 2] + s * s2 - proj[f, 2]
+            dist = _norm3_seq(x0, x1, x2)
+            # np.lexsort order: smaller first, NaN last, ties to the first half-edge
+            if best < 0 or dist < best_d or (best_d != best_d and dist == dist):
+                best = h
+                best_d = dist
+                best_s = s
+                best_len = ln
+        if best < 0 or margin[f] > tol_m:
+            continue
+        along = best_s * best_len
+        if along <= tol_m:
+            out[f] = -2 - half_a[best]
+        elif along >= best_len - tol_m:
+            out[f] = -2 - half_b[best]
+        else:
+            arc = half_arc[best]
+            out[f] = arc_faces[arc, 1] if arc_faces[arc, 0] == f else arc_faces[arc, 0]
+    return out

@@ -430,7 +430,7 @@ def _build(pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g
                                                                           arc_a, arc_b)
     half_ptr, half_face, half_arc, half_a, half_b = _half_edges(arc_faces, arc_a, arc_b, n_f)
     face_proj = com[None, :] - face_h[:, None] * face_up  # c + h n: the foot on the face plane
-    margin = _face_margins(pts, normal, face_proj, face_ptr, face_idx, half_face, half_a, half_b, n_f)
+    margin = _face_margins(pts, normal, face_proj, face_ptr, face_idx, half_ptr, half_a, half_b)
     nbr_ptr, nbr_idx = _csr(k_v, np.concatenate([tri[:, [0, 1, 2]].ravel(), tri[:, [1, 2, 0]].ravel()]),
                             np.concatenate([tri[:, [1, 2, 0]].ravel(), tri[:, [0, 1, 2]].ravel()]))
     face_next = _face_exits(pts, face_proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, tol_m)
@@ -445,8 +445,14 @@ def _build(pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g
                           peak_up, crit, g)
 
 
-def _face_margins(pts, normal, proj, face_ptr, face_idx, half_face, half_a, half_b, n_f):
-    """Signed distance of each face's CoM projection inside its boundary, m (min over boundary edges)."""
+def _face_margins(pts, normal, proj, face_ptr, face_idx, half_ptr, half_a, half_b):
+    """Signed distance of each face's CoM projection inside its boundary, m (min over boundary edges).
+    Compiled (``_kernels.face_margins``); :func:`_face_margins_reference` is the NumPy reference."""
+    return _kernels.face_margins(pts, normal, proj, face_ptr, face_idx, half_ptr, half_a, half_b)
+
+
+def _face_margins_reference(pts, normal, proj, face_ptr, face_idx, half_face, half_a, half_b, n_f):
+    """:func:`_face_margins` in NumPy (the reference the compiled one is tested against)."""
     centroid = np.zeros((n_f, 3))
     np.add.at(centroid, np.repeat(np.arange(n_f), np.diff(face_ptr)), pts[face_idx])
     centroid /= np.diff(face_ptr)[:, None]
@@ -500,7 +506,13 @@ def _face_exits(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin
     """Where each face that is no minimum tips: over the boundary feature nearest the CoM's projection.
 
     Returns, per face, -1 (a minimum), the next face (tipping over an edge) or -2 - k (pivoting on vertex k).
+    Compiled (``_kernels.face_exits``); :func:`_face_exits_reference` is the NumPy reference.
     """
+    return _kernels.face_exits(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, float(tol_m))
+
+
+def _face_exits_reference(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, tol_m):
+    """:func:`_face_exits` in NumPy (the reference the compiled one is tested against)."""
     n_f = len(half_ptr) - 1
     face = np.repeat(np.arange(n_f), np.diff(half_ptr))
     a, b = pts[half_a], pts[half_b]
