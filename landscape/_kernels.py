@@ -923,3 +923,61 @@ def face_exits(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin,
             arc = half_arc[best]
             out[f] = arc_faces[arc, 1] if arc_faces[arc, 0] == f else arc_faces[arc, 0]
     return out
+
+
+@numba.njit(cache=True)
+def cell_step(d, k, u):
+    """Steepest descent of h(u) = max_j d_j.u inside vertex k's cell: along the great circle from ``u`` away from
+    ``d[k]`` to the cell's boundary (where another vertex becomes as low) or to the antipode of ``d[k]``.
+
+    Returns (the new unit up-direction (3,), True), or (``u``, False) when ``u`` is balanced on the vertex
+    (parallel to ``d[k]``). landscape.barriers.exact's ``_cell_step_reference`` is the NumPy version.
+    """
+    dk0 = d[k, 0]
+    dk1 = d[k, 1]
+    dk2 = d[k, 2]
+    u0 = u[0]
+    u1 = u[1]
+    u2 = u[2]
+    du = dk0 * u0 + dk1 * u1 + dk2 * u2
+    g0 = dk0 - du * u0
+    g1 = dk1 - du * u1
+    g2 = dk2 - du * u2
+    n = np.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
+    ndk = np.sqrt(dk0 * dk0 + dk1 * dk1 + dk2 * dk2)
+    out = np.zeros(3)
+    if n < 1e-15 * ndk:
+        out[0] = u0
+        out[1] = u1
+        out[2] = u2
+        return out, False
+    t0 = -g0 / n
+    t1 = -g1 / n
+    t2 = -g2 / n
+    best = np.inf
+    two_pi = 2.0 * np.pi
+    for j in range(d.shape[0]):
+        if j == k:
+            continue
+        x0 = d[j, 0] - dk0
+        x1 = d[j, 1] - dk1
+        x2 = d[j, 2] - dk2
+        a = x0 * u0 + x1 * u1 + x2 * u2
+        b = x0 * t0 + x1 * t1 + x2 * t2
+        s = (np.arctan2(b, a) - np.pi / 2) % two_pi
+        if s >= 1e-12 and s < best:
+            best = s
+    c = du / ndk
+    c = -1.0 if c < -1.0 else (1.0 if c > 1.0 else c)
+    s_end = np.pi - np.arccos(c)
+    step = s_end if s_end < best else best
+    cs = np.cos(step)
+    sn = np.sin(step)
+    out[0] = cs * u0 + sn * t0
+    out[1] = cs * u1 + sn * t1
+    out[2] = cs * u2 + sn * t2
+    m = np.sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2])
+    out[0] /= m
+    out[1] /= m
+    out[2] /= m
+    return out, True

@@ -474,7 +474,21 @@ def _deg(u: NDArray[np.float64]) -> NDArray[np.float64]:
 
 # --------------------------------------------------------------------------------------------- rolling down
 def _cell_step(ex: ExactLandscape, k: int, u: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Steepest descent inside vertex k's cell: along the great circle away from d_k to the cell's boundary."""
+    """Steepest descent inside vertex k's cell: along the great circle away from d_k to the cell's boundary.
+
+    Compiled (``_kernels.cell_step``); :func:`_cell_step_reference` is the NumPy version.
+    """
+    g = ex._g
+    out, moved = _kernels.cell_step(g.d, int(k), np.ascontiguousarray(u, dtype=np.float64))
+    if moved:
+        return out
+    faces = g.vface_idx[g.vface_ptr[k]:g.vface_ptr[k + 1]]  # balanced on the vertex: fall onto its lowest face
+    f = int(faces[np.argmin(ex.face_height_m[faces])])
+    return ex.face_up[f].copy()
+
+
+def _cell_step_reference(ex: ExactLandscape, k: int, u: NDArray[np.float64]) -> NDArray[np.float64]:
+    """:func:`_cell_step` in NumPy (the reference the compiled one is tested against)."""
     g = ex._g
     dk = g.d[k]
     grad = dk - (dk @ u) * u

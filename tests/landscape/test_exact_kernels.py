@@ -123,3 +123,45 @@ def test_whole_pieces_equal_one_by_one(builtin_landscapes):
         want = exact._piece(ex, int(a), bool(f))
         assert got[:4] == want[:4]
         np.testing.assert_array_equal(got[4], want[4])
+
+
+def test_cell_step_kernel_matches_numpy(builtin_landscapes):
+    """The compiled step agrees with the NumPy one to rounding (BLAS and SIMD sum in another order), and the
+    descents it drives end on the same faces."""
+    rng = np.random.default_rng(5)
+    for ex in builtin_landscapes:
+        for _ in range(200):
+            u = rng.normal(size=3)
+            u /= np.linalg.norm(u)
+            k = int(np.argmax(ex._g.d @ u))
+            np.testing.assert_allclose(
+                exact._cell_step(ex, k, u), exact._cell_step_reference(ex, k, u), rtol=0, atol=1e-14
+            )
+        k = 0
+        balanced = ex._g.d[k] / np.linalg.norm(ex._g.d[k])  # on the vertex: falls onto its lowest face
+        np.testing.assert_array_equal(
+            exact._cell_step(ex, k, balanced), exact._cell_step_reference(ex, k, balanced)
+        )
+
+
+def test_cell_step_closed_form_on_a_cube():
+    """Unit cube, CoM at the centre, up-direction 10 deg off the direction of the vertex (-.5, -.5, -.5): the step
+    follows the great circle through that direction and u, away from it, and ends on the vertex's cell boundary,
+    where a second vertex is as low."""
+    cube = Robot.from_trimesh(trimesh.creation.box(extents=(1.0, 1.0, 1.0)), mass_kg=1.0)
+    ex = exact.exact_landscape(cube.pose())
+    corner = np.array([1.0, 1.0, 1.0]) / np.sqrt(3.0)  # d_k = c - v_k for v_k = (-.5, -.5, -.5)
+    k = int(np.argmax(ex._g.d @ corner))
+    face = np.array([0.0, 0.0, 1.0])
+    axis = np.cross(corner, face)
+    axis /= np.linalg.norm(axis)
+    tilt = np.deg2rad(10.0)
+    u = corner * np.cos(tilt) + np.cross(axis, corner) * np.sin(tilt)
+    out = exact._cell_step(ex, k, u)
+    # the step stays on the great circle through the corner direction and u, moving away from the corner
+    np.testing.assert_allclose(np.dot(out, axis), 0.0, atol=1e-12)
+    assert np.dot(out, corner) < np.dot(u, corner)
+    # and stops on the cell boundary: two vertices are then equally low
+    h = ex._g.d @ out
+    top = np.sort(h)[-2:]
+    assert top[1] - top[0] < 1e-12
