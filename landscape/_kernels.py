@@ -981,3 +981,50 @@ def cell_step(d, k, u):
     out[1] /= m
     out[2] /= m
     return out, True
+
+
+@numba.njit(cache=True)
+def merge_coplanar(pts, tri, eq, nb, tol_m, angle_tol):
+    """Merged faces of a triangulated convex hull: a triangle joins its neighbour's face when their unit normals
+    (``eq[:, :3]``) differ by at most ``angle_tol`` and the neighbour's far vertex lies within ``tol_m`` of the
+    triangle's plane. Returns the face of each triangle, faces numbered in order of their first triangle (as
+    ``scipy.sparse.csgraph.connected_components`` numbers them)."""
+    n_t = tri.shape[0]
+    root = np.arange(n_t)
+    for i in range(n_t):
+        for q in range(3):
+            j = nb[i, q]
+            far = tri[j, 0]
+            for r in range(3):  # the neighbour's vertex not shared with triangle i (the first, if all are)
+                v = tri[j, r]
+                if v != tri[i, 0] and v != tri[i, 1] and v != tri[i, 2]:
+                    far = v
+                    break
+            dist = abs(_dot3_einsum(eq[i, 0], eq[i, 1], eq[i, 2], pts[far, 0], pts[far, 1], pts[far, 2]) + eq[i, 3])
+            dn = _norm3_seq(eq[i, 0] - eq[j, 0], eq[i, 1] - eq[j, 1], eq[i, 2] - eq[j, 2])
+            if dist <= tol_m and dn <= angle_tol:
+                a = i
+                while root[a] != a:
+                    root[a] = root[root[a]]
+                    a = root[a]
+                b = j
+                while root[b] != b:
+                    root[b] = root[root[b]]
+                    b = root[b]
+                if a != b:
+                    if a < b:
+                        root[b] = a
+                    else:
+                        root[a] = b
+    label = np.full(n_t, -1, dtype=np.int64)
+    face = np.zeros(n_t, dtype=np.int64)
+    n_f = 0
+    for i in range(n_t):
+        a = i
+        while root[a] != a:
+            a = root[a]
+        if label[a] < 0:
+            label[a] = n_f
+            n_f += 1
+        face[i] = label[a]
+    return face

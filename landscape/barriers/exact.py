@@ -219,9 +219,17 @@ def _faces(pts: NDArray[np.float64], tol_m: float):
         qh = ConvexHull(pts)
     except (QhullError, ValueError):
         raise ExactMethodError(NOT_A_SOLID.format(n=len(pts), tol=tol_m)) from None
-    tri = np.asarray(qh.simplices, dtype=np.int64)
-    eq = np.asarray(qh.equations, dtype=np.float64)
-    nb = np.asarray(qh.neighbors, dtype=np.int64)
+    tri = np.ascontiguousarray(qh.simplices, dtype=np.int64)
+    eq = np.ascontiguousarray(qh.equations, dtype=np.float64)
+    nb = np.ascontiguousarray(qh.neighbors, dtype=np.int64)
+    tri_face = _kernels.merge_coplanar(np.ascontiguousarray(pts, dtype=np.float64), tri, eq, nb, float(tol_m),
+                                       ANGLE_TOL_RAD)
+    return eq, tri, nb, tri_face
+
+
+def _merge_coplanar_reference(pts, tri, eq, nb, tol_m: float):
+    """The face of each triangle, as ``_kernels.merge_coplanar`` finds it, with NumPy and scipy (the reference
+    the compiled one is tested against)."""
     n_t = len(tri)
     # a triangle joins its neighbour's face when the normals agree and its far vertex lies on that plane
     i = np.repeat(np.arange(n_t), 3)
@@ -233,7 +241,7 @@ def _faces(pts: NDArray[np.float64], tol_m: float):
     close = (dist <= tol_m) & (np.linalg.norm(eq[i, :3] - eq[j, :3], axis=1) <= ANGLE_TOL_RAD)
     adj = coo_matrix((np.ones(int(close.sum())), (i[close], j[close])), shape=(n_t, n_t))
     _, tri_face = connected_components(adj, directed=False)
-    return eq, tri, nb, tri_face.astype(np.int64)
+    return tri_face.astype(np.int64)
 
 
 def _csr(n: int, rows: NDArray[np.int64], cols: NDArray[np.int64]):

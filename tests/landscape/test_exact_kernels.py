@@ -165,3 +165,21 @@ def test_cell_step_closed_form_on_a_cube():
     h = ex._g.d @ out
     top = np.sort(h)[-2:]
     assert top[1] - top[0] < 1e-12
+
+
+def test_merge_coplanar_kernel_equals_scipy_components(builtin_landscapes):
+    from scipy.spatial import ConvexHull
+
+    box = trimesh.creation.box(extents=(4.0, 2.0, 1.0)).vertices  # 12 triangles, 6 faces
+    rng = np.random.default_rng(2)
+    blob = rng.normal(size=(60, 3))
+    grid = np.array(
+        [(x, y, z) for x in range(3) for y in range(3) for z in range(2)], dtype=float
+    )  # coplanar
+    for pts in [box, blob, grid, *(ex.vertices_m for ex in builtin_landscapes)]:
+        qh = ConvexHull(pts)
+        tol = 1e-9 * float(np.ptp(pts, axis=0).max())
+        eq, tri, nb, got = exact._faces(np.asarray(pts, dtype=np.float64), tol)
+        np.testing.assert_array_equal(got, exact._merge_coplanar_reference(pts, tri, eq, nb, tol))
+        assert len(tri) == len(qh.simplices)
+    assert exact._faces(np.asarray(box, dtype=np.float64), 1e-9)[3].max() + 1 == 6
