@@ -8,7 +8,9 @@ is kept:
 
 - start state: ``metastable_orientation(lab, 74, 30)`` (the quasi-static continuation), in process;
 - compute: ``compute(lab, theta_w_deg=74, theta_l_deg=30)`` (pose, start, landscape, exact barriers), in process;
-- barrier map: ``barrier_map(lab, theta_w -10..90 at 0.5, theta_l [0], method="exact")``, in process, one round;
+- barrier map: ``barrier_map(lab, theta_w -10..90 at 0.5, theta_l [0], method="exact")``, in process, one round
+  (since issue #12's map work its poses are spread over worker processes, ``workers=None``: one per CPU);
+- barrier map in one process: the same with ``workers=1`` (the baseline has no workers: its plain call);
 - ``landscape compute --theta-w 74`` and ``landscape --help``: whole processes (``python -m landscape``).
 
 Correctness columns: the start minimum's energy, the righting barrier and the map's righting barriers of the
@@ -35,11 +37,12 @@ LAB_URDFS = (
     ROOT.parent / "shared/ref/lab_robot/lab_robot.urdf",
     Path("/work/shared/ref/lab_robot/lab_robot.urdf"),
 )
-TARGETS_S = {"start": 0.010, "compute": 0.040, "map": 2.0, "cli_compute": 0.6, "cli_help": 0.3}
+TARGETS_S = {"start": 0.010, "compute": 0.040, "map": 2.0, "map_serial": 2.0, "cli_compute": 0.6, "cli_help": 0.3}
 LABELS = {
     "start": "start state, lab θw 74 θl 30",
     "compute": "compute, lab θw 74 θl 30 (exact)",
     "map": "barrier map, lab θw -10..90/0.5 (exact)",
+    "map_serial": "  the same map in one process",
     "cli_compute": "landscape compute --theta-w 74 (process)",
     "cli_help": "landscape --help (process)",
 }
@@ -77,6 +80,13 @@ def measure(lab: str, repeat: int, do_map: bool) -> dict:
         out["map"] = time.perf_counter() - t0
         out["map_righting_j"] = [None if not np.isfinite(x) else float(x) for x in m.righting_j.ravel()]
         out["map_start_j"] = [x.minimum.energy_j for x in m.computations]
+        t0 = time.perf_counter()
+        try:
+            m1 = barrier_map(robot, ws, [0.0], method="exact", workers=1)
+        except TypeError:  # a tree from before the workers: its only way is one process
+            m1 = barrier_map(robot, ws, [0.0], method="exact")
+        out["map_serial"] = time.perf_counter() - t0
+        out["map_serial_righting_j"] = [None if not np.isfinite(x) else float(x) for x in m1.righting_j.ravel()]
     return out
 
 
@@ -143,6 +153,7 @@ def table(old: dict, new: dict, rev: str) -> str:
     if "map" in old:
         d_b = max(_diff(a, b) for a, b in zip(old["map_righting_j"], new["map_righting_j"], strict=True))
         d_s = max(_diff(a, b) for a, b in zip(old["map_start_j"], new["map_start_j"], strict=True))
+        d_b = max(d_b, *(_diff(a, b) for a, b in zip(old["map_righting_j"], new["map_serial_righting_j"], strict=True)))
         rows.append(
             f"barrier map ({len(old['map_start_j'])} poses)  max |dE start| = {d_s:.2e} J   "
             f"max |dB righting| = {d_b:.2e} J"
