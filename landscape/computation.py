@@ -52,7 +52,8 @@ class Computation:
         The start minimum on the grid.
     barrier : Barrier
         Righting, pitch-wise, roll-wise and escape exits.
-    landscape : Landscape
+    landscape : Landscape or None
+        The pitch-roll grid (None when ``compute`` skipped it, ``landscape_grid=False``).
     timing_s : dict
         Wall time of each stage, s.
     """
@@ -211,7 +212,7 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
             step_deg: float = 1.0, start_pitch_deg: float | None = None, start_roll_deg: float | None = None,
             connectivity: int = 8, method: str = DEFAULT_METHOD, g_m_s2: float = G_M_S2,
             start_deg: tuple[float, float] | None = None,
-            memory_budget_bytes: float = MEMORY_BUDGET_BYTES) -> Computation:
+            memory_budget_bytes: float = MEMORY_BUDGET_BYTES, landscape_grid: bool = True) -> Computation:
     """Landscape, start minimum and barriers of a robot at (theta_w, theta_l).
 
     Parameters
@@ -238,13 +239,23 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
         A start orientation already found (used by sweeps that continue along theta); skips the search.
     memory_budget_bytes : float
         Refuse a grid whose estimated peak memory (:func:`landscape_memory_bytes`) exceeds this, bytes.
+    landscape_grid : bool
+        Build the pitch-roll landscape grid (the default). False, with a method that does not search the grid
+        ("exact", "sphere"), skips it and the grid's sector searches: ``landscape`` is then None and the
+        pitch-wise and roll-wise exits None; the start minimum and the righting and escape exits are unchanged
+        (a barrier map that reports only those, :func:`barrier_map` with ``sector_exits=False``).
 
     Raises
     ------
     JointLimitError, GridError, ValueError
         For angles outside the joint limits, a step not dividing 360, or a non-finite start.
+    UsageError
+        If ``landscape_grid`` is False with the method "grid".
     """
     solver = barrier_method(method)
+    if not landscape_grid and solver.SECTORS:
+        raise UsageError(f"the {method!r} method searches the landscape grid, so it cannot be skipped; "
+                         "keep landscape_grid=True or use method 'exact'")
     check_memory(step_deg, memory_budget_bytes)
     warm_up()
     timing = {}
@@ -264,13 +275,13 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
         )
     timing["start"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    ls = energy_landscape(pose, step_deg=step_deg, g_m_s2=g_m_s2)
+    ls = energy_landscape(pose, step_deg=step_deg, g_m_s2=g_m_s2) if landscape_grid else None
     timing["landscape"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     minimum, barrier = solver.solve(
         pose, ls, start_deg, step_deg=step_deg, connectivity=connectivity, g_m_s2=g_m_s2
     )
-    if not solver.SECTORS:
+    if not solver.SECTORS and landscape_grid:
         barrier = _with_sectors(barrier, minimum, ls, connectivity)
     timing["barrier"] = time.perf_counter() - t0
     return Computation(
@@ -355,7 +366,7 @@ def _map_pose(w: float, leg: float, start: tuple[float, float]) -> Computation:
     """One pose of a barrier map, without its landscape grid and pose (run in the parent or a forked worker)."""
     t = _MAP_TASK
     c = compute(t["robot"], theta_w_deg=w, theta_l_deg=leg, step_deg=t["step_deg"], start_deg=start,
-                method=t["method"], memory_budget_bytes=t["memory_budget_bytes"])
+                method=t["method"], memory_budget_bytes=t["memory_budget_bytes"], landscape_grid=t["grid"])
     return replace(c, landscape=None, pose=None)
 
 
@@ -399,7 +410,8 @@ def map_workers(n_poses: int, workers: int | None = None) -> int:
 
 def barrier_map(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float], *, step_deg: float = 1.0,
                 method: str = DEFAULT_METHOD, progress=None,
-                memory_budget_bytes: float = MEMORY_BUDGET_BYTES, workers: int | None = None) -> BarrierMap:
+                memory_budget_bytes: float = MEMORY_BUDGET_BYTES, workers: int | None = None,
+                sector_exits: bool = True) -> BarrierMap:
     """Start minimum and barriers at every (theta_w, theta_l), the starts from one shared continuation.
 
     Parameters
@@ -416,6 +428,10 @@ def barrier_map(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float]
         Worker processes (forked) the poses are spread over; the results are the same, in the same order.
         Default: :func:`map_workers` chooses (several only on a multi-core machine, from a process's main and
         only thread, for at least :data:`MAP_POSES_PER_WORKER` poses per worker); 1 computes in this process.
+    sector_exits : bool
+        Also find the pitch-wise and roll-wise exits (the default). False skips them for a method that does not
+        find them itself ("exact", "sphere"), and with them each pose's landscape grid (``compute``'s
+        ``landscape_grid=False``): those two exits are then None; minima, righting and escape are unchanged.
 
     Raises
     ------
@@ -434,13 +450,14 @@ def barrier_map(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float]
     for w in ws:
         for leg in ls_:
             robot.joint_values_rad(w, leg)
-    barrier_method(method)
+    grid = bool(sector_exits) or barrier_method(method).SECTORS
     check_memory(step_deg, memory_budget_bytes)
     n_workers = map_workers(len(ws) * len(ls_), workers)
     starts = sweep_starts(robot, ws, ls_)
     tasks = [(w, leg, starts[(w, leg)]) for w in ws for leg in ls_]
     warm_up()  # load the kernels once, before any fork, so the workers inherit them
-    _MAP_TASK.update(robot=robot, step_deg=step_deg, method=method, memory_budget_bytes=memory_budget_bytes)
+    _MAP_TASK.update(robot=robot, step_deg=step_deg, method=method, memory_budget_bytes=memory_budget_bytes,
+                     grid=grid)
     try:
         if n_workers == 1:
             results = map(_map_pose_star, tasks)

@@ -81,3 +81,43 @@ def test_joint_limits_are_checked_before_any_worker_starts():
     """A pose outside the joint limits is refused before any work, whatever the workers."""
     with pytest.raises(ValueError):
         barrier_map(load_robot(None), [0.0, 1e6], [0.0], workers=2)
+
+
+def test_map_without_sector_exits_keeps_minima_righting_and_escape():
+    """``sector_exits=False`` skips each pose's landscape grid: the pitch-wise and roll-wise exits are None and
+    everything else equals the reference."""
+    ref = REFERENCE["builtin"]
+    rows = ref["rows"][::4]
+    ws = sorted({r["theta_w_deg"] for r in rows})
+    bm = barrier_map(load_robot(None), ws, [0.0], method="exact", workers=1, sector_exits=False)
+    want = {(r["theta_w_deg"], r["theta_l_deg"]): r for r in ref["rows"]}
+    for c in bm.computations:
+        r = want[(c.theta_w_deg, c.theta_l_deg)]
+        assert c.barrier.pitch_wise is None and c.barrier.roll_wise is None
+        assert c.timing_s["landscape"] < 1e-3  # no grid was built
+        assert c.minimum.energy_j == pytest.approx(r["min_energy_j"], abs=1e-12)
+        for k in ("righting", "escape"):
+            x = getattr(c.barrier, k)
+            assert (x is None) == (r[k] is None)
+            if x is not None:
+                assert x.barrier_j == pytest.approx(r[k][0], abs=1e-12)
+                assert (x.saddle_pitch_deg, x.saddle_roll_deg, x.direction) == (
+                    pytest.approx(r[k][1], abs=1e-9),
+                    pytest.approx(r[k][2], abs=1e-9),
+                    r[k][3],
+                )
+
+
+def test_compute_without_grid():
+    from landscape.computation import compute
+
+    robot = load_robot(None)
+    full = compute(robot, theta_w_deg=40.0, theta_l_deg=0.0)
+    lean = compute(robot, theta_w_deg=40.0, theta_l_deg=0.0, landscape_grid=False)
+    assert lean.landscape is None and full.landscape is not None
+    assert lean.minimum == full.minimum
+    assert lean.barrier.righting.barrier_j == full.barrier.righting.barrier_j
+    assert lean.barrier.escape.barrier_j == full.barrier.escape.barrier_j
+    assert lean.barrier.pitch_wise is None and full.barrier.pitch_wise is not None
+    with pytest.raises(UsageError, match="searches the landscape grid"):
+        compute(robot, theta_w_deg=40.0, theta_l_deg=0.0, method="grid", landscape_grid=False)
