@@ -11,6 +11,8 @@ is kept:
 - barrier map: ``barrier_map(lab, theta_w -10..90 at 0.5, theta_l [0], method="exact")``, in process, one round
   (since issue #12's map work its poses are spread over worker processes, ``workers=None``: one per CPU);
 - barrier map in one process: the same with ``workers=1`` (the baseline has no workers: its plain call);
+- barrier map without sector exits: the default call with ``sector_exits=False`` (no per-pose landscape grid;
+  minima, righting and escape only), this tree only;
 - ``landscape compute --theta-w 74`` and ``landscape --help``: whole processes (``python -m landscape``).
 
 Correctness columns: the start minimum's energy, the righting barrier and the map's righting barriers of the
@@ -37,12 +39,13 @@ LAB_URDFS = (
     ROOT.parent / "shared/ref/lab_robot/lab_robot.urdf",
     Path("/work/shared/ref/lab_robot/lab_robot.urdf"),
 )
-TARGETS_S = {"start": 0.010, "compute": 0.040, "map": 2.0, "map_serial": 2.0, "cli_compute": 0.6, "cli_help": 0.3}
+TARGETS_S = {"start": 0.010, "compute": 0.040, "map": 2.0, "map_serial": 2.0, "map_lean": 2.0, "cli_compute": 0.6, "cli_help": 0.3}
 LABELS = {
     "start": "start state, lab θw 74 θl 30",
     "compute": "compute, lab θw 74 θl 30 (exact)",
     "map": "barrier map, lab θw -10..90/0.5 (exact)",
     "map_serial": "  the same map in one process",
+    "map_lean": "  the same map, sector_exits=False",
     "cli_compute": "landscape compute --theta-w 74 (process)",
     "cli_help": "landscape --help (process)",
 }
@@ -87,6 +90,13 @@ def measure(lab: str, repeat: int, do_map: bool) -> dict:
             m1 = barrier_map(robot, ws, [0.0], method="exact")
         out["map_serial"] = time.perf_counter() - t0
         out["map_serial_righting_j"] = [None if not np.isfinite(x) else float(x) for x in m1.righting_j.ravel()]
+        t0 = time.perf_counter()
+        try:
+            m2 = barrier_map(robot, ws, [0.0], method="exact", sector_exits=False)
+            out["map_lean"] = time.perf_counter() - t0
+            out["map_lean_righting_j"] = [None if not np.isfinite(x) else float(x) for x in m2.righting_j.ravel()]
+        except TypeError:  # a tree from before the option
+            pass
     return out
 
 
@@ -140,11 +150,12 @@ def _diff(a, b) -> float:
 def table(old: dict, new: dict, rev: str) -> str:
     rows = [f"{'quantity':44s} {'target':>8s} {rev[:10]:>10s} {'this tree':>10s} {'ratio':>7s}  met"]
     for key, label in LABELS.items():
-        if key not in old:
+        if key not in new:
             continue
-        t_old, t_new, target = old[key], new[key], TARGETS_S[key]
+        t_old, t_new, target = old.get(key), new[key], TARGETS_S[key]
+        was, ratio = ("—", "") if t_old is None else (_ms(t_old), f"{t_old / t_new:.2f}")
         rows.append(
-            f"{label:44s} {_ms(target):>8s} {_ms(t_old):>10s} {_ms(t_new):>10s} {t_old / t_new:7.2f}  "
+            f"{label:44s} {_ms(target):>8s} {was:>10s} {_ms(t_new):>10s} {ratio:>7s}  "
             f"{'yes' if t_new <= target else 'NO'}"
         )
     rows.append("")
@@ -153,7 +164,9 @@ def table(old: dict, new: dict, rev: str) -> str:
     if "map" in old:
         d_b = max(_diff(a, b) for a, b in zip(old["map_righting_j"], new["map_righting_j"], strict=True))
         d_s = max(_diff(a, b) for a, b in zip(old["map_start_j"], new["map_start_j"], strict=True))
-        d_b = max(d_b, *(_diff(a, b) for a, b in zip(old["map_righting_j"], new["map_serial_righting_j"], strict=True)))
+        for k in ("map_serial_righting_j", "map_lean_righting_j"):
+            if k in new:
+                d_b = max(d_b, *(_diff(a, b) for a, b in zip(old["map_righting_j"], new[k], strict=True)))
         rows.append(
             f"barrier map ({len(old['map_start_j'])} poses)  max |dE start| = {d_s:.2e} J   "
             f"max |dB righting| = {d_b:.2e} J"
