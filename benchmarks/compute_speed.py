@@ -39,7 +39,15 @@ LAB_URDFS = (
     ROOT.parent / "shared/ref/lab_robot/lab_robot.urdf",
     Path("/work/shared/ref/lab_robot/lab_robot.urdf"),
 )
-TARGETS_S = {"start": 0.010, "compute": 0.040, "map": 2.0, "map_serial": 2.0, "map_lean": 2.0, "cli_compute": 0.6, "cli_help": 0.3}
+TARGETS_S = {
+    "start": 0.010,
+    "compute": 0.040,
+    "map": 2.0,
+    "map_serial": 2.0,
+    "map_lean": 2.0,
+    "cli_compute": 0.6,
+    "cli_help": 0.3,
+}
 LABELS = {
     "start": "start state, lab θw 74 θl 30",
     "compute": "compute, lab θw 74 θl 30 (exact)",
@@ -89,12 +97,16 @@ def measure(lab: str, repeat: int, do_map: bool) -> dict:
         except TypeError:  # a tree from before the workers: its only way is one process
             m1 = barrier_map(robot, ws, [0.0], method="exact")
         out["map_serial"] = time.perf_counter() - t0
-        out["map_serial_righting_j"] = [None if not np.isfinite(x) else float(x) for x in m1.righting_j.ravel()]
+        out["map_serial_righting_j"] = [
+            None if not np.isfinite(x) else float(x) for x in m1.righting_j.ravel()
+        ]
         t0 = time.perf_counter()
         try:
             m2 = barrier_map(robot, ws, [0.0], method="exact", sector_exits=False)
             out["map_lean"] = time.perf_counter() - t0
-            out["map_lean_righting_j"] = [None if not np.isfinite(x) else float(x) for x in m2.righting_j.ravel()]
+            out["map_lean_righting_j"] = [
+                None if not np.isfinite(x) else float(x) for x in m2.righting_j.ravel()
+            ]
         except TypeError:  # a tree from before the option
             pass
     return out

@@ -867,7 +867,9 @@ def face_margins(pts, normal, proj, face_ptr, face_idx, half_ptr, half_a, half_b
             m0 *= sg
             m1 *= sg
             m2 *= sg
-            dist = _dot3_einsum(proj[f, 0] - pts[a, 0], proj[f, 1] - pts[a, 1], proj[f, 2] - pts[a, 2], m0, m1, m2)
+            dist = _dot3_einsum(
+                proj[f, 0] - pts[a, 0], proj[f, 1] - pts[a, 1], proj[f, 2] - pts[a, 2], m0, m1, m2
+            )
             if best == best and (dist != dist or dist < best):  # np.minimum: NaN wins
                 best = dist
         out[f] = best
@@ -894,7 +896,9 @@ def face_exits(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin,
             s1 = pts[b, 1] - pts[a, 1]
             s2 = pts[b, 2] - pts[a, 2]
             ln = _norm3_seq(s0, s1, s2)
-            num = _dot3_einsum(proj[f, 0] - pts[a, 0], proj[f, 1] - pts[a, 1], proj[f, 2] - pts[a, 2], s0, s1, s2)
+            num = _dot3_einsum(
+                proj[f, 0] - pts[a, 0], proj[f, 1] - pts[a, 1], proj[f, 2] - pts[a, 2], s0, s1, s2
+            )
             s = num / (ln * ln)
             if s != s:
                 pass
@@ -1000,7 +1004,9 @@ def merge_coplanar(pts, tri, eq, nb, tol_m, angle_tol):
                 if v != tri[i, 0] and v != tri[i, 1] and v != tri[i, 2]:
                     far = v
                     break
-            dist = abs(_dot3_einsum(eq[i, 0], eq[i, 1], eq[i, 2], pts[far, 0], pts[far, 1], pts[far, 2]) + eq[i, 3])
+            dist = abs(
+                _dot3_einsum(eq[i, 0], eq[i, 1], eq[i, 2], pts[far, 0], pts[far, 1], pts[far, 2]) + eq[i, 3]
+            )
             dn = _norm3_seq(eq[i, 0] - eq[j, 0], eq[i, 1] - eq[j, 1], eq[i, 2] - eq[j, 2])
             if dist <= tol_m and dn <= angle_tol:
                 a = i
