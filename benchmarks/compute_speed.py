@@ -20,6 +20,24 @@ two trees, which must agree to 1e-6 J.
 
 Run:  PYTHONPATH=. /work/main/.venv/bin/python benchmarks/compute_speed.py [--baseline 3ba33fb] [--repeat 5]
       [--no-map] [--lab PATH]
+
+Last run (issue #12's map work: compiled exact searches and face graph, worker processes; ``--repeat 3`` on the
+shared 2-CPU machine while other jobs kept its load near 2, so the two map workers got about one CPU between
+them; on an idle machine they share the map's ~5.5 s of work between two CPUs)::
+
+    python 3.11.7, 2 CPUs, load 2.09; best of 3 (map: one round); baseline 3ba33fb
+    quantity                                       target    3ba33fb  this tree   ratio  met
+    start state, lab θw 74 θl 30                 10.00 ms  118.13 ms    7.26 ms   16.26  yes
+    compute, lab θw 74 θl 30 (exact)             40.00 ms  159.32 ms   47.41 ms    3.36  NO
+    barrier map, lab θw -10..90/0.5 (exact)       2.000 s   14.002 s    5.351 s    2.62  NO
+      the same map in one process                 2.000 s   15.239 s    5.574 s    2.73  NO
+      the same map, sector_exits=False            2.000 s          —    1.972 s          yes
+    landscape compute --theta-w 74 (process)     600.00 ms    1.817 s    1.195 s    1.52  NO
+    landscape --help (process)                   300.00 ms   86.60 ms   89.63 ms    0.97  yes
+
+    start minimum energy   |dE| = 0.00e+00 J
+    righting barrier       |dB| = 0.00e+00 J
+    barrier map (201 poses)  max |dE start| = 0.00e+00 J   max |dB righting| = 0.00e+00 J
 """
 
 from __future__ import annotations
