@@ -359,19 +359,24 @@ class BarrierMap:
 MAP_POSES_PER_WORKER = 16
 """Fewest poses per worker process :func:`barrier_map` starts on its own (``workers=None``)."""
 
-_MAP_TASK: dict = {}  # the robot and options of the barrier map being computed, inherited by forked workers
+_MAP_TASK: dict = {}  # in a forked worker process only: the robot and options of its barrier map
 
 
-def _map_pose(w: float, leg: float, start: tuple[float, float]) -> Computation:
-    """One pose of a barrier map, without its landscape grid and pose (run in the parent or a forked worker)."""
-    t = _MAP_TASK
-    c = compute(t["robot"], theta_w_deg=w, theta_l_deg=leg, step_deg=t["step_deg"], start_deg=start,
-                method=t["method"], memory_budget_bytes=t["memory_budget_bytes"], landscape_grid=t["grid"])
+def _map_pose(task: dict, w: float, leg: float, start: tuple[float, float]) -> Computation:
+    """One pose of a barrier map, without its landscape grid and pose."""
+    c = compute(task["robot"], theta_w_deg=w, theta_l_deg=leg, step_deg=task["step_deg"], start_deg=start,
+                method=task["method"], memory_budget_bytes=task["memory_budget_bytes"],
+                landscape_grid=task["grid"])
     return replace(c, landscape=None, pose=None)
 
 
-def _map_pose_star(args) -> Computation:
-    return _map_pose(*args)
+def _map_worker_init(task: dict) -> None:
+    """Start of a forked worker: keep the map's robot and options (inherited, not pickled)."""
+    _MAP_TASK.update(task)
+
+
+def _map_pose_in_worker(args) -> Computation:
+    return _map_pose(_MAP_TASK, *args)
 
 
 def map_workers(n_poses: int, workers: int | None = None) -> int:
@@ -456,24 +461,19 @@ def barrier_map(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float]
     starts = sweep_starts(robot, ws, ls_)
     tasks = [(w, leg, starts[(w, leg)]) for w in ws for leg in ls_]
     warm_up()  # load the kernels once, before any fork, so the workers inherit them
-    _MAP_TASK.update(robot=robot, step_deg=step_deg, method=method, memory_budget_bytes=memory_budget_bytes,
-                     grid=grid)
-    try:
-        if n_workers == 1:
-            results = map(_map_pose_star, tasks)
-            out = _collect(results, progress)
-        else:
-            import multiprocessing
+    task = dict(robot=robot, step_deg=step_deg, method=method, memory_budget_bytes=memory_budget_bytes, grid=grid)
+    if n_workers == 1:
+        out = _collect((_map_pose(task, *t) for t in tasks), progress)
+    else:
+        import multiprocessing
 
-            with multiprocessing.get_context("fork").Pool(n_workers) as pool:
-                out = _collect(pool.imap(_map_pose_star, tasks, chunksize=1), progress)
-    finally:
-        _MAP_TASK.clear()
-    grid = np.full((len(ws), len(ls_)), np.nan)
+        with multiprocessing.get_context("fork").Pool(n_workers, _map_worker_init, (task,)) as pool:
+            out = _collect(pool.imap(_map_pose_in_worker, tasks, chunksize=1), progress)
+    righting = np.full((len(ws), len(ls_)), np.nan)
     for k, c in enumerate(out):
         if c.barrier.righting is not None:
-            grid[k // len(ls_), k % len(ls_)] = c.barrier.righting.barrier_j
-    return BarrierMap(tuple(ws), tuple(ls_), tuple(out), grid)
+            righting[k // len(ls_), k % len(ls_)] = c.barrier.righting.barrier_j
+    return BarrierMap(tuple(ws), tuple(ls_), tuple(out), righting)
 
 
 def _collect(results, progress) -> list[Computation]:
