@@ -8,7 +8,11 @@ is kept:
 
 - start state: ``metastable_orientation(lab, 74, 30)`` (the quasi-static continuation), in process;
 - compute: ``compute(lab, theta_w_deg=74, theta_l_deg=30)`` (pose, start, landscape, exact barriers), in process;
-- barrier map: ``barrier_map(lab, theta_w -10..90 at 0.5, theta_l [0], method="exact")``, in process, one round;
+- barrier map: ``barrier_map(lab, theta_w -10..90 at 0.5, theta_l [0], method="exact")``, in process, one round
+  (since issue #12's map work its poses are spread over worker processes, ``workers=None``: one per CPU);
+- barrier map in one process: the same with ``workers=1`` (the baseline has no workers: its plain call);
+- barrier map without sector exits: the default call with ``sector_exits=False`` (no per-pose landscape grid;
+  minima, righting and escape only), this tree only;
 - ``landscape compute --theta-w 74`` and ``landscape --help``: whole processes (``python -m landscape``).
 
 Correctness columns: the start minimum's energy, the righting barrier and the map's righting barriers of the
@@ -16,6 +20,24 @@ two trees, which must agree to 1e-6 J.
 
 Run:  PYTHONPATH=. /work/main/.venv/bin/python benchmarks/compute_speed.py [--baseline 3ba33fb] [--repeat 5]
       [--no-map] [--lab PATH]
+
+Last run (issue #12's map work: compiled exact searches and face graph, worker processes; ``--repeat 3`` on the
+shared 2-CPU machine while other jobs kept its load near 2, so the two map workers got about one CPU between
+them; on an idle machine they share the map's ~5.5 s of work between two CPUs)::
+
+    python 3.11.7, 2 CPUs, load 2.09; best of 3 (map: one round); baseline 3ba33fb
+    quantity                                       target    3ba33fb  this tree   ratio  met
+    start state, lab θw 74 θl 30                 10.00 ms  118.13 ms    7.26 ms   16.26  yes
+    compute, lab θw 74 θl 30 (exact)             40.00 ms  159.32 ms   47.41 ms    3.36  NO
+    barrier map, lab θw -10..90/0.5 (exact)       2.000 s   14.002 s    5.351 s    2.62  NO
+      the same map in one process                 2.000 s   15.239 s    5.574 s    2.73  NO
+      the same map, sector_exits=False            2.000 s          —    1.972 s          yes
+    landscape compute --theta-w 74 (process)     600.00 ms    1.817 s    1.195 s    1.52  NO
+    landscape --help (process)                   300.00 ms   86.60 ms   89.63 ms    0.97  yes
+
+    start minimum energy   |dE| = 0.00e+00 J
+    righting barrier       |dB| = 0.00e+00 J
+    barrier map (201 poses)  max |dE start| = 0.00e+00 J   max |dB righting| = 0.00e+00 J
 """
 
 from __future__ import annotations
@@ -35,11 +57,21 @@ LAB_URDFS = (
     ROOT.parent / "shared/ref/lab_robot/lab_robot.urdf",
     Path("/work/shared/ref/lab_robot/lab_robot.urdf"),
 )
-TARGETS_S = {"start": 0.010, "compute": 0.040, "map": 2.0, "cli_compute": 0.6, "cli_help": 0.3}
+TARGETS_S = {
+    "start": 0.010,
+    "compute": 0.040,
+    "map": 2.0,
+    "map_serial": 2.0,
+    "map_lean": 2.0,
+    "cli_compute": 0.6,
+    "cli_help": 0.3,
+}
 LABELS = {
     "start": "start state, lab θw 74 θl 30",
     "compute": "compute, lab θw 74 θl 30 (exact)",
     "map": "barrier map, lab θw -10..90/0.5 (exact)",
+    "map_serial": "  the same map in one process",
+    "map_lean": "  the same map, sector_exits=False",
     "cli_compute": "landscape compute --theta-w 74 (process)",
     "cli_help": "landscape --help (process)",
 }
@@ -77,6 +109,24 @@ def measure(lab: str, repeat: int, do_map: bool) -> dict:
         out["map"] = time.perf_counter() - t0
         out["map_righting_j"] = [None if not np.isfinite(x) else float(x) for x in m.righting_j.ravel()]
         out["map_start_j"] = [x.minimum.energy_j for x in m.computations]
+        t0 = time.perf_counter()
+        try:
+            m1 = barrier_map(robot, ws, [0.0], method="exact", workers=1)
+        except TypeError:  # a tree from before the workers: its only way is one process
+            m1 = barrier_map(robot, ws, [0.0], method="exact")
+        out["map_serial"] = time.perf_counter() - t0
+        out["map_serial_righting_j"] = [
+            None if not np.isfinite(x) else float(x) for x in m1.righting_j.ravel()
+        ]
+        t0 = time.perf_counter()
+        try:
+            m2 = barrier_map(robot, ws, [0.0], method="exact", sector_exits=False)
+            out["map_lean"] = time.perf_counter() - t0
+            out["map_lean_righting_j"] = [
+                None if not np.isfinite(x) else float(x) for x in m2.righting_j.ravel()
+            ]
+        except TypeError:  # a tree from before the option
+            pass
     return out
 
 
@@ -130,11 +180,12 @@ def _diff(a, b) -> float:
 def table(old: dict, new: dict, rev: str) -> str:
     rows = [f"{'quantity':44s} {'target':>8s} {rev[:10]:>10s} {'this tree':>10s} {'ratio':>7s}  met"]
     for key, label in LABELS.items():
-        if key not in old:
+        if key not in new:
             continue
-        t_old, t_new, target = old[key], new[key], TARGETS_S[key]
+        t_old, t_new, target = old.get(key), new[key], TARGETS_S[key]
+        was, ratio = ("—", "") if t_old is None else (_ms(t_old), f"{t_old / t_new:.2f}")
         rows.append(
-            f"{label:44s} {_ms(target):>8s} {_ms(t_old):>10s} {_ms(t_new):>10s} {t_old / t_new:7.2f}  "
+            f"{label:44s} {_ms(target):>8s} {was:>10s} {_ms(t_new):>10s} {ratio:>7s}  "
             f"{'yes' if t_new <= target else 'NO'}"
         )
     rows.append("")
@@ -143,6 +194,9 @@ def table(old: dict, new: dict, rev: str) -> str:
     if "map" in old:
         d_b = max(_diff(a, b) for a, b in zip(old["map_righting_j"], new["map_righting_j"], strict=True))
         d_s = max(_diff(a, b) for a, b in zip(old["map_start_j"], new["map_start_j"], strict=True))
+        for k in ("map_serial_righting_j", "map_lean_righting_j"):
+            if k in new:
+                d_b = max(d_b, *(_diff(a, b) for a, b in zip(old["map_righting_j"], new[k], strict=True)))
         rows.append(
             f"barrier map ({len(old['map_start_j'])} poses)  max |dE start| = {d_s:.2e} J   "
             f"max |dB righting| = {d_b:.2e} J"

@@ -728,3 +728,309 @@ def follow_path(pts, part_ptr, rot, trans, com, rtol, u0, max_moves):
                 return ups, False
         ups[s] = u
     return ups, True
+
+
+# ------------------------------------------------------------------------- exact method (barriers/exact.py)
+@numba.njit(cache=True)
+def minimax_graph(ptr, other, edge, weight, sources, goal, stop):
+    """Bottleneck Dijkstra on an undirected graph in CSR form (``ptr``, neighbour ``other``, ``edge`` index and
+    ``weight`` of each adjacency): the lowest possible maximum edge weight from the sources.
+
+    Goal nodes are settled but never expanded; with ``stop`` the search ends at the first goal settled. The heap
+    orders (level, node) as Python tuples do, so the result equals landscape.barriers.exact's reference search.
+    Returns (level per node, parent edge per node, first goal settled or -1).
+    """
+    n = ptr.shape[0] - 1
+    level = np.full(n, np.inf)
+    parent = np.full(n, -1, dtype=np.int64)
+    done = np.zeros(n, dtype=np.bool_)
+    cap = other.shape[0] + sources.shape[0] + 1
+    he = np.zeros(cap)
+    hi = np.zeros(cap, dtype=np.int64)
+    size = 0
+    for k in range(sources.shape[0]):
+        s = sources[k]
+        level[s] = -np.inf
+        size = _push(he, hi, size, -np.inf, s)
+    first = -1
+    while size > 0:
+        lv, x, size = _pop(he, hi, size)
+        if done[x]:
+            continue
+        done[x] = True
+        if goal[x]:
+            if first < 0:
+                first = x
+                if stop:
+                    break
+            continue
+        for q in range(ptr[x], ptr[x + 1]):
+            y = other[q]
+            if done[y]:
+                continue
+            w = weight[q]
+            nl = lv if lv >= w else w
+            if nl < level[y] or (nl == level[y] and parent[y] < 0 and level[y] != -np.inf):
+                level[y] = nl
+                parent[y] = edge[q]
+                size = _push(he, hi, size, nl, y)
+    return level, parent, first
+
+
+@numba.njit(cache=True)
+def _wrap180(x):
+    return (x + 180.0) % 360.0 - 180.0
+
+
+@numba.njit(cache=True)
+def torus_path(pr, p_start, r_start):
+    """A continuous torus path through canonical (pitch, roll) points (M, 2), degrees: each point's
+    representative ((p, r) or (180 - p, r + 180), shifted by whole turns) nearest the previous one, in the larger
+    of the pitch and roll differences (ties keep (p, r); at a pole the roll is the previous one's)."""
+    m = pr.shape[0]
+    out = np.zeros((m, 2))
+    p_ref = p_start
+    r_ref = r_start
+    for k in range(m):
+        p = pr[k, 0]
+        r = pr[k, 1]
+        pole = abs(abs(p) - 90.0) < 1e-9
+        p1 = p_ref + _wrap180(p - p_ref)
+        r1 = r_ref if pole else r_ref + _wrap180(r - r_ref)
+        p2 = p_ref + _wrap180(180.0 - p - p_ref)
+        r2 = r_ref if pole else r_ref + _wrap180(r + 180.0 - r_ref)
+        if max(abs(p2 - p_ref), abs(r2 - r_ref)) < max(abs(p1 - p_ref), abs(r1 - r_ref)) - 1e-12:
+            p_ref, r_ref = p2, r2
+        else:
+            p_ref, r_ref = p1, r1
+        out[k, 0] = p_ref
+        out[k, 1] = r_ref
+    return out
+
+
+@numba.njit(cache=True)
+def _norm3_seq(x0, x1, x2):
+    """|x| as ``np.linalg.norm(axis=1)`` computes it: sqrt((x0^2 + x1^2) + x2^2)."""
+    return np.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+
+
+@numba.njit(cache=True)
+def _dot3_einsum(a0, a1, a2, b0, b1, b2):
+    """a.b as ``np.einsum("ij,ij->i", a, b)`` computes it for three columns: (a0 b0 + a2 b2) + a1 b1."""
+    return (a0 * b0 + a2 * b2) + a1 * b1
+
+
+@numba.njit(cache=True)
+def face_margins(pts, normal, proj, face_ptr, face_idx, half_ptr, half_a, half_b):
+    """Signed distance of each face's CoM projection ``proj`` (F, 3) inside its boundary, m: the minimum over
+    the face's boundary half-edges (``half_ptr`` CSR, end vertices ``half_a``, ``half_b``) of the distance to the
+    edge line, positive toward the face's vertex centroid (``face_ptr``/``face_idx`` CSR). The arithmetic of
+    landscape.barriers.exact's NumPy reference, operation for operation."""
+    n_f = face_ptr.shape[0] - 1
+    out = np.full(n_f, np.inf)
+    for f in range(n_f):
+        c0 = 0.0
+        c1 = 0.0
+        c2 = 0.0
+        for q in range(face_ptr[f], face_ptr[f + 1]):
+            v = face_idx[q]
+            c0 += pts[v, 0]
+            c1 += pts[v, 1]
+            c2 += pts[v, 2]
+        cnt = float(face_ptr[f + 1] - face_ptr[f])
+        c0 /= cnt
+        c1 /= cnt
+        c2 /= cnt
+        n0 = normal[f, 0]
+        n1 = normal[f, 1]
+        n2 = normal[f, 2]
+        best = np.inf
+        for h in range(half_ptr[f], half_ptr[f + 1]):
+            a = half_a[h]
+            b = half_b[h]
+            d0 = pts[b, 0] - pts[a, 0]
+            d1 = pts[b, 1] - pts[a, 1]
+            d2 = pts[b, 2] - pts[a, 2]
+            ln = _norm3_seq(d0, d1, d2)
+            e0 = d0 / ln
+            e1 = d1 / ln
+            e2 = d2 / ln
+            m0 = n1 * e2 - n2 * e1
+            m1 = n2 * e0 - n0 * e2
+            m2 = n0 * e1 - n1 * e0
+            lm = _norm3_seq(m0, m1, m2)
+            m0 /= lm
+            m1 /= lm
+            m2 /= lm
+            side = _dot3_einsum(c0 - pts[a, 0], c1 - pts[a, 1], c2 - pts[a, 2], m0, m1, m2)
+            sg = np.sign(side)
+            m0 *= sg
+            m1 *= sg
+            m2 *= sg
+            dist = _dot3_einsum(
+                proj[f, 0] - pts[a, 0], proj[f, 1] - pts[a, 1], proj[f, 2] - pts[a, 2], m0, m1, m2
+            )
+            if best == best and (dist != dist or dist < best):  # np.minimum: NaN wins
+                best = dist
+        out[f] = best
+    return out
+
+
+@numba.njit(cache=True)
+def face_exits(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, tol_m):
+    """Where each face tips when the CoM's projection ``proj`` lies outside it: the boundary half-edge nearest
+    the projection (ties to the first), giving -1 (the face is a minimum: ``margin > tol_m``), the face across
+    that edge, or -2 - k for pivoting on its end vertex k when the nearest point is within ``tol_m`` of it.
+    The arithmetic of landscape.barriers.exact's NumPy reference, operation for operation."""
+    n_f = half_ptr.shape[0] - 1
+    out = np.full(n_f, -1, dtype=np.int64)
+    for f in range(n_f):
+        best = -1
+        best_d = np.inf
+        best_s = 0.0
+        best_len = 0.0
+        for h in range(half_ptr[f], half_ptr[f + 1]):
+            a = half_a[h]
+            b = half_b[h]
+            s0 = pts[b, 0] - pts[a, 0]
+            s1 = pts[b, 1] - pts[a, 1]
+            s2 = pts[b, 2] - pts[a, 2]
+            ln = _norm3_seq(s0, s1, s2)
+            num = _dot3_einsum(
+                proj[f, 0] - pts[a, 0], proj[f, 1] - pts[a, 1], proj[f, 2] - pts[a, 2], s0, s1, s2
+            )
+            s = num / (ln * ln)
+            if s != s:
+                pass
+            elif s < 0.0:
+                s = 0.0
+            elif s > 1.0:
+                s = 1.0
+            x0 = pts[a, 0] + s * s0 - proj[f, 0]
+            x1 = pts[a, 1] + s * s1 - proj[f, 1]
+            x2 = pts[a, 2] + s * s2 - proj[f, 2]
+            dist = _norm3_seq(x0, x1, x2)
+            # np.lexsort order: smaller first, NaN last, ties to the first half-edge
+            if best < 0 or dist < best_d or (best_d != best_d and dist == dist):
+                best = h
+                best_d = dist
+                best_s = s
+                best_len = ln
+        if best < 0 or margin[f] > tol_m:
+            continue
+        along = best_s * best_len
+        if along <= tol_m:
+            out[f] = -2 - half_a[best]
+        elif along >= best_len - tol_m:
+            out[f] = -2 - half_b[best]
+        else:
+            arc = half_arc[best]
+            out[f] = arc_faces[arc, 1] if arc_faces[arc, 0] == f else arc_faces[arc, 0]
+    return out
+
+
+@numba.njit(cache=True)
+def cell_step(d, k, u):
+    """Steepest descent of h(u) = max_j d_j.u inside vertex k's cell: along the great circle from ``u`` away from
+    ``d[k]`` to the cell's boundary (where another vertex becomes as low) or to the antipode of ``d[k]``.
+
+    Returns (the new unit up-direction (3,), True), or (``u``, False) when ``u`` is balanced on the vertex
+    (parallel to ``d[k]``). landscape.barriers.exact's ``_cell_step_reference`` is the NumPy version.
+    """
+    dk0 = d[k, 0]
+    dk1 = d[k, 1]
+    dk2 = d[k, 2]
+    u0 = u[0]
+    u1 = u[1]
+    u2 = u[2]
+    du = dk0 * u0 + dk1 * u1 + dk2 * u2
+    g0 = dk0 - du * u0
+    g1 = dk1 - du * u1
+    g2 = dk2 - du * u2
+    n = np.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
+    ndk = np.sqrt(dk0 * dk0 + dk1 * dk1 + dk2 * dk2)
+    out = np.zeros(3)
+    if n < 1e-15 * ndk:
+        out[0] = u0
+        out[1] = u1
+        out[2] = u2
+        return out, False
+    t0 = -g0 / n
+    t1 = -g1 / n
+    t2 = -g2 / n
+    best = np.inf
+    two_pi = 2.0 * np.pi
+    for j in range(d.shape[0]):
+        if j == k:
+            continue
+        x0 = d[j, 0] - dk0
+        x1 = d[j, 1] - dk1
+        x2 = d[j, 2] - dk2
+        a = x0 * u0 + x1 * u1 + x2 * u2
+        b = x0 * t0 + x1 * t1 + x2 * t2
+        s = (np.arctan2(b, a) - np.pi / 2) % two_pi
+        if s >= 1e-12 and s < best:
+            best = s
+    c = du / ndk
+    c = -1.0 if c < -1.0 else (1.0 if c > 1.0 else c)
+    s_end = np.pi - np.arccos(c)
+    step = s_end if s_end < best else best
+    cs = np.cos(step)
+    sn = np.sin(step)
+    out[0] = cs * u0 + sn * t0
+    out[1] = cs * u1 + sn * t1
+    out[2] = cs * u2 + sn * t2
+    m = np.sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2])
+    out[0] /= m
+    out[1] /= m
+    out[2] /= m
+    return out, True
+
+
+@numba.njit(cache=True)
+def merge_coplanar(pts, tri, eq, nb, tol_m, angle_tol):
+    """Merged faces of a triangulated convex hull: a triangle joins its neighbour's face when their unit normals
+    (``eq[:, :3]``) differ by at most ``angle_tol`` and the neighbour's far vertex lies within ``tol_m`` of the
+    triangle's plane. Returns the face of each triangle, faces numbered in order of their first triangle (as
+    ``scipy.sparse.csgraph.connected_components`` numbers them)."""
+    n_t = tri.shape[0]
+    root = np.arange(n_t)
+    for i in range(n_t):
+        for q in range(3):
+            j = nb[i, q]
+            far = tri[j, 0]
+            for r in range(3):  # the neighbour's vertex not shared with triangle i (the first, if all are)
+                v = tri[j, r]
+                if v != tri[i, 0] and v != tri[i, 1] and v != tri[i, 2]:
+                    far = v
+                    break
+            dist = abs(
+                _dot3_einsum(eq[i, 0], eq[i, 1], eq[i, 2], pts[far, 0], pts[far, 1], pts[far, 2]) + eq[i, 3]
+            )
+            dn = _norm3_seq(eq[i, 0] - eq[j, 0], eq[i, 1] - eq[j, 1], eq[i, 2] - eq[j, 2])
+            if dist <= tol_m and dn <= angle_tol:
+                a = i
+                while root[a] != a:
+                    root[a] = root[root[a]]
+                    a = root[a]
+                b = j
+                while root[b] != b:
+                    root[b] = root[root[b]]
+                    b = root[b]
+                if a != b:
+                    if a < b:
+                        root[b] = a
+                    else:
+                        root[a] = b
+    label = np.full(n_t, -1, dtype=np.int64)
+    face = np.zeros(n_t, dtype=np.int64)
+    n_f = 0
+    for i in range(n_t):
+        a = i
+        while root[a] != a:
+            a = root[a]
+        if label[a] < 0:
+            label[a] = n_f
+            n_f += 1
+        face[i] = label[a]
+    return face

@@ -52,7 +52,8 @@ class Computation:
         The start minimum on the grid.
     barrier : Barrier
         Righting, pitch-wise, roll-wise and escape exits.
-    landscape : Landscape
+    landscape : Landscape or None
+        The pitch-roll grid (None when ``compute`` skipped it, ``landscape_grid=False``).
     timing_s : dict
         Wall time of each stage, s.
     """
@@ -212,7 +213,7 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
             step_deg: float = 1.0, start_pitch_deg: float | None = None, start_roll_deg: float | None = None,
             connectivity: int = 8, method: str = DEFAULT_METHOD, g_m_s2: float = G_M_S2,
             start_deg: tuple[float, float] | None = None,
-            memory_budget_bytes: float = MEMORY_BUDGET_BYTES) -> Computation:
+            memory_budget_bytes: float = MEMORY_BUDGET_BYTES, landscape_grid: bool = True) -> Computation:
     """Landscape, start minimum and barriers of a robot at (theta_w, theta_l).
 
     Parameters
@@ -239,13 +240,23 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
         A start orientation already found (used by sweeps that continue along theta); skips the search.
     memory_budget_bytes : float
         Refuse a grid whose estimated peak memory (:func:`landscape_memory_bytes`) exceeds this, bytes.
+    landscape_grid : bool
+        Build the pitch-roll landscape grid (the default). False, with a method that does not search the grid
+        ("exact", "sphere"), skips it and the grid's sector searches: ``landscape`` is then None and the
+        pitch-wise and roll-wise exits None; the start minimum and the righting and escape exits are unchanged
+        (a barrier map that reports only those, :func:`barrier_map` with ``sector_exits=False``).
 
     Raises
     ------
     JointLimitError, GridError, ValueError
         For angles outside the joint limits, a step not dividing 360, or a non-finite start.
+    UsageError
+        If ``landscape_grid`` is False with the method "grid".
     """
     solver = barrier_method(method)
+    if not landscape_grid and solver.SECTORS:
+        raise UsageError(f"the {method!r} method searches the landscape grid, so it cannot be skipped; "
+                         "keep landscape_grid=True or use method 'exact'")
     check_memory(step_deg, memory_budget_bytes)
     warm_up()
     timing = {}
@@ -265,13 +276,13 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
         )
     timing["start"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    ls = energy_landscape(pose, step_deg=step_deg, g_m_s2=g_m_s2)
+    ls = energy_landscape(pose, step_deg=step_deg, g_m_s2=g_m_s2) if landscape_grid else None
     timing["landscape"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     minimum, barrier = solver.solve(
         pose, ls, start_deg, step_deg=step_deg, connectivity=connectivity, g_m_s2=g_m_s2
     )
-    if not solver.SECTORS:
+    if not solver.SECTORS and landscape_grid:
         barrier = _with_sectors(barrier, minimum, ls, connectivity)
     timing["barrier"] = time.perf_counter() - t0
     return Computation(
@@ -346,9 +357,67 @@ class BarrierMap:
     righting_j: NDArray[np.float64] = field(repr=False)
 
 
+MAP_POSES_PER_WORKER = 16
+"""Fewest poses per worker process :func:`barrier_map` starts on its own (``workers=None``)."""
+
+_MAP_TASK: dict = {}  # in a forked worker process only: the robot and options of its barrier map
+
+
+def _map_pose(task: dict, w: float, leg: float, start: tuple[float, float]) -> Computation:
+    """One pose of a barrier map, without its landscape grid and pose."""
+    c = compute(task["robot"], theta_w_deg=w, theta_l_deg=leg, step_deg=task["step_deg"], start_deg=start,
+                method=task["method"], memory_budget_bytes=task["memory_budget_bytes"],
+                landscape_grid=task["grid"])
+    return replace(c, landscape=None, pose=None)
+
+
+def _map_worker_init(task: dict) -> None:
+    """Start of a forked worker: keep the map's robot and options (inherited, not pickled)."""
+    _MAP_TASK.update(task)
+
+
+def _map_pose_in_worker(args) -> Computation:
+    return _map_pose(_MAP_TASK, *args)
+
+
+def map_workers(n_poses: int, workers: int | None = None) -> int:
+    """Worker processes :func:`barrier_map` uses for ``n_poses`` poses.
+
+    ``workers=None`` chooses: one per CPU this process may run on, at most one per
+    :data:`MAP_POSES_PER_WORKER` poses, and 1 (no workers) unless this is the main thread and the only one
+    (workers are forked, which is unsafe in a process running other threads, e.g. the service) and the
+    ``fork`` start method exists. An explicit ``workers`` is used as given (capped at ``n_poses``).
+
+    Raises
+    ------
+    UsageError
+        If ``workers`` is below 1.
+
+    Examples
+    --------
+    >>> map_workers(5, 1), map_workers(1, 4), map_workers(3, 2)
+    (1, 1, 2)
+    """
+    import multiprocessing
+    import os
+    import threading
+
+    if workers is not None:
+        if int(workers) != workers or workers < 1:
+            raise UsageError(f"workers must be a whole number >= 1; got {workers!r}")
+        return max(1, min(int(workers), n_poses))
+    if "fork" not in multiprocessing.get_all_start_methods():
+        return 1
+    if threading.current_thread() is not threading.main_thread() or threading.active_count() > 1:
+        return 1
+    cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    return max(1, min(cpus, n_poses // MAP_POSES_PER_WORKER))
+
+
 def barrier_map(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float], *, step_deg: float = 1.0,
                 method: str = DEFAULT_METHOD, progress=None,
-                memory_budget_bytes: float = MEMORY_BUDGET_BYTES) -> BarrierMap:
+                memory_budget_bytes: float = MEMORY_BUDGET_BYTES, workers: int | None = None,
+                sector_exits: bool = True) -> BarrierMap:
     """Start minimum and barriers at every (theta_w, theta_l), the starts from one shared continuation.
 
     Parameters
@@ -360,7 +429,15 @@ def barrier_map(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float]
     step_deg, method
         As in :func:`compute`.
     progress : callable, optional
-        Called with 1 after each pose (e.g. a progress bar's ``update``).
+        Called with 1 after each pose (e.g. a progress bar's ``update``), in the calling process.
+    workers : int, optional
+        Worker processes (forked) the poses are spread over; the results are the same, in the same order.
+        Default: :func:`map_workers` chooses (several only on a multi-core machine, from a process's main and
+        only thread, for at least :data:`MAP_POSES_PER_WORKER` poses per worker); 1 computes in this process.
+    sector_exits : bool
+        Also find the pitch-wise and roll-wise exits (the default). False skips them for a method that does not
+        find them itself ("exact", "sphere"), and with them each pose's landscape grid (``compute``'s
+        ``landscape_grid=False``): those two exits are then None; minima, righting and escape are unchanged.
 
     Raises
     ------
@@ -379,18 +456,31 @@ def barrier_map(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float]
     for w in ws:
         for leg in ls_:
             robot.joint_values_rad(w, leg)
-    barrier_method(method)
+    grid = bool(sector_exits) or barrier_method(method).SECTORS
     check_memory(step_deg, memory_budget_bytes)
+    n_workers = map_workers(len(ws) * len(ls_), workers)
     starts = sweep_starts(robot, ws, ls_)
+    tasks = [(w, leg, starts[(w, leg)]) for w in ws for leg in ls_]
+    warm_up()  # load the kernels once, before any fork, so the workers inherit them
+    task = dict(robot=robot, step_deg=step_deg, method=method, memory_budget_bytes=memory_budget_bytes, grid=grid)
+    if n_workers == 1:
+        out = _collect((_map_pose(task, *t) for t in tasks), progress)
+    else:
+        import multiprocessing
+
+        with multiprocessing.get_context("fork").Pool(n_workers, _map_worker_init, (task,)) as pool:
+            out = _collect(pool.imap(_map_pose_in_worker, tasks, chunksize=1), progress)
+    righting = np.full((len(ws), len(ls_)), np.nan)
+    for k, c in enumerate(out):
+        if c.barrier.righting is not None:
+            righting[k // len(ls_), k % len(ls_)] = c.barrier.righting.barrier_j
+    return BarrierMap(tuple(ws), tuple(ls_), tuple(out), righting)
+
+
+def _collect(results, progress) -> list[Computation]:
     out = []
-    grid = np.full((len(ws), len(ls_)), np.nan)
-    for i, w in enumerate(ws):
-        for j, leg in enumerate(ls_):
-            c = compute(robot, theta_w_deg=w, theta_l_deg=leg, step_deg=step_deg, start_deg=starts[(w, leg)],
-                        method=method, memory_budget_bytes=memory_budget_bytes)
-            if c.barrier.righting is not None:
-                grid[i, j] = c.barrier.righting.barrier_j
-            out.append(replace(c, landscape=None, pose=None))
-            if progress is not None:
-                progress(1)
-    return BarrierMap(tuple(ws), tuple(ls_), tuple(out), grid)
+    for c in results:
+        out.append(c)
+        if progress is not None:
+            progress(1)
+    return out

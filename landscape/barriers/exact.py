@@ -59,6 +59,7 @@ from scipy.spatial import ConvexHull, QhullError
 from geometry import Pose
 from geometry.errors import UsageError
 from geometry.frames import canonical_pitch_roll_deg, pitch_roll_from_up, up_vector
+from landscape import _kernels
 from landscape.barriers._base import Barrier, Exit
 from landscape.energy import G_M_S2
 from landscape.grid import wrap_deg
@@ -66,15 +67,19 @@ from landscape.minima import Minimum
 
 log = logging.getLogger(__name__)
 
-LENGTH_RTOL = 1e-9      # lengths below LENGTH_RTOL * hull diameter count as zero
-ANGLE_TOL_RAD = 1e-9    # face normals closer than this (and within the length tolerance) are one face
-UPRIGHT_Z_TOL = 1e-12   # u_z <= this counts as reached the upright set
-PATH_STEP_DEG = 1.0     # sampling of reported paths along arcs, degrees
+LENGTH_RTOL = 1e-9  # lengths below LENGTH_RTOL * hull diameter count as zero
+ANGLE_TOL_RAD = 1e-9  # face normals closer than this (and within the length tolerance) are one face
+UPRIGHT_Z_TOL = 1e-12  # u_z <= this counts as reached the upright set
+PATH_STEP_DEG = 1.0  # sampling of reported paths along arcs, degrees
 
-NOT_A_SOLID = ("the exact method needs a solid body: the hull of {n} points is flat or degenerate "
-               "(all points within {tol:.3g} m of a plane or line); use method='grid'")
-COM_OUTSIDE = ("the CoM {com} m lies {dist:.3g} m outside the convex hull; the exact method needs it inside "
-               "(check the masses and <inertial> origins)")
+NOT_A_SOLID = (
+    "the exact method needs a solid body: the hull of {n} points is flat or degenerate "
+    "(all points within {tol:.3g} m of a plane or line); use method='grid'"
+)
+COM_OUTSIDE = (
+    "the CoM {com} m lies {dist:.3g} m outside the convex hull; the exact method needs it inside "
+    "(check the masses and <inertial> origins)"
+)
 
 
 class ExactMethodError(UsageError):
@@ -188,26 +193,27 @@ class ExactBarrier:
 class _Graph:
     """Private per-arc geometry: arc ``i`` runs ``cos(s) u0 + sin(s) t`` for s in [0, theta], from face 0 to 1."""
 
-    d: NDArray[np.float64]            # (K, 3) c - v_k
+    d: NDArray[np.float64]  # (K, 3) c - v_k
     nbr_ptr: NDArray[np.int64]
     nbr_idx: NDArray[np.int64]
-    face_ptr: NDArray[np.int64]       # faces' vertices, CSR
+    face_ptr: NDArray[np.int64]  # faces' vertices, CSR
     face_idx: NDArray[np.int64]
-    vface_ptr: NDArray[np.int64]      # faces at each vertex, CSR
+    vface_ptr: NDArray[np.int64]  # faces at each vertex, CSR
     vface_idx: NDArray[np.int64]
-    face_proj: NDArray[np.float64]    # (F, 3) CoM projected onto each face plane
-    half_ptr: NDArray[np.int64]       # face boundary half-edges by face (CSR): arc, vertices a b (segment ends)
+    face_proj: NDArray[np.float64]  # (F, 3) CoM projected onto each face plane
+    half_ptr: NDArray[np.int64]  # face boundary half-edges by face (CSR): arc, vertices a b (segment ends)
     half_arc: NDArray[np.int64]
     half_a: NDArray[np.int64]
     half_b: NDArray[np.int64]
-    arc_t: NDArray[np.float64]        # (A, 3)
-    arc_theta: NDArray[np.float64]    # (A,)
-    arc_w: NDArray[np.float64]        # (A, 3) perpendicular from the edge line to the CoM
-    arc_peak_s: NDArray[np.float64]   # (A,) where w.u peaks along the arc (may lie outside [0, theta])
-    arc_foot: NDArray[np.float64]     # (A,) foot of the perpendicular along the edge, m from vertex 0
-    arc_len: NDArray[np.float64]      # (A,) edge length, m
-    pair_arc: tuple                   # (sorted keys min * K + max of vertex pairs, arc of each)
-    face_next: NDArray[np.int64]      # where a face that is no minimum tips: face >= 0, or -2 - vertex
+    arc_t: NDArray[np.float64]  # (A, 3)
+    arc_theta: NDArray[np.float64]  # (A,)
+    arc_w: NDArray[np.float64]  # (A, 3) perpendicular from the edge line to the CoM
+    arc_peak_s: NDArray[np.float64]  # (A,) where w.u peaks along the arc (may lie outside [0, theta])
+    arc_foot: NDArray[np.float64]  # (A,) foot of the perpendicular along the edge, m from vertex 0
+    arc_len: NDArray[np.float64]  # (A,) edge length, m
+    pair_arc: tuple  # (sorted keys min * K + max of vertex pairs, arc of each)
+    face_next: NDArray[np.int64]  # where a face that is no minimum tips: face >= 0, or -2 - vertex
+    descended: dict = field(default_factory=dict)  # face -> minimum face it rolls down to (filled on demand)
 
 
 # --------------------------------------------------------------------------------------------- construction
@@ -217,9 +223,18 @@ def _faces(pts: NDArray[np.float64], tol_m: float):
         qh = ConvexHull(pts)
     except (QhullError, ValueError):
         raise ExactMethodError(NOT_A_SOLID.format(n=len(pts), tol=tol_m)) from None
-    tri = np.asarray(qh.simplices, dtype=np.int64)
-    eq = np.asarray(qh.equations, dtype=np.float64)
-    nb = np.asarray(qh.neighbors, dtype=np.int64)
+    tri = np.ascontiguousarray(qh.simplices, dtype=np.int64)
+    eq = np.ascontiguousarray(qh.equations, dtype=np.float64)
+    nb = np.ascontiguousarray(qh.neighbors, dtype=np.int64)
+    tri_face = _kernels.merge_coplanar(
+        np.ascontiguousarray(pts, dtype=np.float64), tri, eq, nb, float(tol_m), ANGLE_TOL_RAD
+    )
+    return eq, tri, nb, tri_face
+
+
+def _merge_coplanar_reference(pts, tri, eq, nb, tol_m: float):
+    """The face of each triangle, as ``_kernels.merge_coplanar`` finds it, with NumPy and scipy (the reference
+    the compiled one is tested against)."""
     n_t = len(tri)
     # a triangle joins its neighbour's face when the normals agree and its far vertex lies on that plane
     i = np.repeat(np.arange(n_t), 3)
@@ -231,15 +246,17 @@ def _faces(pts: NDArray[np.float64], tol_m: float):
     close = (dist <= tol_m) & (np.linalg.norm(eq[i, :3] - eq[j, :3], axis=1) <= ANGLE_TOL_RAD)
     adj = coo_matrix((np.ones(int(close.sum())), (i[close], j[close])), shape=(n_t, n_t))
     _, tri_face = connected_components(adj, directed=False)
-    return eq, tri, nb, tri_face.astype(np.int64)
+    return tri_face.astype(np.int64)
 
 
 def _csr(n: int, rows: NDArray[np.int64], cols: NDArray[np.int64]):
-    order = np.lexsort((cols, rows))
-    rows, cols = rows[order], cols[order]
-    keep = np.ones(len(rows), dtype=bool)
-    keep[1:] = (rows[1:] != rows[:-1]) | (cols[1:] != cols[:-1])
-    rows, cols = rows[keep], cols[keep]
+    """The distinct (row, col) pairs as CSR: pointer per row and columns, sorted within each row."""
+    span = int(cols.max()) + 1 if len(cols) else 1
+    key = np.sort(rows.astype(np.int64) * span + cols)
+    keep = np.ones(len(key), dtype=bool)
+    keep[1:] = key[1:] != key[:-1]
+    key = key[keep]
+    rows, cols = key // span, key % span
     ptr = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.bincount(rows, minlength=n), out=ptr[1:])
     return ptr, cols.astype(np.int64)
@@ -275,8 +292,12 @@ def exact_landscape(pose: Pose, *, g_m_s2: float = G_M_S2) -> ExactLandscape:
     >>> float(ex.critical.minima_energy_j.min()), round(float(ex.critical.saddles_energy_j.min()), 6)
     (0.5, 1.118034)
     """
-    return _build(np.asarray(pose.hull.vertices_m, dtype=np.float64), np.asarray(pose.com_m, dtype=np.float64),
-                  float(pose.mass_kg), float(g_m_s2))
+    return _build(
+        np.asarray(pose.hull.vertices_m, dtype=np.float64),
+        np.asarray(pose.com_m, dtype=np.float64),
+        float(pose.mass_kg),
+        float(g_m_s2),
+    )
 
 
 def _merged_faces(pts: NDArray[np.float64], com: NDArray[np.float64], tol_m: float):
@@ -290,7 +311,7 @@ def _merged_faces(pts: NDArray[np.float64], com: NDArray[np.float64], tol_m: flo
     normal = np.zeros((n_f, 3))
     np.add.at(normal, tri_face, eq[:, :3] * (area[:, None] + 1e-300))
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
-    inside = -(eq[:, :3] @ com + eq[:, 3])                   # distance of the CoM inside each triangle plane
+    inside = -(eq[:, :3] @ com + eq[:, 3])  # distance of the CoM inside each triangle plane
     if inside.min() < -tol_m:
         k = int(np.argmin(inside))
         raise ExactMethodError(COM_OUTSIDE.format(com=np.round(com, 6).tolist(), dist=-float(inside[k])))
@@ -317,7 +338,7 @@ def _arcs(pts: NDArray[np.float64], tri, nb, tri_face, n_f: int):
     first[inv[::-1]] = np.arange(len(inv))[::-1]
     dirs = pts[e_v[first, 1]] - pts[e_v[first, 0]]
     dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
-    proj = np.einsum("ik,ijk->ij", dirs[inv], pts[e_v])   # (E, 2) positions along the edge line, m
+    proj = np.einsum("ik,ijk->ij", dirs[inv], pts[e_v])  # (E, 2) positions along the edge line, m
     lo_val = np.full(n_a, np.inf)
     hi_val = np.full(n_a, -np.inf)
     np.minimum.at(lo_val, inv, proj.min(axis=1))
@@ -380,12 +401,18 @@ def _half_edges(arc_faces, arc_a, arc_b, n_f: int):
     return half_ptr, half_face, half_arc, half_a, half_b
 
 
-def _critical_points(partial: ExactLandscape, d, nbr_ptr, nbr_idx, margin, peak_s, theta, foot, seg_len,
-                     ang_tol: float) -> CriticalPoints:
+def _critical_points(
+    partial: ExactLandscape, d, nbr_ptr, nbr_idx, margin, peak_s, theta, foot, seg_len, ang_tol: float
+) -> CriticalPoints:
     """Minima (faces the CoM projects strictly inside), saddles (arc peaks strictly inside their arc and
     edge), maxima (vertices higher than all their neighbours), and the two minima each saddle joins."""
     tol_m, scale, k_v = partial.tol_m, partial.mass_kg * partial.g_m_s2, len(d)
-    face_up, face_h, arc_max, peak_up = partial.face_up, partial.face_height_m, partial.arc_max_m, partial.arc_peak_up
+    face_up, face_h, arc_max, peak_up = (
+        partial.face_up,
+        partial.face_height_m,
+        partial.arc_max_m,
+        partial.arc_peak_up,
+    )
     minima_face = np.flatnonzero(margin > tol_m).astype(np.int64)
     saddle = (peak_s > ang_tol) & (peak_s < theta - ang_tol) & (foot > tol_m) & (foot < seg_len - tol_m)
     saddles_arc = np.flatnonzero(saddle).astype(np.int64)
@@ -397,15 +424,27 @@ def _critical_points(partial: ExactLandscape, d, nbr_ptr, nbr_idx, margin, peak_
     maxima_vertex = np.flatnonzero(worst > tol_m).astype(np.int64)
     row = np.full(len(face_up), -1, dtype=np.int64)
     row[minima_face] = np.arange(len(minima_face))
-    joins = np.array([[row[_descend_face(partial, int(f))] for f in partial.arc_faces[s]] for s in saddles_arc],
-                     dtype=np.int64).reshape(-1, 2)
+    ends = partial.arc_faces[saddles_arc]
+    faces, where = np.unique(ends, return_inverse=True)  # roll down from each face once
+    reached = np.array([row[_descend_face(partial, int(f))] for f in faces], dtype=np.int64)
+    joins = reached[where.reshape(-1)].reshape(-1, 2)
     return CriticalPoints(
-        minima_face, _deg(face_up[minima_face]), scale * face_h[minima_face],
-        saddles_arc, _deg(peak_up[saddles_arc]), scale * arc_max[saddles_arc], joins,
-        maxima_vertex, _deg(dn[maxima_vertex]), scale * np.linalg.norm(d[maxima_vertex], axis=1))
+        minima_face,
+        _deg(face_up[minima_face]),
+        scale * face_h[minima_face],
+        saddles_arc,
+        _deg(peak_up[saddles_arc]),
+        scale * arc_max[saddles_arc],
+        joins,
+        maxima_vertex,
+        _deg(dn[maxima_vertex]),
+        scale * np.linalg.norm(d[maxima_vertex], axis=1),
+    )
 
 
-def _build(pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g_m_s2: float) -> ExactLandscape:
+def _build(
+    pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g_m_s2: float
+) -> ExactLandscape:
     diam = float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0)))
     tol_m = LENGTH_RTOL * max(diam, np.finfo(float).tiny)
     k_v = len(pts)
@@ -416,31 +455,91 @@ def _build(pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g
     fr = np.repeat(tri_face, 3)
     face_ptr, face_idx = _csr(n_f, fr, tri.ravel())
     # CoM height resting on each face: its vertices are the lowest there
-    face_h = np.maximum.reduceat(np.einsum("ij,ij->i", face_up[np.repeat(np.arange(n_f), np.diff(face_ptr))],
-                                           d[face_idx]), face_ptr[:-1])
+    face_h = np.maximum.reduceat(
+        np.einsum("ij,ij->i", face_up[np.repeat(np.arange(n_f), np.diff(face_ptr))], d[face_idx]),
+        face_ptr[:-1],
+    )
     vface_ptr, vface_idx = _csr(k_v, tri.ravel(), fr)
     arc_faces, arc_a, arc_b, pair_arc = _arcs(pts, tri, nb, tri_face, n_f)
-    theta, t, seg_len, foot, w, peak_s, arc_max, peak_up = _arc_geometry(pts, com, face_up, face_h, arc_faces,
-                                                                          arc_a, arc_b)
+    theta, t, seg_len, foot, w, peak_s, arc_max, peak_up = _arc_geometry(
+        pts, com, face_up, face_h, arc_faces, arc_a, arc_b
+    )
     half_ptr, half_face, half_arc, half_a, half_b = _half_edges(arc_faces, arc_a, arc_b, n_f)
     face_proj = com[None, :] - face_h[:, None] * face_up  # c + h n: the foot on the face plane
-    margin = _face_margins(pts, normal, face_proj, face_ptr, face_idx, half_face, half_a, half_b, n_f)
-    nbr_ptr, nbr_idx = _csr(k_v, np.concatenate([tri[:, [0, 1, 2]].ravel(), tri[:, [1, 2, 0]].ravel()]),
-                            np.concatenate([tri[:, [1, 2, 0]].ravel(), tri[:, [0, 1, 2]].ravel()]))
+    margin = _face_margins(pts, normal, face_proj, face_ptr, face_idx, half_ptr, half_a, half_b)
+    nbr_ptr, nbr_idx = _csr(
+        k_v,
+        np.concatenate([tri[:, [0, 1, 2]].ravel(), tri[:, [1, 2, 0]].ravel()]),
+        np.concatenate([tri[:, [1, 2, 0]].ravel(), tri[:, [0, 1, 2]].ravel()]),
+    )
     face_next = _face_exits(pts, face_proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, tol_m)
-    g = _Graph(d, nbr_ptr, nbr_idx, face_ptr, face_idx, vface_ptr, vface_idx, face_proj, half_ptr, half_arc,
-               half_a, half_b, t, theta, w, peak_s, foot, seg_len, pair_arc, face_next)
+    g = _Graph(
+        d,
+        nbr_ptr,
+        nbr_idx,
+        face_ptr,
+        face_idx,
+        vface_ptr,
+        vface_idx,
+        face_proj,
+        half_ptr,
+        half_arc,
+        half_a,
+        half_b,
+        t,
+        theta,
+        w,
+        peak_s,
+        foot,
+        seg_len,
+        pair_arc,
+        face_next,
+    )
     ang_tol = tol_m / max(float(np.linalg.norm(d, axis=1).max()), tol_m)
     arcs_ab = np.stack([arc_a, arc_b], axis=1)
-    partial = ExactLandscape(mass_kg, g_m_s2, com, pts, tol_m, face_up, face_h, margin, arc_faces, arcs_ab, arc_max,
-                             peak_up, None, g)
+    partial = ExactLandscape(
+        mass_kg,
+        g_m_s2,
+        com,
+        pts,
+        tol_m,
+        face_up,
+        face_h,
+        margin,
+        arc_faces,
+        arcs_ab,
+        arc_max,
+        peak_up,
+        None,
+        g,
+    )
     crit = _critical_points(partial, d, nbr_ptr, nbr_idx, margin, peak_s, theta, foot, seg_len, ang_tol)
-    return ExactLandscape(mass_kg, g_m_s2, com, pts, tol_m, face_up, face_h, margin, arc_faces, arcs_ab, arc_max,
-                          peak_up, crit, g)
+    return ExactLandscape(
+        mass_kg,
+        g_m_s2,
+        com,
+        pts,
+        tol_m,
+        face_up,
+        face_h,
+        margin,
+        arc_faces,
+        arcs_ab,
+        arc_max,
+        peak_up,
+        crit,
+        g,
+    )
 
 
-def _face_margins(pts, normal, proj, face_ptr, face_idx, half_face, half_a, half_b, n_f):
-    """Signed distance of each face's CoM projection inside its boundary, m (min over boundary edges)."""
+def _face_margins(pts, normal, proj, face_ptr, face_idx, half_ptr, half_a, half_b):
+    """Signed distance of each face's CoM projection inside its boundary, m (min over boundary edges).
+    Compiled (``_kernels.face_margins``); :func:`_face_margins_reference` is the NumPy reference."""
+    return _kernels.face_margins(pts, normal, proj, face_ptr, face_idx, half_ptr, half_a, half_b)
+
+
+def _face_margins_reference(pts, normal, proj, face_ptr, face_idx, half_face, half_a, half_b, n_f):
+    """:func:`_face_margins` in NumPy (the reference the compiled one is tested against)."""
     centroid = np.zeros((n_f, 3))
     np.add.at(centroid, np.repeat(np.arange(n_f), np.diff(face_ptr)), pts[face_idx])
     centroid /= np.diff(face_ptr)[:, None]
@@ -462,13 +561,29 @@ def _deg(u: NDArray[np.float64]) -> NDArray[np.float64]:
 
 # --------------------------------------------------------------------------------------------- rolling down
 def _cell_step(ex: ExactLandscape, k: int, u: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Steepest descent inside vertex k's cell: along the great circle away from d_k to the cell's boundary."""
+    """Steepest descent inside vertex k's cell: along the great circle away from d_k to the cell's boundary.
+
+    Compiled (``_kernels.cell_step``); :func:`_cell_step_reference` is the NumPy version.
+    """
+    g = ex._g
+    out, moved = _kernels.cell_step(g.d, int(k), np.ascontiguousarray(u, dtype=np.float64))
+    if moved:
+        return out
+    faces = g.vface_idx[
+        g.vface_ptr[k] : g.vface_ptr[k + 1]
+    ]  # balanced on the vertex: fall onto its lowest face
+    f = int(faces[np.argmin(ex.face_height_m[faces])])
+    return ex.face_up[f].copy()
+
+
+def _cell_step_reference(ex: ExactLandscape, k: int, u: NDArray[np.float64]) -> NDArray[np.float64]:
+    """:func:`_cell_step` in NumPy (the reference the compiled one is tested against)."""
     g = ex._g
     dk = g.d[k]
     grad = dk - (dk @ u) * u
     n = np.linalg.norm(grad)
     if n < 1e-15 * np.linalg.norm(dk):  # balanced on the vertex: fall onto its lowest face
-        faces = g.vface_idx[g.vface_ptr[k]:g.vface_ptr[k + 1]]
+        faces = g.vface_idx[g.vface_ptr[k] : g.vface_ptr[k + 1]]
         f = int(faces[np.argmin(ex.face_height_m[faces])])
         return ex.face_up[f].copy()
     t = -grad / n
@@ -486,7 +601,7 @@ def _cell_step(ex: ExactLandscape, k: int, u: NDArray[np.float64]) -> NDArray[np
 
 def _node_face(ex: ExactLandscape, top: int, u: NDArray[np.float64]) -> int:
     g = ex._g
-    faces = g.vface_idx[g.vface_ptr[top]:g.vface_ptr[top + 1]]
+    faces = g.vface_idx[g.vface_ptr[top] : g.vface_ptr[top + 1]]
     return int(faces[np.argmax(ex.face_up[faces] @ u)])
 
 
@@ -494,7 +609,13 @@ def _face_exits(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin
     """Where each face that is no minimum tips: over the boundary feature nearest the CoM's projection.
 
     Returns, per face, -1 (a minimum), the next face (tipping over an edge) or -2 - k (pivoting on vertex k).
+    Compiled (``_kernels.face_exits``); :func:`_face_exits_reference` is the NumPy reference.
     """
+    return _kernels.face_exits(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, float(tol_m))
+
+
+def _face_exits_reference(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, tol_m):
+    """:func:`_face_exits` in NumPy (the reference the compiled one is tested against)."""
     n_f = len(half_ptr) - 1
     face = np.repeat(np.arange(n_f), np.diff(half_ptr))
     a, b = pts[half_a], pts[half_b]
@@ -502,27 +623,40 @@ def _face_exits(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin
     seg_len = np.linalg.norm(seg, axis=1)
     s = np.clip(np.einsum("ij,ij->i", proj[face] - a, seg) / seg_len**2, 0.0, 1.0)
     dist = np.linalg.norm(a + s[:, None] * seg - proj[face], axis=1)
-    order = np.lexsort((np.arange(len(face)), dist, face))   # nearest per face, ties to the first half-edge
+    order = np.lexsort((np.arange(len(face)), dist, face))  # nearest per face, ties to the first half-edge
     best = order[half_ptr[:-1]]
     along = s[best] * seg_len[best]
     arc = half_arc[best]
     other = np.where(arc_faces[arc, 0] == np.arange(n_f), arc_faces[arc, 1], arc_faces[arc, 0])
-    out = np.where(along <= tol_m, -2 - half_a[best],
-                   np.where(along >= seg_len[best] - tol_m, -2 - half_b[best], other))
+    out = np.where(
+        along <= tol_m, -2 - half_a[best], np.where(along >= seg_len[best] - tol_m, -2 - half_b[best], other)
+    )
     return np.where(margin > tol_m, -1, out).astype(np.int64)
 
 
 def _descend_face(ex: ExactLandscape, f: int) -> int:
     """The minimum face reached by quasi-static rolling from resting on face f."""
     nxt = ex._g.face_next
+    memo = ex._g.descended  # a deterministic function of the face: each face is rolled down from once
+    seen = []
     for _ in range(len(nxt) + 1):
+        if f in memo:
+            out = memo[f]
+            break
+        seen.append(f)
         if nxt[f] == -1:
-            return f
+            out = f
+            break
         if nxt[f] >= 0:
             f = int(nxt[f])
         else:
-            return _descend_from(ex, _cell_step(ex, int(-2 - nxt[f]), ex.face_up[f]))
-    raise RuntimeError(f"rolling down from face {f} did not settle; please report this body")
+            out = _descend_from(ex, _cell_step(ex, int(-2 - nxt[f]), ex.face_up[f]))
+            break
+    else:
+        raise RuntimeError(f"rolling down from face {f} did not settle; please report this body")
+    for x in seen:
+        memo[x] = out
+    return out
 
 
 def _descend_from(ex: ExactLandscape, u: NDArray[np.float64]) -> int:
@@ -562,11 +696,40 @@ def _descend_from(ex: ExactLandscape, u: NDArray[np.float64]) -> int:
 
 
 # --------------------------------------------------------------------------------------------- searches
+def _adjacency(n: int, eu, ev, ew):
+    """The undirected graph's adjacency in CSR form: pointer, neighbour, edge index and weight of each entry
+    (neighbours of a node in edge order, the ``eu`` ends before the ``ev`` ends)."""
+    ptr = np.zeros(n + 1, dtype=np.int64)
+    ends = np.concatenate([eu, ev])
+    order = np.argsort(ends, kind="stable")
+    np.cumsum(np.bincount(ends, minlength=n), out=ptr[1:])
+    m = len(eu)
+    edge = order % m
+    other = np.concatenate([ev, eu])[order].astype(np.int64)
+    return ptr, other, edge.astype(np.int64), np.asarray(ew, dtype=np.float64)[edge]
+
+
 def _minimax(n: int, eu, ev, ew, sources: list[int], goal: NDArray[np.bool_], stop: bool):
     """Bottleneck Dijkstra on an undirected graph: lowest possible maximum edge weight from the sources.
 
     Goal nodes are settled but never expanded. Returns (level per node, parent edge per node, first goal).
+    Compiled (``_kernels.minimax_graph``); :func:`_minimax_reference` is the same search in Python.
     """
+    ptr, other, edge, weight = _adjacency(n, eu, ev, ew)
+    level, parent, first = _kernels.minimax_graph(
+        ptr,
+        other,
+        edge,
+        weight,
+        np.asarray(sources, dtype=np.int64),
+        np.ascontiguousarray(goal, dtype=np.bool_),
+        bool(stop),
+    )
+    return level, parent, int(first)
+
+
+def _minimax_reference(n: int, eu, ev, ew, sources: list[int], goal: NDArray[np.bool_], stop: bool):
+    """:func:`_minimax` with Python's heapq (the reference the compiled search is tested against)."""
     ptr = np.zeros(n + 1, dtype=np.int64)
     ends = np.concatenate([eu, ev])
     order = np.argsort(ends, kind="stable")
@@ -627,6 +790,26 @@ def _arc_points(ex: ExactLandscape, arc: int, s0: float, s1: float) -> NDArray[n
     return np.cos(s)[:, None] * u0 + np.sin(s)[:, None] * g.arc_t[arc]
 
 
+def _pieces_points(ex: ExactLandscape, pieces: list[tuple]) -> NDArray[np.float64]:
+    """The points of :func:`_arc_points` along each piece, without each piece's first point, in one array
+    (the same numbers: ``np.linspace``'s arithmetic, done for all pieces at once)."""
+    g = ex._g
+    arcs = np.array([pc[0] for pc in pieces], dtype=np.int64)
+    s0 = np.array([pc[1] for pc in pieces], dtype=np.float64)
+    s1 = np.array([pc[2] for pc in pieces], dtype=np.float64)
+    n = np.maximum(2, np.ceil(np.abs(s1 - s0) / np.deg2rad(PATH_STEP_DEG)).astype(np.int64) + 1)
+    div = (n - 1).astype(np.float64)
+    delta = s1 - s0
+    step = delta / div
+    owner = np.repeat(np.arange(len(arcs)), n - 1)
+    i = (np.arange(len(owner)) - np.repeat(np.cumsum(n - 1) - (n - 1), n - 1) + 1).astype(np.float64)
+    s = np.where(step[owner] == 0, i / div[owner] * delta[owner], i * step[owner]) + s0[owner]
+    last = np.cumsum(n - 1) - 1
+    s[last] = s1
+    u0 = ex.face_up[ex.arc_faces[arcs[owner], 0]]
+    return np.cos(s)[:, None] * u0 + np.sin(s)[:, None] * g.arc_t[arcs[owner]]
+
+
 def _wrap(x: float) -> float:
     return (x + 180.0) % 360.0 - 180.0
 
@@ -645,7 +828,13 @@ def _nearest_rep(p: float, r: float, p_ref: float, r_ref: float) -> tuple[float,
 
 
 def _torus_path(us: NDArray[np.float64], start_deg: tuple[float, float]) -> NDArray[np.float64]:
-    """A continuous torus path through up-directions: each point's representative nearest the previous one."""
+    """A continuous torus path through up-directions: each point's representative nearest the previous one
+    (:func:`_nearest_rep`, compiled as ``_kernels.torus_path``)."""
+    return _kernels.torus_path(np.ascontiguousarray(_deg(us)), float(start_deg[0]), float(start_deg[1]))
+
+
+def _torus_path_reference(us: NDArray[np.float64], start_deg: tuple[float, float]) -> NDArray[np.float64]:
+    """:func:`_torus_path` in Python (the reference the compiled one is tested against)."""
     out = [start_deg]
     for p, r in _deg(us).tolist():
         out.append(_nearest_rep(p, r, *out[-1]))
@@ -676,12 +865,21 @@ def _direction(u: NDArray[np.float64], start_deg: tuple[float, float]) -> str:
     return "pitch" if abs(pp - start_deg[0]) >= abs(rr - start_deg[1]) else "roll"
 
 
-def _exit(ex: ExactLandscape, level_m: float, start_h: float, start_deg, pieces, kind: str | None, *,
-          peak: int | None = None) -> Exit:
+def _exit(
+    ex: ExactLandscape,
+    level_m: float,
+    start_h: float,
+    start_deg,
+    pieces,
+    kind: str | None,
+    *,
+    peak: int | None = None,
+) -> Exit:
     """pieces: list of (arc, s0, s1, peak_h, peak_up) traversed in order; the saddle is the highest piece's
     peak (the first of equals) unless ``peak`` names the piece."""
     us = [up_vector(*np.deg2rad(start_deg))[None, :]]
-    us += [_arc_points(ex, a, s0, s1)[1:] for a, s0, s1, _, _ in pieces]
+    if pieces:
+        us.append(_pieces_points(ex, pieces))
     path = _torus_path(np.concatenate(us), start_deg)
     k = peak if peak is not None else int(np.argmax([ph for *_, ph, _ in pieces])) if pieces else -1
     saddle_up = pieces[k][4] if pieces else up_vector(*np.deg2rad(start_deg))
@@ -711,14 +909,26 @@ def _pieces(ex: ExactLandscape, arcs, s0, s1) -> list[tuple]:
     s_pk = cand[np.arange(len(arcs)), k]
     up = np.cos(s_pk)[:, None] * u0 + np.sin(s_pk)[:, None] * t
     h_pk = h[np.arange(len(arcs)), k]
-    return [(int(a_), float(x0), float(x1), float(hh), uu) for a_, x0, x1, hh, uu in
-            zip(arcs.tolist(), s0.tolist(), s1.tolist(), h_pk.tolist(), up, strict=True)]
+    return [
+        (int(a_), float(x0), float(x1), float(hh), uu)
+        for a_, x0, x1, hh, uu in zip(arcs.tolist(), s0.tolist(), s1.tolist(), h_pk.tolist(), up, strict=True)
+    ]
 
 
 def _piece(ex: ExactLandscape, arc: int, forward: bool) -> tuple:
     """A whole arc, forward (face 0 -> face 1) or back."""
     theta = float(ex._g.arc_theta[arc])
     return _pieces(ex, arc, 0.0 if forward else theta, theta if forward else 0.0)[0]
+
+
+def _whole_pieces(ex: ExactLandscape, arcs, forward) -> list[tuple]:
+    """:func:`_piece` of each arc in one call: whole arcs, forward (face 0 -> face 1) or back."""
+    arcs = np.asarray(arcs, dtype=np.int64)
+    forward = np.asarray(forward, dtype=bool)
+    if not len(arcs):
+        return []
+    theta = ex._g.arc_theta[arcs]
+    return _pieces(ex, arcs, np.where(forward, 0.0, theta), np.where(forward, theta, 0.0))
 
 
 def _escape_saddle(ex: ExactLandscape, pieces: list[tuple], f0: int, level_m: float) -> int:
@@ -745,12 +955,20 @@ def _escape_saddle(ex: ExactLandscape, pieces: list[tuple], f0: int, level_m: fl
             joins = crit.saddles_joins[hit[0]]
             if joins[0] != joins[1] and start_row in joins:
                 return k
-    raise RuntimeError(f"the escape path's highest point (level {level_m:.9g} m) is no saddle between the start's "
-                       "basin and another; please report this body")
+    raise RuntimeError(
+        f"the escape path's highest point (level {level_m:.9g} m) is no saddle between the start's "
+        "basin and another; please report this body"
+    )
 
 
-def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_roll_deg: float, *,
-                  g_m_s2: float = G_M_S2, sectors: bool = True) -> ExactBarrier:
+def exact_barrier(
+    pose: Pose | ExactLandscape,
+    start_pitch_deg: float,
+    start_roll_deg: float,
+    *,
+    g_m_s2: float = G_M_S2,
+    sectors: bool = True,
+) -> ExactBarrier:
     """Exact righting, pitch-wise, roll-wise and escape barriers from the basin containing a start.
 
     Parameters
@@ -791,7 +1009,9 @@ def exact_barrier(pose: Pose | ExactLandscape, start_pitch_deg: float, start_rol
     (0.0, 0.0, 0.618034, 'roll')
     """
     if not (np.isfinite(start_pitch_deg) and np.isfinite(start_roll_deg)):
-        raise UsageError(f"start pitch and roll must be finite degrees; got ({start_pitch_deg!r}, {start_roll_deg!r})")
+        raise UsageError(
+            f"start pitch and roll must be finite degrees; got ({start_pitch_deg!r}, {start_roll_deg!r})"
+        )
     ex = pose if isinstance(pose, ExactLandscape) else exact_landscape(pose, g_m_s2=g_m_s2)
     u = up_vector(np.deg2rad(start_pitch_deg), np.deg2rad(start_roll_deg))
     f0 = _descend_from(ex, u)
@@ -823,7 +1043,8 @@ def _escape_exit(ex: ExactLandscape, f0: int, h0: float, start_deg) -> Exit | No
     lev, par, first = _minimax(n_f, fa, fb, ex.arc_max_m, [f0], goal, True)
     if first < 0:
         return None
-    pieces = [_piece(ex, e, bool(fb[e] == x)) for e, x in _chain(par, fa, fb, first)]
+    chain = _chain(par, fa, fb, first)
+    pieces = _whole_pieces(ex, [e for e, _ in chain], [fb[e] == x for e, x in chain])
     k = _escape_saddle(ex, pieces, f0, float(lev[first]))
     return _exit(ex, float(lev[first]), h0, start_deg, pieces, None, peak=k)
 
@@ -852,15 +1073,26 @@ class _RightingGraph:
         arc = int(self.arcs_in[e])
         return _piece(ex, arc, bool(ex.arc_faces[arc, 1] == toward))
 
-    def exit(self, ex: ExactLandscape, keep: NDArray[np.bool_], f0: int, h0: float, start_deg,
-             kind: str | None) -> Exit | None:
+    def exit(
+        self, ex: ExactLandscape, keep: NDArray[np.bool_], f0: int, h0: float, start_deg, kind: str | None
+    ) -> Exit | None:
         """The bottleneck exit to upright over the edges ``keep``; None if upright is out of reach."""
         idx = np.flatnonzero(keep)
         eu, ev, ew = self.eu[idx], self.ev[idx], self.ew[idx]
         lev, par, first = _minimax(len(self.goal), eu, ev, ew, [f0], self.goal, True)
         if first < 0:
             return None
-        pieces = [self.edge_pieces(ex, int(idx[e]), x) for e, x in _chain(par, eu, ev, self.target)]
+        chain = [(int(idx[e]), x) for e, x in _chain(par, eu, ev, self.target)]
+        n_in = len(self.arcs_in)
+        inner = [(e, x) for e, x in chain if e < n_in]
+        whole = iter(
+            _whole_pieces(
+                ex,
+                [self.arcs_in[e] for e, _ in inner],
+                [ex.arc_faces[self.arcs_in[e], 1] == x for e, x in inner],
+            )
+        )
+        pieces = [next(whole) if e < n_in else self.pieces_out[e - n_in] for e, _ in chain]
         return _exit(ex, float(lev[self.target]), h0, start_deg, pieces, kind)
 
 
@@ -871,7 +1103,7 @@ def _righting_graph(ex: ExactLandscape, upright: NDArray[np.bool_]) -> _Righting
     arcs_in = np.flatnonzero(~upright[fa] & ~upright[fb])
     arcs_out = np.flatnonzero(upright[fa] != upright[fb])
     src = np.where(upright[fa[arcs_out]], fb[arcs_out], fa[arcs_out])  # the face above the equator
-    fwd = ~upright[fa[arcs_out]]                                       # leaving from face 0 toward face 1
+    fwd = ~upright[fa[arcs_out]]  # leaving from face 0 toward face 1
     u0z = ex.face_up[fa[arcs_out], 2]
     tz = g.arc_t[arcs_out, 2]
     theta_out = g.arc_theta[arcs_out]
@@ -899,8 +1131,10 @@ def _sector_exits(ex: ExactLandscape, rg: _RightingGraph, f0: int, h0: float, st
     owner = np.repeat(np.arange(len(arc_of)), n_s)
     frac = (np.arange(len(owner)) - np.repeat(np.cumsum(n_s) - n_s, n_s)) / np.repeat(n_s - 1, n_s)
     s_all = lo[owner] + frac * (hi - lo)[owner]
-    u_all = (np.cos(s_all)[:, None] * ex.face_up[fa[arc_of[owner]]]
-             + np.sin(s_all)[:, None] * g.arc_t[arc_of[owner]])
+    u_all = (
+        np.cos(s_all)[:, None] * ex.face_up[fa[arc_of[owner]]]
+        + np.sin(s_all)[:, None] * g.arc_t[arc_of[owner]]
+    )
     in_pitch, in_roll = _in_sectors(u_all, start_deg)
     out = []
     for kind, inside in (("pitch", in_pitch), ("roll", in_roll)):
@@ -909,11 +1143,19 @@ def _sector_exits(ex: ExactLandscape, rg: _RightingGraph, f0: int, h0: float, st
         out.append(rg.exit(ex, ok, f0, h0, start_deg, kind))
     return out[0], out[1]
 
+
 SECTORS = False
 
 
-def solve(pose: Pose, landscape, start_deg: tuple[float, float], *, step_deg: float, connectivity: int,
-          g_m_s2: float):
+def solve(
+    pose: Pose,
+    landscape,
+    start_deg: tuple[float, float],
+    *,
+    step_deg: float,
+    connectivity: int,
+    g_m_s2: float,
+):
     """The registry's entry (:mod:`landscape.barriers`): exact start minimum, righting and escape exits."""
     ex = exact_barrier(pose, *start_deg, g_m_s2=g_m_s2, sectors=False)
     return ex.start, ex.barrier

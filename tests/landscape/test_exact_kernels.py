@@ -1,0 +1,185 @@
+"""The exact method's compiled kernels (landscape/_kernels.py) against their NumPy/Python references in
+landscape/barriers/exact.py: the same numbers, bit for bit, on random inputs and on the built-in robot."""
+
+import numpy as np
+import pytest
+import trimesh
+
+from geometry import Robot
+from geometry.frames import up_vector
+from geometry.robots import load_robot
+from landscape.barriers import exact
+
+
+@pytest.fixture(scope="module")
+def builtin_landscapes():
+    robot = load_robot(None)
+    return [exact.exact_landscape(robot.pose(w, leg)) for w, leg in ((-10.0, 0.0), (40.0, 30.0), (85.0, 0.0))]
+
+
+def _random_graph(rng, n: int, m: int, ties: bool):
+    eu = rng.integers(0, n, m)
+    ev = rng.integers(0, n, m)
+    # integer weights force ties in level, which exercise the heap's (level, node) order and the parent rule
+    ew = rng.integers(0, 5, m).astype(np.float64) if ties else rng.normal(size=m)
+    return eu.astype(np.int64), ev.astype(np.int64), ew
+
+
+@pytest.mark.parametrize("seed", range(12))
+@pytest.mark.parametrize("stop", [True, False])
+def test_minimax_kernel_equals_python_search(seed, stop):
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(2, 60))
+    eu, ev, ew = _random_graph(rng, n, int(rng.integers(1, 4 * n)), ties=seed % 2 == 0)
+    goal = rng.random(n) < 0.15
+    sources = sorted(set(rng.integers(0, n, int(rng.integers(1, 3))).tolist()))
+    got = exact._minimax(n, eu, ev, ew, sources, goal, stop)
+    want = exact._minimax_reference(n, eu, ev, ew, sources, goal, stop)
+    np.testing.assert_array_equal(got[0], want[0])
+    np.testing.assert_array_equal(got[1], want[1])
+    assert got[2] == want[2]
+
+
+def test_minimax_kernel_on_a_robot_face_graph(builtin_landscapes):
+    for ex in builtin_landscapes:
+        n_f = len(ex.face_up)
+        goal = np.zeros(n_f, dtype=bool)
+        goal[ex.critical.minima_face] = True
+        f0 = int(ex.critical.minima_face[0])
+        goal[f0] = False
+        args = (n_f, ex.arc_faces[:, 0], ex.arc_faces[:, 1], ex.arc_max_m, [f0], goal, False)
+        got, want = exact._minimax(*args), exact._minimax_reference(*args)
+        for a, b in zip(got, want, strict=True):
+            np.testing.assert_array_equal(a, b)
+
+
+def test_minimax_hand_graph():
+    """A path 0 -1.0- 1 -3.0- 2 and a detour 0 -2.0- 3 -2.0- 2: the bottleneck to 2 is 2.0, via 3."""
+    eu, ev, ew = np.array([0, 1, 0, 3]), np.array([1, 2, 3, 2]), np.array([1.0, 3.0, 2.0, 2.0])
+    goal = np.array([False, False, True, False])
+    level, parent, first = exact._minimax(4, eu, ev, ew, [0], goal, True)
+    assert first == 2 and level[2] == 2.0 and parent[2] == 3 and parent[3] == 2
+
+
+def test_torus_path_kernel_equals_python(builtin_landscapes):
+    rng = np.random.default_rng(3)
+    u = rng.normal(size=(400, 3))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    poles = np.array([[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [1.0, 1e-13, 0.0]])  # pitch -90 and +90
+    path = np.concatenate([u[:100], poles, u[100:], up_vector(*np.deg2rad([30.0, 170.0]))[None, :]])
+    for start in ((0.0, 0.0), (-45.0, 179.0), (90.0, 12.0), (400.0, -200.0)):
+        np.testing.assert_array_equal(
+            exact._torus_path(path, start), exact._torus_path_reference(path, start)
+        )
+    assert exact._torus_path(path[:0], (0.0, 0.0)).shape == (0, 2)
+
+
+def test_face_margins_and_exits_kernels_equal_numpy(builtin_landscapes):
+    box = Robot.from_trimesh(trimesh.creation.box(extents=(4.0, 2.0, 1.0)), mass_kg=1.0, com=[1.9, 0.0, 0.0])
+    for ex in [*builtin_landscapes, exact.exact_landscape(box.pose())]:
+        g, pts, n_f = ex._g, ex.vertices_m, len(ex.face_up)
+        half_face = np.repeat(np.arange(n_f), np.diff(g.half_ptr))
+        normal = -ex.face_up
+        got = exact._face_margins(
+            pts, normal, g.face_proj, g.face_ptr, g.face_idx, g.half_ptr, g.half_a, g.half_b
+        )
+        want = exact._face_margins_reference(
+            pts, normal, g.face_proj, g.face_ptr, g.face_idx, half_face, g.half_a, g.half_b, n_f
+        )
+        np.testing.assert_array_equal(got, want)
+        args = (pts, g.face_proj, g.half_ptr, g.half_arc, g.half_a, g.half_b, ex.arc_faces, want, ex.tol_m)
+        np.testing.assert_array_equal(exact._face_exits(*args), exact._face_exits_reference(*args))
+
+
+def test_box_face_margins_closed_form():
+    """A 4 x 2 x 1 box with the CoM at x = 1.9: resting on a 4 x 2 face the projection lies 0.1 m inside the
+    x = 2 edge; on the 2 x 1 end face at x = +2 it lies at its centre, 0.5 m from the long edges."""
+    box = Robot.from_trimesh(trimesh.creation.box(extents=(4.0, 2.0, 1.0)), mass_kg=1.0, com=[1.9, 0.0, 0.0])
+    ex = exact.exact_landscape(box.pose())
+    bottom = int(np.argmax(ex.face_up @ np.array([0.0, 0.0, 1.0])))
+    end = int(np.argmax(ex.face_up @ np.array([-1.0, 0.0, 0.0])))
+    assert ex.face_margin_m[bottom] == pytest.approx(0.1, abs=1e-12)
+    assert ex.face_margin_m[end] == pytest.approx(0.5, abs=1e-12)
+
+
+def test_pieces_points_equal_per_arc_linspace(builtin_landscapes):
+    for ex in builtin_landscapes:
+        rng = np.random.default_rng(0)
+        arcs = rng.integers(0, len(ex.arc_faces), 30)
+        theta = ex._g.arc_theta[arcs]
+        s0 = rng.uniform(0, 1, 30) * theta
+        s1 = np.where(rng.random(30) < 0.3, s0, rng.uniform(0, 1, 30) * theta)  # some empty pieces
+        pieces = [(int(a), float(x), float(y), 0.0, None) for a, x, y in zip(arcs, s0, s1, strict=True)]
+        want = np.concatenate([exact._arc_points(ex, a, x, y)[1:] for a, x, y, _, _ in pieces])
+        np.testing.assert_array_equal(exact._pieces_points(ex, pieces), want)
+
+
+def test_whole_pieces_equal_one_by_one(builtin_landscapes):
+    ex = builtin_landscapes[1]
+    arcs = np.arange(0, len(ex.arc_faces), 7)
+    forward = arcs % 3 == 0
+    batch = exact._whole_pieces(ex, arcs, forward)
+    for got, a, f in zip(batch, arcs, forward, strict=True):
+        want = exact._piece(ex, int(a), bool(f))
+        assert got[:4] == want[:4]
+        np.testing.assert_array_equal(got[4], want[4])
+
+
+def test_cell_step_kernel_matches_numpy(builtin_landscapes):
+    """The compiled step agrees with the NumPy one to rounding (BLAS and SIMD sum in another order), and the
+    descents it drives end on the same faces."""
+    rng = np.random.default_rng(5)
+    for ex in builtin_landscapes:
+        for _ in range(200):
+            u = rng.normal(size=3)
+            u /= np.linalg.norm(u)
+            k = int(np.argmax(ex._g.d @ u))
+            np.testing.assert_allclose(
+                exact._cell_step(ex, k, u), exact._cell_step_reference(ex, k, u), rtol=0, atol=1e-14
+            )
+        k = 0
+        balanced = ex._g.d[k] / np.linalg.norm(ex._g.d[k])  # on the vertex: falls onto its lowest face
+        np.testing.assert_array_equal(
+            exact._cell_step(ex, k, balanced), exact._cell_step_reference(ex, k, balanced)
+        )
+
+
+def test_cell_step_closed_form_on_a_cube():
+    """Unit cube, CoM at the centre, up-direction 10 deg off the direction of the vertex (-.5, -.5, -.5): the step
+    follows the great circle through that direction and u, away from it, and ends on the vertex's cell boundary,
+    where a second vertex is as low."""
+    cube = Robot.from_trimesh(trimesh.creation.box(extents=(1.0, 1.0, 1.0)), mass_kg=1.0)
+    ex = exact.exact_landscape(cube.pose())
+    corner = np.array([1.0, 1.0, 1.0]) / np.sqrt(3.0)  # d_k = c - v_k for v_k = (-.5, -.5, -.5)
+    k = int(np.argmax(ex._g.d @ corner))
+    face = np.array([0.0, 0.0, 1.0])
+    axis = np.cross(corner, face)
+    axis /= np.linalg.norm(axis)
+    tilt = np.deg2rad(10.0)
+    u = corner * np.cos(tilt) + np.cross(axis, corner) * np.sin(tilt)
+    out = exact._cell_step(ex, k, u)
+    # the step stays on the great circle through the corner direction and u, moving away from the corner
+    np.testing.assert_allclose(np.dot(out, axis), 0.0, atol=1e-12)
+    assert np.dot(out, corner) < np.dot(u, corner)
+    # and stops on the cell boundary: two vertices are then equally low
+    h = ex._g.d @ out
+    top = np.sort(h)[-2:]
+    assert top[1] - top[0] < 1e-12
+
+
+def test_merge_coplanar_kernel_equals_scipy_components(builtin_landscapes):
+    from scipy.spatial import ConvexHull
+
+    box = trimesh.creation.box(extents=(4.0, 2.0, 1.0)).vertices  # 12 triangles, 6 faces
+    rng = np.random.default_rng(2)
+    blob = rng.normal(size=(60, 3))
+    grid = np.array(
+        [(x, y, z) for x in range(3) for y in range(3) for z in range(2)], dtype=float
+    )  # coplanar
+    for pts in [box, blob, grid, *(ex.vertices_m for ex in builtin_landscapes)]:
+        qh = ConvexHull(pts)
+        tol = 1e-9 * float(np.ptp(pts, axis=0).max())
+        eq, tri, nb, got = exact._faces(np.asarray(pts, dtype=np.float64), tol)
+        np.testing.assert_array_equal(got, exact._merge_coplanar_reference(pts, tri, eq, nb, tol))
+        assert len(tri) == len(qh.simplices)
+    assert exact._faces(np.asarray(box, dtype=np.float64), 1e-9)[3].max() + 1 == 6
