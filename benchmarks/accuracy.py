@@ -54,8 +54,9 @@ def _cases():
     out.append(("cube 0.2", cube.pose(), (0.0, 0.0), g * 0.1 * (np.sqrt(2) - 1)))
     plate = Robot.from_trimesh(trimesh.creation.box(extents=(0.3, 0.3, 0.01)), mass_kg=1.0, com=[0, 0, 0])
     out.append(("plate 0.3x0.3x0.01", plate.pose(), (0.0, 0.0), g * (np.hypot(0.15, 0.005) - 0.005)))
-    skew = Robot.from_trimesh(trimesh.creation.box(extents=(0.3, 0.2, 0.1)), mass_kg=1.0,
-                              com=[0.03, 0.015, -0.02])
+    skew = Robot.from_trimesh(
+        trimesh.creation.box(extents=(0.3, 0.2, 0.1)), mass_kg=1.0, com=[0.03, 0.015, -0.02]
+    )
     out.append(("box, off-centre CoM", skew.pose(), (0.0, 0.0), None))
     return out
 
@@ -83,7 +84,9 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     warm_up()
     rows = []
-    print("| shape | method | time (ms) | righting (mJ) | abs err (mJ) | rel err | escape (mJ) | escape abs err (mJ) |")
+    print(
+        "| shape | method | time (ms) | righting (mJ) | abs err (mJ) | rel err | escape (mJ) | escape abs err (mJ) |"
+    )
     print("|---|---|---:|---:|---:|---:|---:|---:|")
     for name, pose, start, closed in _cases():
         _ = pose.hull
@@ -91,28 +94,38 @@ def main(argv: list[str] | None = None) -> int:
         ref = ex.barrier.righting.barrier_j
         ref_esc = ex.barrier.escape.barrier_j if ex.barrier.escape else np.nan
         note = "" if closed is None else f" (closed form {closed * 1e3:.6f})"
-        print(f"| {name} | exact{note} | {t_ex * 1e3:.1f} | {ref * 1e3:.6f} | 0 | 0 | {ref_esc * 1e3:.6f} | 0 |")
+        print(
+            f"| {name} | exact{note} | {t_ex * 1e3:.1f} | {ref * 1e3:.6f} | 0 | 0 | {ref_esc * 1e3:.6f} | 0 |"
+        )
         rows.append((name, "exact", 0, t_ex, 0.0))
         for conn in (4, 8):
             for step in args.steps:
-                t, gb = _timed(lambda pose=pose, step=step, conn=conn, start=start: _grid(pose, step, conn, start),
-                               1 if step < 0.5 else args.repeat)
+                t, gb = _timed(
+                    lambda pose=pose, step=step, conn=conn, start=start: _grid(pose, step, conn, start),
+                    1 if step < 0.5 else args.repeat,
+                )
                 val = gb.righting.barrier_j
                 esc = gb.escape.barrier_j if gb.escape else np.nan
                 err = abs(val - ref)
-                print(f"| {name} | grid {step:g}° {conn}-conn | {t * 1e3:.1f} | {val * 1e3:.6f} | {err * 1e3:.6f} "
-                      f"| {err / ref if ref else np.nan:.2e} | {esc * 1e3:.6f} | {abs(esc - ref_esc) * 1e3:.6f} |")
+                print(
+                    f"| {name} | grid {step:g}° {conn}-conn | {t * 1e3:.1f} | {val * 1e3:.6f} | {err * 1e3:.6f} "
+                    f"| {err / ref if ref else np.nan:.2e} | {esc * 1e3:.6f} | {abs(esc - ref_esc) * 1e3:.6f} |"
+                )
                 rows.append((name, f"grid {conn}", step, t, err / ref if ref else np.nan))
         for level in args.levels:
             sphere_graph(level)
-            t, sb = _timed(lambda pose=pose, start=start, level=level: sphere_barrier(pose, *start, subdivisions=level),
-                           1 if level > 6 else args.repeat)
+            t, sb = _timed(
+                lambda pose=pose, start=start, level=level: sphere_barrier(pose, *start, subdivisions=level),
+                1 if level > 6 else args.repeat,
+            )
             val = sb.barrier.righting.barrier_j
             esc = sb.barrier.escape.barrier_j if sb.barrier.escape else np.nan
             err = abs(val - ref)
-            print(f"| {name} | sphere level {level} ({sb.n_vertices} dirs, {sphere_graph(level).spacing_deg:.2f}°) "
-                  f"| {t * 1e3:.1f} | {val * 1e3:.6f} | {err * 1e3:.6f} | {err / ref if ref else np.nan:.2e} "
-                  f"| {esc * 1e3:.6f} | {abs(esc - ref_esc) * 1e3:.6f} |")
+            print(
+                f"| {name} | sphere level {level} ({sb.n_vertices} dirs, {sphere_graph(level).spacing_deg:.2f}°) "
+                f"| {t * 1e3:.1f} | {val * 1e3:.6f} | {err * 1e3:.6f} | {err / ref if ref else np.nan:.2e} "
+                f"| {esc * 1e3:.6f} | {abs(esc - ref_esc) * 1e3:.6f} |"
+            )
             rows.append((name, "sphere", level, t, err / ref if ref else np.nan))
     _plot(rows, args.out)
     print(f"\nwrote {args.out}")
@@ -133,15 +146,24 @@ def _plot(rows, out: Path) -> None:
         c = colors[i % len(colors)]
         for conn, ls in (("grid 4", ":"), ("grid 8", "-"), ("sphere", "--")):
             sel = [r for r in rows if r[0] == name and r[1] == conn]
-            ax.plot([r[3] for r in sel], [max(r[4], floor) for r in sel], ls, marker="s" if conn == "sphere" else "o",
-                    ms=3, color=c, label=f"{name}, {conn}-conn" if conn == "grid 8" else None)
+            ax.plot(
+                [r[3] for r in sel],
+                [max(r[4], floor) for r in sel],
+                ls,
+                marker="s" if conn == "sphere" else "o",
+                ms=3,
+                color=c,
+                label=f"{name}, {conn}-conn" if conn == "grid 8" else None,
+            )
         t_ex = [r[3] for r in rows if r[0] == name and r[1] == "exact"][0]
         ax.plot([t_ex], [floor], "*", ms=11, color=c)
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("wall time per barrier (s)")
     ax.set_ylabel("relative error of the righting barrier")
-    ax.set_title("Grid (solid: 8-conn, dotted: 4-conn), icosphere (dashed) vs exact (stars, at the floor)", fontsize=9)
+    ax.set_title(
+        "Grid (solid: 8-conn, dotted: 4-conn), icosphere (dashed) vs exact (stars, at the floor)", fontsize=9
+    )
     ax.legend(fontsize=7, loc="upper right")
     ax.grid(True, which="both", alpha=0.3)
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -29,10 +29,26 @@ from scipy.optimize import least_squares
 
 from geometry import Robot
 
-LANDMARKS_MM = np.array([
-    (134.5, 0, 25.0), (131.6, 17.7, 21.5), (-124.2, 55.1, 21.1), (-125.4, 58.3, 19.8), (-26, 108.8, 2.7),
-    (-51.4, 109.8, 0.1), (1.4, 107.2, 5.6), (17.8, 54, -11.3), (9.1, 11, -11.8), (97.4, 25.6, 4.0),
-    (100, 57.5, 19.3), (-100, 88.5, 13.5), (-60, 106, 6.4), (60, 86, -2.1), (120, 42.3, 22.6), (-120, 69.1, 18.8)])
+LANDMARKS_MM = np.array(
+    [
+        (134.5, 0, 25.0),
+        (131.6, 17.7, 21.5),
+        (-124.2, 55.1, 21.1),
+        (-125.4, 58.3, 19.8),
+        (-26, 108.8, 2.7),
+        (-51.4, 109.8, 0.1),
+        (1.4, 107.2, 5.6),
+        (17.8, 54, -11.3),
+        (9.1, 11, -11.8),
+        (97.4, 25.6, 4.0),
+        (100, 57.5, 19.3),
+        (-100, 88.5, 13.5),
+        (-60, 106, 6.4),
+        (60, 86, -2.1),
+        (120, 42.3, 22.6),
+        (-120, 69.1, 18.8),
+    ]
+)
 URDF = Path(__file__).resolve().parents[1].parent / "shared" / "ref" / "lab_robot" / "lab_robot.urdf"
 
 
@@ -64,17 +80,26 @@ def main() -> int:
         cx, a, b, zc, c = q
         return zc - c * np.sqrt(np.clip(1.0 - ((x - cx) / a) ** 2 - (y / b) ** 2, 0.0, None))
 
-    fit = least_squares(lambda q: height(q, key[:, 0], key[:, 1]) - key[:, 2], [0, 150, 140, 27, 40],
-                        bounds=([-50, 100, 100, -50, 5], [50, 400, 400, 100, 200]))
+    fit = least_squares(
+        lambda q: height(q, key[:, 0], key[:, 1]) - key[:, 2],
+        [0, 150, 140, 27, 40],
+        bounds=([-50, 100, 100, -50, 5], [50, 400, 400, 100, 200]),
+    )
     print("shell: centre x, semi-axes a, b, rim z, depth c (mm):", np.round(fit.x, 2).tolist())
-    print(f"rms height residual over the {len(key)} landmarks: {np.sqrt(np.mean(fit.fun**2)):.2f} mm; "
-          f"over all {len(pts)} vertices: {np.sqrt(np.mean((height(fit.x, *pts[:, :2].T) - pts[:, 2])**2)):.2f} mm")
-    print("outline stations x (mm):", [round(float(rear[0]), 1), *stations.tolist(), round(float(front[0]), 1)])
+    print(
+        f"rms height residual over the {len(key)} landmarks: {np.sqrt(np.mean(fit.fun**2)):.2f} mm; "
+        f"over all {len(pts)} vertices: {np.sqrt(np.mean((height(fit.x, *pts[:, :2].T) - pts[:, 2]) ** 2)):.2f} mm"
+    )
+    print(
+        "outline stations x (mm):", [round(float(rear[0]), 1), *stations.tolist(), round(float(front[0]), 1)]
+    )
     print("outline half-widths (mm):", np.round(outline, 1).tolist())
     print("head inner half-widths (x, |y|) (mm):", [(float(x), round(y, 1)) for x, y in inner])
     for name, v in parts.items():
-        print(f"{name}: x {v[:, 0].min():.1f}..{v[:, 0].max():.1f} mm, |y| {np.abs(v[:, 1]).min():.1f}.."
-              f"{np.abs(v[:, 1]).max():.1f} mm, z {v[:, 2].min():.1f}..{v[:, 2].max():.1f} mm")
+        print(
+            f"{name}: x {v[:, 0].min():.1f}..{v[:, 0].max():.1f} mm, |y| {np.abs(v[:, 1]).min():.1f}.."
+            f"{np.abs(v[:, 1]).max():.1f} mm, z {v[:, 2].min():.1f}..{v[:, 2].max():.1f} mm"
+        )
     return 0
 
 

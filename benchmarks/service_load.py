@@ -26,7 +26,12 @@ import httpx
 import trimesh
 
 ROOT = Path(__file__).resolve().parents[1]
-LAB = Path(os.environ.get("LANDSCAPE_SHARED") or ROOT.parent / "shared") / "ref" / "lab_robot" / "lab_robot.urdf"
+LAB = (
+    Path(os.environ.get("LANDSCAPE_SHARED") or ROOT.parent / "shared")
+    / "ref"
+    / "lab_robot"
+    / "lab_robot.urdf"
+)
 
 
 def _free_port() -> int:
@@ -160,8 +165,11 @@ def main() -> None:
                     lab_id = c.post("/api/robots", files={"file": ("lab.zip", buf.getvalue())}).json()["id"]
                     timed_get(c, url, {"robot": lab_id, "theta_w": 59, "step": args.step})
                     lab = [
-                        timed_get(c, url, {"robot": lab_id, "theta_w": 40 + (k % 20), "theta_l": 1 + k,
-                                           "step": args.step})
+                        timed_get(
+                            c,
+                            url,
+                            {"robot": lab_id, "theta_w": 40 + (k % 20), "theta_l": 1 + k, "step": args.step},
+                        )
                         for k in range(args.samples)
                     ]
             lat, errors, wall = asyncio.run(load(base, robots, args.clients, args.requests, args.step))
@@ -208,8 +216,18 @@ def main() -> None:
         ),
     ]
     if lab:
-        rows.insert(3, ("uncached, new theta_l (lab robot)", len(lab), None, statistics.median(lab), _pct(lab, 99),
-                        0, "<= 100"))
+        rows.insert(
+            3,
+            (
+                "uncached, new theta_l (lab robot)",
+                len(lab),
+                None,
+                statistics.median(lab),
+                _pct(lab, 99),
+                0,
+                "<= 100",
+            ),
+        )
     cli = _cli_seconds(args.step)
     rows.append(("baseline: `landscape compute` as a process", 3, None, cli, cli, 0, ""))
     print(f"landscape serve on loopback, step {args.step:g} deg, method exact, {os.cpu_count()} cores")
@@ -221,9 +239,13 @@ def main() -> None:
             f"{name:<42} {n:>8d} {'' if thr is None else f'{thr:.1f}':>8} {p50 * 1e3:>8.1f} {p99 * 1e3:>8.1f} "
             f"{err:>6d}  {target}"
         )
-    print(f"server peak resident memory over the whole run: {peak_mb:.0f} MB (the in-memory cache is bounded)")
-    print(f"ratio: uncached built-in p50 / command-line process = {rows[1][3] / cli:.3f} "
-          f"({cli / rows[1][3]:.0f}x faster); cached p50 / process = {rows[0][3] / cli:.4f}")
+    print(
+        f"server peak resident memory over the whole run: {peak_mb:.0f} MB (the in-memory cache is bounded)"
+    )
+    print(
+        f"ratio: uncached built-in p50 / command-line process = {rows[1][3] / cli:.3f} "
+        f"({cli / rows[1][3]:.0f}x faster); cached p50 / process = {rows[0][3] / cli:.4f}"
+    )
 
 
 def _peak_rss_mb(pid: int) -> float:
@@ -247,8 +269,11 @@ def _cli_seconds(step: float) -> float:
     times = []
     for k in range(3):
         t0 = time.perf_counter()
-        subprocess.run([str(exe), "compute", "--theta-w", str(41 + k), "--theta-l", "7", "--step", str(step),
-                        "--json"], check=True, capture_output=True)
+        subprocess.run(
+            [str(exe), "compute", "--theta-w", str(41 + k), "--theta-l", "7", "--step", str(step), "--json"],
+            check=True,
+            capture_output=True,
+        )
         times.append(time.perf_counter() - t0)
     return statistics.median(times)
 

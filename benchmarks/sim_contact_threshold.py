@@ -23,8 +23,11 @@ from sim.trial import DEFAULT_DT_S, run_trial  # noqa: E402
 from sim.world import Contact  # noqa: E402
 
 CASE = dict(theta_w_deg=70.0, theta_l_deg=20.0, phase=0.7, cv=0.0, rng=1, duration_s=10.0, dt_s=DEFAULT_DT_S)
-VARIANTS = (("pybullet default (20 mm)", {}), ("5 mm", {"contactBreakingThreshold": 0.005}),
-            ("1 mm", {"contactBreakingThreshold": 0.001}))
+VARIANTS = (
+    ("pybullet default (20 mm)", {}),
+    ("5 mm", {"contactBreakingThreshold": 0.005}),
+    ("1 mm", {"contactBreakingThreshold": 0.001}),
+)
 
 
 def main() -> None:
@@ -32,10 +35,13 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=2)
     args = ap.parse_args()
     build = world.World._build
-    print(f"| contactBreakingThreshold | first 1 s (deg) | first 2 s (deg) | core-s per 10 s trial (dt {DEFAULT_DT_S:g}) |")
+    print(
+        f"| contactBreakingThreshold | first 1 s (deg) | first 2 s (deg) | core-s per 10 s trial (dt {DEFAULT_DT_S:g}) |"
+    )
     print("|---|---:|---:|---:|")
     try:
         for name, params in VARIANTS:
+
             def patched(self, urdf, params=params):
                 build(self, urdf)
                 world.pb.setPhysicsEngineParameter(physicsClientId=self.cid, **params)

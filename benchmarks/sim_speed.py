@@ -31,16 +31,22 @@ from sim.world import Contact
 
 LAB_URDF = Path(__file__).resolve().parents[1].parent / "shared" / "ref" / "lab_robot" / "lab_robot.urdf"
 CASE = dict(theta_w_deg=70.0, theta_l_deg=20.0, phase=0.7, cv=0.0, rng=1, duration_s=10.0)
-BASELINE = ("first version (baseline): servo every step, 50 iterations, dt 2e-4",
-            dict(numerics=Numerics(control_period_s=None), contact=Contact(solver_iterations=50), dt_s=2e-4))
+BASELINE = (
+    "first version (baseline): servo every step, 50 iterations, dt 2e-4",
+    dict(numerics=Numerics(control_period_s=None), contact=Contact(solver_iterations=50), dt_s=2e-4),
+)
 ROWS = {
     "built-in": (
         BASELINE,
         ("servo every 1 ms + sub-steps, 20 iterations, dt 2e-4 (the previous default)", dict(dt_s=2e-4)),
-        (f"**new default: dt {DEFAULT_DT_S:g}** (passes the convergence criterion on this robot)",
-         dict(dt_s=DEFAULT_DT_S)),
-        (f"dt {DEFAULT_DT_S:g}, fixed links merged (fails the criterion)",
-         dict(dt_s=DEFAULT_DT_S, numerics=Numerics(merge_fixed_links=True))),
+        (
+            f"**new default: dt {DEFAULT_DT_S:g}** (passes the convergence criterion on this robot)",
+            dict(dt_s=DEFAULT_DT_S),
+        ),
+        (
+            f"dt {DEFAULT_DT_S:g}, fixed links merged (fails the criterion)",
+            dict(dt_s=DEFAULT_DT_S, numerics=Numerics(merge_fixed_links=True)),
+        ),
         (f"dt {DEFAULT_DT_S:g}, full hulls", dict(dt_s=DEFAULT_DT_S, numerics=Numerics(hull_tol_m=0.0))),
     ),
     "lab": (
@@ -53,7 +59,9 @@ ROWS = {
 
 def core_s_table(robots: dict[str, Path], repeat: int) -> list[tuple[str, str, float]]:
     """Best core-s per 10 s trial of every (robot, row), the rows interleaved over ``repeat`` rounds."""
-    jobs = [(rname, name, {"robot": path, **kw}) for rname, path in robots.items() for name, kw in ROWS[rname]]
+    jobs = [
+        (rname, name, {"robot": path, **kw}) for rname, path in robots.items() for name, kw in ROWS[rname]
+    ]
     for _, _, kw in jobs:
         run_trial(**{**CASE, "duration_s": 0.2}, **kw)  # build and cache the model first
     best = [float("inf")] * len(jobs)
@@ -114,8 +122,10 @@ def main() -> None:
         print(f"| {rname} | {name} | {c:.2f} | {c / base[rname]:.2f} |", flush=True)
 
     _print_split(args.repeat)
-    print(f"\n## Sweep on {args.workers} worker processes ({args.sweep_trials} trials, theta_w 70/76, theta_l 20/50, "
-          f"Cv 0.1, built-in robot, dt {DEFAULT_DT_S:g} s, 10 s)\n")
+    print(
+        f"\n## Sweep on {args.workers} worker processes ({args.sweep_trials} trials, theta_w 70/76, theta_l 20/50, "
+        f"Cv 0.1, built-in robot, dt {DEFAULT_DT_S:g} s, 10 s)\n"
+    )
     n_per = max(1, args.sweep_trials // 4)
     specs = sweep_specs((70.0, 76.0), (20.0, 50.0), (0.1,), trials=n_per)
     with tempfile.TemporaryDirectory() as d:
@@ -127,7 +137,9 @@ def main() -> None:
 
 def _print_split(repeat: int) -> None:
     inside, other, steps = step_split(repeat)
-    print(f"\n## Where one 10 s trial's time goes (built-in robot, dt {DEFAULT_DT_S:g} s, best of {repeat})\n")
+    print(
+        f"\n## Where one 10 s trial's time goes (built-in robot, dt {DEFAULT_DT_S:g} s, best of {repeat})\n"
+    )
     print("| inside stepSimulation (core-s) | elsewhere (core-s) | physics steps | µs per step |")
     print("|---:|---:|---:|---:|")
     print(f"| {inside:.3f} | {other:.3f} | {steps} | {inside / steps * 1e6:.1f} |", flush=True)

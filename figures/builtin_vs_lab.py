@@ -26,12 +26,17 @@ def rows():
         a = compute(ours, theta_w_deg=tw, theta_l_deg=tl)
         b = compute(lab, theta_w_deg=tw, theta_l_deg=tl)
         ra, rb = a.barrier.righting.barrier_j * 1e3, b.barrier.righting.barrier_j * 1e3
-        yield {"theta_w_deg": tw, "theta_l_deg": tl,
-               "builtin_min_pitch_deg": round(a.minimum.pitch_deg, 2), "lab_min_pitch_deg": round(b.minimum.pitch_deg, 2),
-               "builtin_min_energy_mj": round(a.minimum.energy_j * 1e3, 2),
-               "lab_min_energy_mj": round(b.minimum.energy_j * 1e3, 2),
-               "builtin_righting_mj": round(ra, 3), "lab_righting_mj": round(rb, 3),
-               "barrier_diff_pct": round(100 * (ra - rb) / rb, 1)}
+        yield {
+            "theta_w_deg": tw,
+            "theta_l_deg": tl,
+            "builtin_min_pitch_deg": round(a.minimum.pitch_deg, 2),
+            "lab_min_pitch_deg": round(b.minimum.pitch_deg, 2),
+            "builtin_min_energy_mj": round(a.minimum.energy_j * 1e3, 2),
+            "lab_min_energy_mj": round(b.minimum.energy_j * 1e3, 2),
+            "builtin_righting_mj": round(ra, 3),
+            "lab_righting_mj": round(rb, 3),
+            "barrier_diff_pct": round(100 * (ra - rb) / rb, 1),
+        }
 
 
 def main() -> int:
@@ -43,13 +48,17 @@ def main() -> int:
         w = csv.DictWriter(f, fieldnames=list(table[0]))
         w.writeheader()
         w.writerows(table)
-    print("| θw (°) | θl (°) | min pitch built-in / lab (°) | min E built-in / lab (mJ) | "
-          "righting barrier built-in / lab (mJ) | barrier diff |")
+    print(
+        "| θw (°) | θl (°) | min pitch built-in / lab (°) | min E built-in / lab (mJ) | "
+        "righting barrier built-in / lab (mJ) | barrier diff |"
+    )
     print("|---:|---:|---:|---:|---:|---:|")
     for r in table:
-        print(f"| {r['theta_w_deg']:g} | {r['theta_l_deg']:g} | {r['builtin_min_pitch_deg']:.1f} / "
-              f"{r['lab_min_pitch_deg']:.1f} | {r['builtin_min_energy_mj']:.1f} / {r['lab_min_energy_mj']:.1f} | "
-              f"{r['builtin_righting_mj']:.2f} / {r['lab_righting_mj']:.2f} | {r['barrier_diff_pct']:+.0f} % |")
+        print(
+            f"| {r['theta_w_deg']:g} | {r['theta_l_deg']:g} | {r['builtin_min_pitch_deg']:.1f} / "
+            f"{r['lab_min_pitch_deg']:.1f} | {r['builtin_min_energy_mj']:.1f} / {r['lab_min_energy_mj']:.1f} | "
+            f"{r['builtin_righting_mj']:.2f} / {r['lab_righting_mj']:.2f} | {r['barrier_diff_pct']:+.0f} % |"
+        )
     print("\nexact method, continuation start; lab = ../shared/ref/lab_robot/lab_robot.urdf")
     return 0
 

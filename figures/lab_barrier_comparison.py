@@ -40,18 +40,40 @@ def main() -> int:
     starts = sweep_starts(robot, ws, [0.0])
     rows = []
     for w, lab_b in zip(ws, lab_mj, strict=True):
-        g = compute(robot, theta_w_deg=w, theta_l_deg=0.0, step_deg=1.0, method="grid", start_deg=starts[(w, 0.0)])
-        e = compute(robot, theta_w_deg=w, theta_l_deg=0.0, step_deg=1.0, method="exact",
-                    start_deg=starts[(w, 0.0)])
-        rows.append((w, lab_b, g.barrier.righting.barrier_j * 1e3, e.barrier.righting.barrier_j * 1e3,
-                     e.barrier.escape.barrier_j * 1e3 if e.barrier.escape else np.nan))
+        g = compute(
+            robot, theta_w_deg=w, theta_l_deg=0.0, step_deg=1.0, method="grid", start_deg=starts[(w, 0.0)]
+        )
+        e = compute(
+            robot, theta_w_deg=w, theta_l_deg=0.0, step_deg=1.0, method="exact", start_deg=starts[(w, 0.0)]
+        )
+        rows.append(
+            (
+                w,
+                lab_b,
+                g.barrier.righting.barrier_j * 1e3,
+                e.barrier.righting.barrier_j * 1e3,
+                e.barrier.escape.barrier_j * 1e3 if e.barrier.escape else np.nan,
+            )
+        )
     a = np.array(rows)
     out = ROOT / "figures"
-    np.savetxt(out / "lab_barrier_comparison.csv", a, delimiter=",", fmt="%.6g",
-               header="theta_w_deg,lab_ray_mj,grid_1deg_righting_mj,exact_righting_mj,exact_escape_mj", comments="")
+    np.savetxt(
+        out / "lab_barrier_comparison.csv",
+        a,
+        delimiter=",",
+        fmt="%.6g",
+        header="theta_w_deg,lab_ray_mj,grid_1deg_righting_mj,exact_righting_mj,exact_escape_mj",
+        comments="",
+    )
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.2), dpi=120)
-    for k, (lab_, style) in enumerate([("lab ray method (lab_barrier.mat)", "k."), ("grid 1°, 8-connected", "-"),
-                                       ("exact righting", "-"), ("exact escape", "--")]):
+    for k, (lab_, style) in enumerate(
+        [
+            ("lab ray method (lab_barrier.mat)", "k."),
+            ("grid 1°, 8-connected", "-"),
+            ("exact righting", "-"),
+            ("exact escape", "--"),
+        ]
+    ):
         for axis in (ax, ax2):
             axis.plot(a[:, 0], a[:, k + 1], style, label=lab_, ms=3, lw=1.3)
     ax.set_ylabel("barrier (mJ)")
@@ -65,12 +87,16 @@ def main() -> int:
     ax2.set_title("zoom: θw 60–90°")
     fig.tight_layout()
     fig.savefig(out / "lab_barrier_comparison.png")
-    print("| θw (°) | lab ray method (mJ) | grid 1° righting (mJ) | exact righting (mJ) | exact escape (mJ) |")
+    print(
+        "| θw (°) | lab ray method (mJ) | grid 1° righting (mJ) | exact righting (mJ) | exact escape (mJ) |"
+    )
     print("|---:|---:|---:|---:|---:|")
     for w in (0, 30, 60, 70, 74, 80, 90):
         r = a[np.argmin(np.abs(a[:, 0] - w))]
         print(f"| {r[0]:g} | {r[1]:.2f} | {r[2]:.2f} | {r[3]:.2f} | {r[4]:.2f} |")
-    print(f"\n{len(ws)} wing angles in {time.perf_counter() - t0:.1f} s; wrote figures/lab_barrier_comparison.png, .csv")
+    print(
+        f"\n{len(ws)} wing angles in {time.perf_counter() - t0:.1f} s; wrote figures/lab_barrier_comparison.png, .csv"
+    )
     return 0
 
 

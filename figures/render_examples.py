@@ -19,8 +19,12 @@ from landscape.cli import main as landscape
 ROOT = Path(__file__).resolve().parents[1]
 LAB = ROOT.parent / "shared" / "ref" / "lab_robot" / "lab_robot.urdf"
 THETA_W_DEG, THETA_L_DEG = 74, 30
-FIGURES = {"landscape.png": "landscape_74.png", "contour.png": "contour_74.png",
-           "robot_start.png": "robot_start_74.png", "robot_saddle.png": "robot_saddle_74.png"}
+FIGURES = {
+    "landscape.png": "landscape_74.png",
+    "contour.png": "contour_74.png",
+    "robot_start.png": "robot_start_74.png",
+    "robot_saddle.png": "robot_saddle_74.png",
+}
 
 
 def robot_urdf() -> Path:
@@ -36,8 +40,19 @@ def robot_urdf() -> Path:
 def main() -> int:
     urdf = robot_urdf()
     with tempfile.TemporaryDirectory() as tmp:
-        code = landscape(["render", "--theta-w", str(THETA_W_DEG), "--theta-l", str(THETA_L_DEG),
-                          "--robot", str(urdf), "--out", tmp])
+        code = landscape(
+            [
+                "render",
+                "--theta-w",
+                str(THETA_W_DEG),
+                "--theta-l",
+                str(THETA_L_DEG),
+                "--robot",
+                str(urdf),
+                "--out",
+                tmp,
+            ]
+        )
         if code:
             return code
         for src, dst in FIGURES.items():

@@ -28,8 +28,11 @@ def main() -> int:
         port = s.getsockname()[1]
     with tempfile.TemporaryDirectory() as tmp:
         exe = Path(sys.executable).parent / "landscape"
-        server = subprocess.Popen([str(exe), "serve", "--port", str(port), "--data", f"{tmp}/data"],
-                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        server = subprocess.Popen(
+            [str(exe), "serve", "--port", str(port), "--data", f"{tmp}/data"],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
         try:
             for _ in range(300):
                 try:
@@ -38,11 +41,25 @@ def main() -> int:
                 except OSError:
                     time.sleep(0.1)
             out = HERE / "service_page.png"
-            subprocess.run([chromium, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
-                            "--disable-background-networking", f"--user-data-dir={tmp}/profile",
-                            "--hide-scrollbars", "--window-size=1280,1300", "--virtual-time-budget=20000",
-                            f"--screenshot={out}", f"http://127.0.0.1:{port}/"],
-                           check=True, capture_output=True, timeout=180)
+            subprocess.run(
+                [
+                    chromium,
+                    "--headless",
+                    "--no-sandbox",
+                    "--disable-gpu",
+                    "--no-first-run",
+                    "--disable-background-networking",
+                    f"--user-data-dir={tmp}/profile",
+                    "--hide-scrollbars",
+                    "--window-size=1280,1300",
+                    "--virtual-time-budget=20000",
+                    f"--screenshot={out}",
+                    f"http://127.0.0.1:{port}/",
+                ],
+                check=True,
+                capture_output=True,
+                timeout=180,
+            )
             print(f"wrote {out}")
         finally:
             server.terminate()

@@ -9,13 +9,25 @@ from __future__ import annotations
 import importlib
 
 _EXPORTS = {
-    **dict.fromkeys(("GeometryError", "JointLimitError", "NotAVolumeError", "RobotDescriptionError",
-                     "UnknownJointError", "UsageError"), "geometry.errors"),
-    **dict.fromkeys(("body_to_world", "canonical_pitch_roll_deg", "pitch_roll_from_up", "up_vector"),
-                    "geometry.frames"),
+    **dict.fromkeys(
+        (
+            "GeometryError",
+            "JointLimitError",
+            "NotAVolumeError",
+            "RobotDescriptionError",
+            "UnknownJointError",
+            "UsageError",
+        ),
+        "geometry.errors",
+    ),
+    **dict.fromkeys(
+        ("body_to_world", "canonical_pitch_roll_deg", "pitch_roll_from_up", "up_vector"), "geometry.frames"
+    ),
     **dict.fromkeys(("Hull", "convex_hull"), "geometry.hull"),
-    **dict.fromkeys(("MassProperties", "mesh_mass_properties", "shell_mass_properties", "solid_mass_properties"),
-                    "geometry.mass"),
+    **dict.fromkeys(
+        ("MassProperties", "mesh_mass_properties", "shell_mass_properties", "solid_mass_properties"),
+        "geometry.mass",
+    ),
     **dict.fromkeys(("JointMap", "Part", "Pose", "Robot"), "geometry.robot"),
     **dict.fromkeys(("load_robot", "robot_urdf_path"), "geometry.robots"),
 }

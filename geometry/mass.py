@@ -70,7 +70,9 @@ def shell_mass_properties(mesh: trimesh.Trimesh, *, mass_kg: float) -> MassPrope
         raise GeometryError("shell CoM needs a surface with non-zero area; got total area 0")
     com = (area[:, None] * tri.mean(axis=1)).sum(axis=0) / total
     s = tri.sum(axis=1)
-    second = np.einsum("f,fij->ij", area / 12.0, np.einsum("fki,fkj->fij", tri, tri) + s[:, :, None] * s[:, None, :])
+    second = np.einsum(
+        "f,fij->ij", area / 12.0, np.einsum("fki,fkj->fij", tri, tri) + s[:, :, None] * s[:, None, :]
+    )
     second *= mass_kg / total
     second_c = second - mass_kg * np.outer(com, com)
     inertia = np.trace(second_c) * np.eye(3) - second_c
@@ -101,12 +103,17 @@ def solid_mass_properties(mesh: trimesh.Trimesh, *, mass_kg: float, name: str = 
         )
     m = mesh.copy()
     m.density = mass_kg / m.volume
-    return MassProperties(float(mass_kg), np.asarray(m.center_mass, dtype=np.float64),
-                          np.asarray(m.moment_inertia, dtype=np.float64), "solid")
+    return MassProperties(
+        float(mass_kg),
+        np.asarray(m.center_mass, dtype=np.float64),
+        np.asarray(m.moment_inertia, dtype=np.float64),
+        "solid",
+    )
 
 
-def mesh_mass_properties(mesh: trimesh.Trimesh, *, mass_kg: float, com_model: str = "auto",
-                         name: str = "mesh") -> MassProperties:
+def mesh_mass_properties(
+    mesh: trimesh.Trimesh, *, mass_kg: float, com_model: str = "auto", name: str = "mesh"
+) -> MassProperties:
     """Solid or shell mass properties of a mesh.
 
     ``com_model="auto"`` takes the solid model when the mesh bounds a volume and the thin-shell model

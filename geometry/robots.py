@@ -45,9 +45,16 @@ def robot_urdf_path(robot: str | Path | None = None) -> Path:
     return Path(robot)
 
 
-def load_robot(robot: str | Path | None = None, *, mesh: str | Path | None = None,
-               com: Sequence[float] | None = None, mass_kg: float = 1.0, units: str = "m",
-               com_model: str = "auto", joints: str | None = None):
+def load_robot(
+    robot: str | Path | None = None,
+    *,
+    mesh: str | Path | None = None,
+    com: Sequence[float] | None = None,
+    mass_kg: float = 1.0,
+    units: str = "m",
+    com_model: str = "auto",
+    joints: str | None = None,
+):
     """A :class:`geometry.Robot` from a registered name or URDF path, or one rigid ``mesh``.
 
     Parameters
@@ -76,8 +83,10 @@ def load_robot(robot: str | Path | None = None, *, mesh: str | Path | None = Non
 
     for what, given in (("--robot", robot), ("--mesh", mesh)):
         if given is not None and str(given) not in ROBOTS and Path(given).is_dir():
-            raise RobotDescriptionError(f"{what} {given} is a directory; give the file inside it "
-                                        f"({'the .urdf' if what == '--robot' else 'a mesh file'})")
+            raise RobotDescriptionError(
+                f"{what} {given} is a directory; give the file inside it "
+                f"({'the .urdf' if what == '--robot' else 'a mesh file'})"
+            )
     if robot is not None and mesh is not None:
         raise UsageError("give either --robot FILE.urdf or --mesh FILE, not both")
     if mesh is not None:

@@ -18,14 +18,24 @@ from __future__ import annotations
 import importlib
 
 _EXPORTS = {
-    "Exit": "landscape.barriers", "Barrier": "landscape.barriers", "METHODS": "landscape.barriers",
-    "grid_barrier": "landscape.barriers.grid", "exact_barrier": "landscape.barriers.exact",
+    "Exit": "landscape.barriers",
+    "Barrier": "landscape.barriers",
+    "METHODS": "landscape.barriers",
+    "grid_barrier": "landscape.barriers.grid",
+    "exact_barrier": "landscape.barriers.exact",
     "sphere_barrier": "landscape.barriers.sphere",
-    "Computation": "landscape.computation", "compute": "landscape.computation", "sweep_starts": "landscape.computation",
-    "BarrierMap": "landscape.computation", "barrier_map": "landscape.computation",
-    "Landscape": "landscape.energy", "brute_force_landscape": "landscape.energy",
-    "energy_landscape": "landscape.energy", "height_at": "landscape.energy",
-    "GridError": "landscape.grid", "Minimum": "landscape.minima", "metastable_orientation": "landscape.minima",
+    "Computation": "landscape.computation",
+    "compute": "landscape.computation",
+    "sweep_starts": "landscape.computation",
+    "BarrierMap": "landscape.computation",
+    "barrier_map": "landscape.computation",
+    "Landscape": "landscape.energy",
+    "brute_force_landscape": "landscape.energy",
+    "energy_landscape": "landscape.energy",
+    "height_at": "landscape.energy",
+    "GridError": "landscape.grid",
+    "Minimum": "landscape.minima",
+    "metastable_orientation": "landscape.minima",
     "load_robot": "geometry.robots",
 }
 

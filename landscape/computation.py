@@ -187,13 +187,17 @@ def check_memory(step_deg: float, budget_bytes: float = MEMORY_BUDGET_BYTES) -> 
     need = landscape_memory_bytes(step_deg)
     if need > budget_bytes:
         n = cells_per_turn(step_deg)
-        raise UsageError(f"a {step_deg:g} deg grid needs about {need / 1e9:.1f} GB ({n} x {n} cells x "
-                         f"{BYTES_PER_CELL} bytes), more than the {budget_bytes / 2**30:.3g} GiB budget; use a coarser "
-                         "--step or raise the budget (LANDSCAPE_MEMORY_GIB)")
+        raise UsageError(
+            f"a {step_deg:g} deg grid needs about {need / 1e9:.1f} GB ({n} x {n} cells x "
+            f"{BYTES_PER_CELL} bytes), more than the {budget_bytes / 2**30:.3g} GiB budget; use a coarser "
+            "--step or raise the budget (LANDSCAPE_MEMORY_GIB)"
+        )
 
 
-COM_OUTSIDE_HULL = ("the CoM {com} m lies {dist:.3g} m outside the convex hull of the body, so it would rest "
-                    "below the ground; check the masses and <inertial> origins (or --com)")
+COM_OUTSIDE_HULL = (
+    "the CoM {com} m lies {dist:.3g} m outside the convex hull of the body, so it would rest "
+    "below the ground; check the masses and <inertial> origins (or --com)"
+)
 
 
 def _check_com_inside(pose: Pose) -> None:
@@ -209,11 +213,21 @@ def _check_com_inside(pose: Pose) -> None:
         raise UsageError(COM_OUTSIDE_HULL.format(com=np.round(pose.com_m, 6).tolist(), dist=-depth))
 
 
-def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float | None = 0.0,
-            step_deg: float = 1.0, start_pitch_deg: float | None = None, start_roll_deg: float | None = None,
-            connectivity: int = 8, method: str = DEFAULT_METHOD, g_m_s2: float = G_M_S2,
-            start_deg: tuple[float, float] | None = None,
-            memory_budget_bytes: float = MEMORY_BUDGET_BYTES, landscape_grid: bool = True) -> Computation:
+def compute(
+    robot: Robot,
+    *,
+    theta_w_deg: float | None = 0.0,
+    theta_l_deg: float | None = 0.0,
+    step_deg: float = 1.0,
+    start_pitch_deg: float | None = None,
+    start_roll_deg: float | None = None,
+    connectivity: int = 8,
+    method: str = DEFAULT_METHOD,
+    g_m_s2: float = G_M_S2,
+    start_deg: tuple[float, float] | None = None,
+    memory_budget_bytes: float = MEMORY_BUDGET_BYTES,
+    landscape_grid: bool = True,
+) -> Computation:
     """Landscape, start minimum and barriers of a robot at (theta_w, theta_l).
 
     Parameters
@@ -255,8 +269,10 @@ def compute(robot: Robot, *, theta_w_deg: float | None = 0.0, theta_l_deg: float
     """
     solver = barrier_method(method)
     if not landscape_grid and solver.SECTORS:
-        raise UsageError(f"the {method!r} method searches the landscape grid, so it cannot be skipped; "
-                         "keep landscape_grid=True or use method 'exact'")
+        raise UsageError(
+            f"the {method!r} method searches the landscape grid, so it cannot be skipped; "
+            "keep landscape_grid=True or use method 'exact'"
+        )
     check_memory(step_deg, memory_budget_bytes)
     warm_up()
     timing = {}
@@ -365,9 +381,16 @@ _MAP_TASK: dict = {}  # in a forked worker process only: the robot and options o
 
 def _map_pose(task: dict, w: float, leg: float, start: tuple[float, float]) -> Computation:
     """One pose of a barrier map, without its landscape grid and pose."""
-    c = compute(task["robot"], theta_w_deg=w, theta_l_deg=leg, step_deg=task["step_deg"], start_deg=start,
-                method=task["method"], memory_budget_bytes=task["memory_budget_bytes"],
-                landscape_grid=task["grid"])
+    c = compute(
+        task["robot"],
+        theta_w_deg=w,
+        theta_l_deg=leg,
+        step_deg=task["step_deg"],
+        start_deg=start,
+        method=task["method"],
+        memory_budget_bytes=task["memory_budget_bytes"],
+        landscape_grid=task["grid"],
+    )
     return replace(c, landscape=None, pose=None)
 
 
@@ -414,10 +437,18 @@ def map_workers(n_poses: int, workers: int | None = None) -> int:
     return max(1, min(cpus, n_poses // MAP_POSES_PER_WORKER))
 
 
-def barrier_map(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float], *, step_deg: float = 1.0,
-                method: str = DEFAULT_METHOD, progress=None,
-                memory_budget_bytes: float = MEMORY_BUDGET_BYTES, workers: int | None = None,
-                sector_exits: bool = True) -> BarrierMap:
+def barrier_map(
+    robot: Robot,
+    theta_w_deg: list[float],
+    theta_l_deg: list[float],
+    *,
+    step_deg: float = 1.0,
+    method: str = DEFAULT_METHOD,
+    progress=None,
+    memory_budget_bytes: float = MEMORY_BUDGET_BYTES,
+    workers: int | None = None,
+    sector_exits: bool = True,
+) -> BarrierMap:
     """Start minimum and barriers at every (theta_w, theta_l), the starts from one shared continuation.
 
     Parameters
@@ -462,7 +493,9 @@ def barrier_map(robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float]
     starts = sweep_starts(robot, ws, ls_)
     tasks = [(w, leg, starts[(w, leg)]) for w in ws for leg in ls_]
     warm_up()  # load the kernels once, before any fork, so the workers inherit them
-    task = dict(robot=robot, step_deg=step_deg, method=method, memory_budget_bytes=memory_budget_bytes, grid=grid)
+    task = dict(
+        robot=robot, step_deg=step_deg, method=method, memory_budget_bytes=memory_budget_bytes, grid=grid
+    )
     if n_workers == 1:
         out = _collect((_map_pose(task, *t) for t in tasks), progress)
     else:

@@ -114,13 +114,22 @@ def height_at(pose: Pose, pitch_deg: ArrayLike, roll_deg: ArrayLike) -> NDArray[
     u = up_vector(np.deg2rad(p), np.deg2rad(r))
     if "hull" in pose.__dict__:  # hull already built: walk it
         d, ptr, idx = _support_inputs(pose)
-        return _kernels.support_points(d, ptr, idx, np.ascontiguousarray(u.reshape(-1, 3))).reshape(u.shape[:-1])
+        return _kernels.support_points(d, ptr, idx, np.ascontiguousarray(u.reshape(-1, 3))).reshape(
+            u.shape[:-1]
+        )
     d = pose.com_m[None, :] - pose.hull_points_m  # few orientations: every part-hull vertex is cheaper
     return (u.reshape(-1, 3) @ d.T).max(axis=1).reshape(u.shape[:-1])
 
 
-def brute_force_landscape(points_m: ArrayLike, com_m: ArrayLike, mass_kg: float, *, step_deg: float = 1.0,
-                          g_m_s2: float = G_M_S2, rows_per_chunk: int = 8) -> NDArray[np.float64]:
+def brute_force_landscape(
+    points_m: ArrayLike,
+    com_m: ArrayLike,
+    mass_kg: float,
+    *,
+    step_deg: float = 1.0,
+    g_m_s2: float = G_M_S2,
+    rows_per_chunk: int = 8,
+) -> NDArray[np.float64]:
     """The lab's method: every mesh vertex against every grid orientation, vectorised NumPy.
 
     The reference for the fast kernel and the baseline of ``landscape bench``. Chunked by pitch rows only so
@@ -138,8 +147,10 @@ def brute_force_landscape(points_m: ArrayLike, com_m: ArrayLike, mass_kg: float,
     out = np.zeros((len(angles), len(angles)))
     for i0 in range(0, len(angles), rows_per_chunk):
         sl = slice(i0, i0 + rows_per_chunk)
-        u = np.stack(np.broadcast_arrays(-sp[sl, None], cp[sl, None] * sp[None, :], cp[sl, None] * cp[None, :]),
-                     axis=-1)
+        u = np.stack(
+            np.broadcast_arrays(-sp[sl, None], cp[sl, None] * sp[None, :], cp[sl, None] * cp[None, :]),
+            axis=-1,
+        )
         low = (u @ pts.T).min(axis=-1)
         out[sl] = u @ c - low
     return mass_kg * g_m_s2 * out

@@ -33,8 +33,10 @@ def parse_values(text: str, what: str) -> list[float]:
                 raise UsageError(f"--{what} range {text!r} must be START:STOP:STEP with STEP > 0")
             count = (parts[1] - parts[0]) / parts[2] + 1e-9
             if not math.isfinite(count) or count + 1 > MAX_VALUES:
-                raise UsageError(f"--{what} range {text!r} has {count + 1:.3g} values, more than the "
-                                 f"{MAX_VALUES} allowed; use a larger STEP")
+                raise UsageError(
+                    f"--{what} range {text!r} has {count + 1:.3g} values, more than the "
+                    f"{MAX_VALUES} allowed; use a larger STEP"
+                )
             n = math.floor(count) + 1
             if n < 1:
                 raise UsageError(f"--{what} range {text!r} is empty (STOP < START)")

@@ -10,8 +10,10 @@ from __future__ import annotations
 import importlib
 
 _EXPORTS = {
-    **dict.fromkeys(("Actuation", "attempt_phases", "attempt_starts_s", "leg_profile_deg", "wing_profile_deg"),
-                    "sim.actuation"),
+    **dict.fromkeys(
+        ("Actuation", "attempt_phases", "attempt_starts_s", "leg_profile_deg", "wing_profile_deg"),
+        "sim.actuation",
+    ),
     **dict.fromkeys(("SimModel", "default_robot_urdf", "sim_model"), "sim.model"),
     **dict.fromkeys(("DEFAULT_DT_S", "OTHER_ROBOT_DT_S"), "sim.protocol"),
     **dict.fromkeys(("Trace", "TrialInputError", "TrialResult", "run_trial"), "sim.trial"),

@@ -67,17 +67,27 @@ class Actuation:
             v = getattr(self, name)
             if not (np.isfinite(v) and v >= 0):
                 raise UsageError(f"{name} must be a finite angle >= 0 degrees; got {v!r}")
-        for name in ("wing_period_s", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s",
-                     "leg_period_s", "leg_cross_s"):
+        for name in (
+            "wing_period_s",
+            "wing_open_deg_s",
+            "wing_close_deg_s",
+            "wing_close_start_s",
+            "leg_period_s",
+            "leg_cross_s",
+        ):
             v = getattr(self, name)
             if not (np.isfinite(v) and v > 0):
                 raise UsageError(f"{name} must be a finite number > 0; got {v!r}")
         if self.leg_cross_s > self.leg_period_s / 2:
-            raise UsageError(f"leg_cross_s = {self.leg_cross_s:g} s must be at most half the leg period "
-                             f"({self.leg_period_s / 2:g} s)")
+            raise UsageError(
+                f"leg_cross_s = {self.leg_cross_s:g} s must be at most half the leg period "
+                f"({self.leg_period_s / 2:g} s)"
+            )
         if self.wing_closed_s > self.wing_period_s:
-            raise UsageError(f"the wing cycle (open, hold, close) lasts {self.wing_closed_s:g} s, longer than "
-                             f"wing_period_s = {self.wing_period_s:g} s; open or close faster")
+            raise UsageError(
+                f"the wing cycle (open, hold, close) lasts {self.wing_closed_s:g} s, longer than "
+                f"wing_period_s = {self.wing_period_s:g} s; open or close faster"
+            )
 
     @property
     def wing_open_s(self) -> float:
@@ -100,8 +110,9 @@ class Actuation:
         return self.wing_period_s - self.wing_closed_s
 
 
-def attempt_starts_s(act: Actuation, *, phase: float, cv: float, rng: np.random.Generator,
-                     duration_s: float) -> NDArray[np.float64]:
+def attempt_starts_s(
+    act: Actuation, *, phase: float, cv: float, rng: np.random.Generator, duration_s: float
+) -> NDArray[np.float64]:
     """Opening times of every attempt that starts before ``duration_s``.
 
     One normal deviate is drawn per closed hold, in order, so a longer duration extends the same sequence.
@@ -150,8 +161,9 @@ def attempt_phases(starts_s: ArrayLike, act: Actuation) -> NDArray[np.float64]:
     return np.mod(t, act.leg_period_s) / act.leg_period_s
 
 
-def wing_profile_deg(t_s: ArrayLike, starts_s: ArrayLike, act: Actuation) -> tuple[NDArray[np.float64],
-                                                                                   NDArray[np.float64]]:
+def wing_profile_deg(
+    t_s: ArrayLike, starts_s: ArrayLike, act: Actuation
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Commanded wing angle and angular speed at times ``t_s``.
 
     Returns

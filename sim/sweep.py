@@ -125,8 +125,9 @@ class TrialSpec:
         return tuple(getattr(self, c) for c in KEY_COLUMNS)
 
 
-def _sweep_grids(theta_w_deg, theta_l_deg, cv, phase, wing_period_s, leg_period_s, *, trials: int,
-                 attempts: int) -> dict[str, list[float]]:
+def _sweep_grids(
+    theta_w_deg, theta_l_deg, cv, phase, wing_period_s, leg_period_s, *, trials: int, attempts: int
+) -> dict[str, list[float]]:
     """The sweep's value lists, checked: none empty, all finite, Cv >= 0, phases in [0, 1), the whole sweep
     within ``MAX_TRIALS``, and every (Tw, Tl, theta_w) an actuation cycle that fits its period."""
     grids = {
@@ -214,8 +215,9 @@ def sweep_specs(
     """
     if isinstance(joint_map, str):
         joint_map = JointMap.parse(joint_map)
-    grids = _sweep_grids(theta_w_deg, theta_l_deg, cv, phase, wing_period_s, leg_period_s, trials=trials,
-                         attempts=attempts)
+    grids = _sweep_grids(
+        theta_w_deg, theta_l_deg, cv, phase, wing_period_s, leg_period_s, trials=trials, attempts=attempts
+    )
     path = Path(robot) if robot is not None else default_robot_urdf()
     model = sim_model(path, joint_map=joint_map)
     joints = "" if joint_map is None or joint_map == JointMap() else joint_map.text()
@@ -522,16 +524,34 @@ def run_sweep(
         finally:
             run.close(client, ok)
     wall = time.perf_counter() - t0
-    return SweepSummary(len(specs), run.skipped, run.ran, run.diverged, wall, run.ran / wall if wall > 0 else 0.0,
-                        run.cpu, n_workers, str(db), run.duplicates, run.restarts)
+    return SweepSummary(
+        len(specs),
+        run.skipped,
+        run.ran,
+        run.diverged,
+        wall,
+        run.ran / wall if wall > 0 else 0.0,
+        run.cpu,
+        n_workers,
+        str(db),
+        run.duplicates,
+        run.restarts,
+    )
 
 
 def _progress_bar(total: int, initial: int):
     from tqdm import tqdm
 
     # disable=None: no bar when stderr is not a terminal (a redirected log gets no bar frames)
-    return tqdm(total=total, initial=initial, unit="trial", dynamic_ncols=True, smoothing=0.05, file=sys.stderr,
-                disable=None)
+    return tqdm(
+        total=total,
+        initial=initial,
+        unit="trial",
+        dynamic_ncols=True,
+        smoothing=0.05,
+        file=sys.stderr,
+        disable=None,
+    )
 
 
 class _Sweep:
@@ -544,7 +564,9 @@ class _Sweep:
         self.ran = self.diverged = self.duplicates = self.restarts = 0
         self.cpu = 0.0
 
-    def loop(self, todo: Sequence[TrialSpec], *, window: int, new_pool: Callable[[], ProcessPoolExecutor]) -> None:
+    def loop(
+        self, todo: Sequence[TrialSpec], *, window: int, new_pool: Callable[[], ProcessPoolExecutor]
+    ) -> None:
         """Keep ``window`` trials in flight until every trial of ``todo`` is stored; a dead local worker costs
         a new pool and the resubmission of its unfinished trials."""
         queue = deque(todo)
@@ -614,8 +636,12 @@ class _Sweep:
                 f"{self.store.count()} trials in '{self.db}' are kept: rerun the same sweep to resume "
                 "(with fewer --workers if memory ran out)"
             )
-        log.warning("a worker process died; restarting the pool and running its %d unfinished trials again "
-                    "(%d/%d)", len(queue), self.restarts, MAX_POOL_RESTARTS)
+        log.warning(
+            "a worker process died; restarting the pool and running its %d unfinished trials again (%d/%d)",
+            len(queue),
+            self.restarts,
+            MAX_POOL_RESTARTS,
+        )
         self.executor = new_pool()
 
     def _tick(self) -> None:

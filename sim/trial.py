@@ -66,9 +66,24 @@ MAX_TRIAL_MEMORY_BYTES = 2**30
 _BYTES_PER_CONTROL_PERIOD = 96
 _BYTES_PER_CONTROL_PERIOD_JOINT = 160
 
-__all__ = ["DEFAULT_DT_S", "Numerics", "OTHER_ROBOT_DT_S", "default_dt_s", "SimulationDiverged", "Trace", "TrialResult", "run_trial", "resolve_seed",
-           "MAX_DURATION_S", "MIN_DT_S", "MAX_DT_S", "MAX_STEPS", "MAX_TRIAL_MEMORY_BYTES", "trial_cost",
-           "check_trial_cost"]
+__all__ = [
+    "DEFAULT_DT_S",
+    "Numerics",
+    "OTHER_ROBOT_DT_S",
+    "default_dt_s",
+    "SimulationDiverged",
+    "Trace",
+    "TrialResult",
+    "run_trial",
+    "resolve_seed",
+    "MAX_DURATION_S",
+    "MIN_DT_S",
+    "MAX_DT_S",
+    "MAX_STEPS",
+    "MAX_TRIAL_MEMORY_BYTES",
+    "trial_cost",
+    "check_trial_cost",
+]
 
 
 class TrialInputError(GeometryError):
@@ -98,8 +113,18 @@ class Trace:
     leg_cmd_deg: NDArray[np.float64]
     leg_deg: NDArray[np.float64]
 
-    COLUMNS = ("t_s", "pitch_deg", "roll_deg", "up_z", "com_height_m", "energy_j", "wing_cmd_deg", "wing_deg",
-               "leg_cmd_deg", "leg_deg")
+    COLUMNS = (
+        "t_s",
+        "pitch_deg",
+        "roll_deg",
+        "up_z",
+        "com_height_m",
+        "energy_j",
+        "wing_cmd_deg",
+        "wing_deg",
+        "leg_cmd_deg",
+        "leg_deg",
+    )
 
     def as_array(self) -> NDArray[np.float64]:
         """Columns ``COLUMNS`` side by side, shape (N, 10)."""
@@ -221,8 +246,9 @@ def default_dt_s(robot: str | Path | None = None) -> float:
     return DEFAULT_DT_S if same else OTHER_ROBOT_DT_S
 
 
-def trial_cost(duration_s: float, dt_s: float, *, control_period_s: float | None = CONTROL_PERIOD_S,
-               n_joints: int = 5) -> tuple[int, int]:
+def trial_cost(
+    duration_s: float, dt_s: float, *, control_period_s: float | None = CONTROL_PERIOD_S, n_joints: int = 5
+) -> tuple[int, int]:
     """Physics steps (settling included) and bytes of precomputed command profiles of one trial.
 
     The profiles hold, per control period, its time stamps and the wing and leg angles and speeds (float64),
@@ -240,8 +266,9 @@ def trial_cost(duration_s: float, dt_s: float, *, control_period_s: float | None
     return steps, n_ctrl * (_BYTES_PER_CONTROL_PERIOD + _BYTES_PER_CONTROL_PERIOD_JOINT * int(n_joints))
 
 
-def check_trial_cost(duration_s: float, dt_s: float, *, control_period_s: float | None = CONTROL_PERIOD_S,
-                     n_joints: int = 5) -> None:
+def check_trial_cost(
+    duration_s: float, dt_s: float, *, control_period_s: float | None = CONTROL_PERIOD_S, n_joints: int = 5
+) -> None:
     """Refuse a trial longer than ``MAX_DURATION_S``, with a step outside [``MIN_DT_S``, ``MAX_DT_S``], more
     than ``MAX_STEPS`` physics steps or profiles larger than ``MAX_TRIAL_MEMORY_BYTES``, before it starts.
 
@@ -260,45 +287,82 @@ def check_trial_cost(duration_s: float, dt_s: float, *, control_period_s: float 
     for name, v in (("duration", duration_s), ("dt", dt_s)):
         if not np.isfinite(v):
             raise TrialInputError(f"{name} must be a finite number; got {v!r}")
-    if control_period_s is not None and not (np.isfinite(control_period_s) and 0 < control_period_s <= MAX_DT_S):
-        raise TrialInputError(f"control_period_s must be in (0, {MAX_DT_S:g}] s or None; got {control_period_s!r}")
+    if control_period_s is not None and not (
+        np.isfinite(control_period_s) and 0 < control_period_s <= MAX_DT_S
+    ):
+        raise TrialInputError(
+            f"control_period_s must be in (0, {MAX_DT_S:g}] s or None; got {control_period_s!r}"
+        )
     if not duration_s > 0:
         raise TrialInputError(f"duration must be > 0 s; got {duration_s!r}")
     if not MIN_DT_S <= dt_s <= MAX_DT_S:
-        raise TrialInputError(f"dt must be in [MIN_DT_S, MAX_DT_S] = [{MIN_DT_S:g}, {MAX_DT_S:g}] s; got {dt_s!r}")
+        raise TrialInputError(
+            f"dt must be in [MIN_DT_S, MAX_DT_S] = [{MIN_DT_S:g}, {MAX_DT_S:g}] s; got {dt_s!r}"
+        )
     # the estimate in floats: a huge duration must be described, not computed
     sub = max(1, round(control_period_s / dt_s)) if control_period_s else 1
     steps = (SETTLE_S + float(duration_s)) / dt_s
-    mem = float(duration_s) / (sub * dt_s) * (_BYTES_PER_CONTROL_PERIOD + _BYTES_PER_CONTROL_PERIOD_JOINT * n_joints)
-    cost = (f"{steps:.3g} physics steps, {mem / 2**30:.3g} GiB of command profiles" if np.isfinite(mem)
-            else "over 1e+308 physics steps and bytes of command profiles")
+    mem = (
+        float(duration_s)
+        / (sub * dt_s)
+        * (_BYTES_PER_CONTROL_PERIOD + _BYTES_PER_CONTROL_PERIOD_JOINT * n_joints)
+    )
+    cost = (
+        f"{steps:.3g} physics steps, {mem / 2**30:.3g} GiB of command profiles"
+        if np.isfinite(mem)
+        else "over 1e+308 physics steps and bytes of command profiles"
+    )
     if duration_s > MAX_DURATION_S:
-        raise TrialInputError(f"duration {duration_s:g} s is longer than MAX_DURATION_S = {MAX_DURATION_S:g} s "
-                              f"({cost}); give --duration <= {MAX_DURATION_S:g}")
+        raise TrialInputError(
+            f"duration {duration_s:g} s is longer than MAX_DURATION_S = {MAX_DURATION_S:g} s "
+            f"({cost}); give --duration <= {MAX_DURATION_S:g}"
+        )
     if steps > MAX_STEPS:
-        raise TrialInputError(f"duration {duration_s:g} s at dt {dt_s:g} s is {steps:,.0f} physics steps with "
-                              f"settling ({mem / 2**30:.3g} GiB of command profiles), more than MAX_STEPS = "
-                              f"{MAX_STEPS:,} (the default trial takes 21,000); give a larger --dt or a shorter "
-                              "--duration")
+        raise TrialInputError(
+            f"duration {duration_s:g} s at dt {dt_s:g} s is {steps:,.0f} physics steps with "
+            f"settling ({mem / 2**30:.3g} GiB of command profiles), more than MAX_STEPS = "
+            f"{MAX_STEPS:,} (the default trial takes 21,000); give a larger --dt or a shorter "
+            "--duration"
+        )
     if mem > MAX_TRIAL_MEMORY_BYTES:
-        raise TrialInputError(f"duration {duration_s:g} s at dt {dt_s:g} s needs {cost}, more than "
-                              "MAX_TRIAL_MEMORY_BYTES = "
-                              f"{MAX_TRIAL_MEMORY_BYTES / 2**30:g} GiB; give a shorter --duration or command the "
-                              "servos less often")
+        raise TrialInputError(
+            f"duration {duration_s:g} s at dt {dt_s:g} s needs {cost}, more than "
+            "MAX_TRIAL_MEMORY_BYTES = "
+            f"{MAX_TRIAL_MEMORY_BYTES / 2**30:g} GiB; give a shorter --duration or command the "
+            "servos less often"
+        )
 
 
-def _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, limits, *,
-                  control_period_s=CONTROL_PERIOD_S, n_joints=5) -> None:
-    for name, v in (("theta_w_deg", theta_w_deg), ("theta_l_deg", theta_l_deg), ("phase", phase), ("cv", cv),
-                    ("duration_s", duration_s), ("dt_s", dt_s)):
+def _check_inputs(
+    theta_w_deg,
+    theta_l_deg,
+    phase,
+    cv,
+    duration_s,
+    dt_s,
+    limits,
+    *,
+    control_period_s=CONTROL_PERIOD_S,
+    n_joints=5,
+) -> None:
+    for name, v in (
+        ("theta_w_deg", theta_w_deg),
+        ("theta_l_deg", theta_l_deg),
+        ("phase", phase),
+        ("cv", cv),
+        ("duration_s", duration_s),
+        ("dt_s", dt_s),
+    ):
         if not np.isfinite(v):
             raise TrialInputError(f"{name} must be a finite number; got {v!r}")
     for name, v in (("theta_w", theta_w_deg), ("theta_l", theta_l_deg)):
         lo, hi = limits[name]
         lo = max(lo, 0.0) if name == "theta_w" else max(0.0, -hi, lo)
         if not lo - 1e-9 <= v <= hi + 1e-9:
-            raise JointLimitError(f"{name} = {v:g} deg is outside [{lo:g}, {hi:g}] deg allowed by the robot's "
-                                  "joints; choose a value inside")
+            raise JointLimitError(
+                f"{name} = {v:g} deg is outside [{lo:g}, {hi:g}] deg allowed by the robot's "
+                "joints; choose a value inside"
+            )
     if not 0.0 <= phase < 1.0:
         raise TrialInputError(f"phase must be in [0, 1) (fraction of the leg period); got {phase!r}")
     if cv < 0:
@@ -332,11 +396,24 @@ class Numerics:
     merge_fixed_links: bool = False
 
 
-def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float,
-              rng: np.random.Generator | int | None = None, duration_s: float = DEFAULT_DURATION_S,
-              dt_s: float | None = None, robot: str | Path | None = None, joint_map: JointMap | None = None,
-              actuation: Actuation | None = None, contact: Contact | None = None, trace: bool = False,
-              attempts: int | None = None, model_set=None, numerics: Numerics = Numerics()) -> TrialResult:
+def run_trial(
+    theta_w_deg: float,
+    theta_l_deg: float,
+    *,
+    phase: float,
+    cv: float,
+    rng: np.random.Generator | int | None = None,
+    duration_s: float = DEFAULT_DURATION_S,
+    dt_s: float | None = None,
+    robot: str | Path | None = None,
+    joint_map: JointMap | None = None,
+    actuation: Actuation | None = None,
+    contact: Contact | None = None,
+    trace: bool = False,
+    attempts: int | None = None,
+    model_set=None,
+    numerics: Numerics = Numerics(),
+) -> TrialResult:
     """Run one self-righting trial in a fresh pybullet DIRECT client.
 
     Parameters
@@ -384,22 +461,51 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
         If the physics blows up.
     """
     wall0, cpu0 = time.perf_counter(), time.process_time()
-    model = sim_model(robot, tol_m=numerics.hull_tol_m, max_vertices=numerics.hull_max_vertices,
-                      joint_map=joint_map, merge_fixed=numerics.merge_fixed_links)
+    model = sim_model(
+        robot,
+        tol_m=numerics.hull_tol_m,
+        max_vertices=numerics.hull_max_vertices,
+        joint_map=joint_map,
+        merge_fixed=numerics.merge_fixed_links,
+    )
     theta_w_deg, theta_l_deg, phase, cv = float(theta_w_deg), float(theta_l_deg), float(phase), float(cv)
     duration_s, dt_s = float(duration_s), float(default_dt_s(model.source) if dt_s is None else dt_s)
-    _check_inputs(theta_w_deg, theta_l_deg, phase, cv, duration_s, dt_s, model.theta_limits_deg,
-                  control_period_s=numerics.control_period_s,
-                  n_joints=len(model.joint_map.wing) + len(model.joint_map.leg))
+    _check_inputs(
+        theta_w_deg,
+        theta_l_deg,
+        phase,
+        cv,
+        duration_s,
+        dt_s,
+        model.theta_limits_deg,
+        control_period_s=numerics.control_period_s,
+        n_joints=len(model.joint_map.wing) + len(model.joint_map.leg),
+    )
     seed, gen = resolve_seed(rng)
     if model_set is None:
         from .model_set import load_model_set
 
         model_set = load_model_set()
-    act, starts, duration_s = _schedule(model_set, actuation, theta_w_deg, theta_l_deg, phase=phase, cv=cv,
-                                        gen=gen, duration_s=duration_s, attempts=attempts)
-    cmd = _servo_commands(act, starts, dt_s=dt_s, duration_s=duration_s, control_period_s=numerics.control_period_s,
-                          n_wing=len(model.joint_map.wing), n_leg=len(model.joint_map.leg))
+    act, starts, duration_s = _schedule(
+        model_set,
+        actuation,
+        theta_w_deg,
+        theta_l_deg,
+        phase=phase,
+        cv=cv,
+        gen=gen,
+        duration_s=duration_s,
+        attempts=attempts,
+    )
+    cmd = _servo_commands(
+        act,
+        starts,
+        dt_s=dt_s,
+        duration_s=duration_s,
+        control_period_s=numerics.control_period_s,
+        n_wing=len(model.joint_map.wing),
+        n_leg=len(model.joint_map.leg),
+    )
     substeps = cmd.sub if numerics.engine_substeps else 1
     with World(model, dt_s=dt_s, substeps=substeps, contact=contact or model_set.contact) as world:
         _settle(world, model, cmd)
@@ -411,22 +517,56 @@ def run_trial(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float
         a = np.asarray(run.rows, dtype=np.float64).reshape(-1, len(Trace.COLUMNS))
         tr = Trace(*(a[:, k].copy() for k in range(a.shape[1])))
     return TrialResult(
-        theta_w_deg=theta_w_deg, theta_l_deg=theta_l_deg, phase=phase, cv=cv, seed=seed, duration_s=duration_s,
-        dt_s=dt_s, success=run.success, time_to_right_s=run.t_right, attempt=attempt,
+        theta_w_deg=theta_w_deg,
+        theta_l_deg=theta_l_deg,
+        phase=phase,
+        cv=cv,
+        seed=seed,
+        duration_s=duration_s,
+        dt_s=dt_s,
+        success=run.success,
+        time_to_right_s=run.t_right,
+        attempt=attempt,
         phases=tuple(float(x) for x in attempt_phases(started, act)),
-        attempt_starts_s=tuple(float(x) for x in started), mode=run.mode, sim_s=run.t_end,
-        wall_s=time.perf_counter() - wall0, cpu_s=time.process_time() - cpu0,
-        max_tracking_error_deg=float(np.rad2deg(run.max_err)), robot_hash=model.robot_hash,
-        model_hash=model.model_hash, trace=tr, model_set=model_set.name, model_set_hash=model_set.model_set_hash)
+        attempt_starts_s=tuple(float(x) for x in started),
+        mode=run.mode,
+        sim_s=run.t_end,
+        wall_s=time.perf_counter() - wall0,
+        cpu_s=time.process_time() - cpu0,
+        max_tracking_error_deg=float(np.rad2deg(run.max_err)),
+        robot_hash=model.robot_hash,
+        model_hash=model.model_hash,
+        trace=tr,
+        model_set=model_set.name,
+        model_set_hash=model_set.model_set_hash,
+    )
 
 
-def _schedule(model_set, actuation: Actuation | None, theta_w_deg: float, theta_l_deg: float, *, phase: float,
-              cv: float, gen: np.random.Generator, duration_s: float, attempts: int | None):
+def _schedule(
+    model_set,
+    actuation: Actuation | None,
+    theta_w_deg: float,
+    theta_l_deg: float,
+    *,
+    phase: float,
+    cv: float,
+    gen: np.random.Generator,
+    duration_s: float,
+    attempts: int | None,
+):
     """The actuation at these angles, the wing openings' start times (noise drawn from ``gen``), and the trial
     length (cut one wing period after the last allowed attempt)."""
     base = actuation or model_set.actuation(theta_w_deg, theta_l_deg)
-    act = Actuation(theta_w_deg, theta_l_deg, base.wing_period_s, base.wing_open_deg_s, base.wing_close_deg_s,
-                    base.wing_close_start_s, base.leg_period_s, base.leg_cross_s)
+    act = Actuation(
+        theta_w_deg,
+        theta_l_deg,
+        base.wing_period_s,
+        base.wing_open_deg_s,
+        base.wing_close_deg_s,
+        base.wing_close_start_s,
+        base.leg_period_s,
+        base.leg_cross_s,
+    )
     starts = attempt_starts_s(act, phase=phase, cv=cv, rng=gen, duration_s=duration_s)
     if attempts is not None:
         if int(attempts) != attempts or attempts < 1:
@@ -445,9 +585,9 @@ class _Commands:
     duration_s: float
     sub: int
     ctrl_s: float
-    target_rad: list          # held command per control period and joint (the profile mid-period)
+    target_rad: list  # held command per control period and joint (the profile mid-period)
     speed_rad_s: list
-    end_rad: list             # the profile at the end of each control period (tracking error)
+    end_rad: list  # the profile at the end of each control period (tracking error)
     wing_deg: NDArray[np.float64]
     leg_deg: NDArray[np.float64]
     n_wing: int
@@ -457,27 +597,50 @@ class _Commands:
         return len(self.target_rad)
 
 
-def _servo_commands(act: Actuation, starts, *, dt_s: float, duration_s: float, control_period_s: float | None,
-                    n_wing: int, n_leg: int) -> _Commands:
+def _servo_commands(
+    act: Actuation,
+    starts,
+    *,
+    dt_s: float,
+    duration_s: float,
+    control_period_s: float | None,
+    n_wing: int,
+    n_leg: int,
+) -> _Commands:
     # the servos are commanded once per control period (CONTROL_PERIOD_S, a whole number of physics steps)
     sub = max(1, int(round(control_period_s / dt_s))) if control_period_s else 1
     ctrl_s = sub * dt_s
     n_ctrl = int(round(duration_s / ctrl_s))
     t_end_k = np.arange(1, n_ctrl + 1) * ctrl_s  # end of control period k
-    t_hold = t_end_k - (ctrl_s / 2 if sub > 1 else 0.0)  # held command: the profile mid-period (exact on ramps)
+    t_hold = t_end_k - (
+        ctrl_s / 2 if sub > 1 else 0.0
+    )  # held command: the profile mid-period (exact on ramps)
 
     def joint_profiles(t):
         wing, wing_v = wing_profile_deg(t, starts, act)
         leg, leg_v = leg_profile_deg(t, act)
-        q = np.deg2rad(np.concatenate([np.repeat(wing[:, None], n_wing, 1), np.repeat(leg[:, None], n_leg, 1)], 1))
-        v = np.deg2rad(np.concatenate([np.repeat(wing_v[:, None], n_wing, 1),
-                                       np.repeat(leg_v[:, None], n_leg, 1)], 1))
+        q = np.deg2rad(
+            np.concatenate([np.repeat(wing[:, None], n_wing, 1), np.repeat(leg[:, None], n_leg, 1)], 1)
+        )
+        v = np.deg2rad(
+            np.concatenate([np.repeat(wing_v[:, None], n_wing, 1), np.repeat(leg_v[:, None], n_leg, 1)], 1)
+        )
         return wing, leg, q, v
 
     _, _, target, speed = joint_profiles(t_hold)
     wing_deg, leg_deg, target_end, _ = joint_profiles(t_end_k)
-    return _Commands(dt_s, duration_s, sub, ctrl_s, target.tolist(), speed.tolist(), target_end.tolist(), wing_deg, leg_deg,
-                     n_wing)
+    return _Commands(
+        dt_s,
+        duration_s,
+        sub,
+        ctrl_s,
+        target.tolist(),
+        speed.tolist(),
+        target_end.tolist(),
+        wing_deg,
+        leg_deg,
+        n_wing,
+    )
 
 
 def _settle(world: World, model, cmd: _Commands) -> None:
@@ -488,8 +651,12 @@ def _settle(world: World, model, cmd: _Commands) -> None:
     world.advance(cmd.sub * int(round(SETTLE_S / cmd.ctrl_s)))
     v, w = world.base_velocity()
     if np.linalg.norm(v) > 5e-3 or np.linalg.norm(w) > 0.05:
-        log.warning("robot still moving after %.1f s of settling (%.3g m/s, %.3g rad/s)",
-                    SETTLE_S, np.linalg.norm(v), np.linalg.norm(w))
+        log.warning(
+            "robot still moving after %.1f s of settling (%.3g m/s, %.3g rad/s)",
+            SETTLE_S,
+            np.linalg.norm(v),
+            np.linalg.norm(w),
+        )
     world.check_finite(0.0)
     if world.up_in_body()[2] <= 0:
         raise SimulationDiverged("the robot did not settle on its back; check the robot and --dt")
@@ -542,5 +709,15 @@ def _trace_row(world: World, t_s: float, wing_cmd_deg: float, leg_cmd_deg: float
     p, r = pitch_roll_from_up(u)
     q = np.rad2deg(world.joint_positions_rad())
     h = world.com_height_m()
-    return [t_s, float(np.rad2deg(p)), float(np.rad2deg(r)), float(u[2]), h, world.mass_kg * G_M_S2 * h,
-            wing_cmd_deg, float(q[:n_wing].mean()), leg_cmd_deg, float(q[n_wing:].mean())]
+    return [
+        t_s,
+        float(np.rad2deg(p)),
+        float(np.rad2deg(r)),
+        float(u[2]),
+        h,
+        world.mass_kg * G_M_S2 * h,
+        wing_cmd_deg,
+        float(q[:n_wing].mean()),
+        leg_cmd_deg,
+        float(q[n_wing:].mean()),
+    ]

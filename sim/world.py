@@ -185,24 +185,34 @@ class World:
     def _build(self, urdf: Path) -> None:
         cid, c = self.cid, self.contact
         pb.setGravity(0.0, 0.0, -G_M_S2, physicsClientId=cid)
-        pb.setPhysicsEngineParameter(fixedTimeStep=self.dt_s * self.substeps,
-                                     numSubSteps=self.substeps if self.substeps > 1 else 0,
-                                     numSolverIterations=c.solver_iterations, deterministicOverlappingPairs=1,
-                                     physicsClientId=cid)
+        pb.setPhysicsEngineParameter(
+            fixedTimeStep=self.dt_s * self.substeps,
+            numSubSteps=self.substeps if self.substeps > 1 else 0,
+            numSolverIterations=c.solver_iterations,
+            deterministicOverlappingPairs=1,
+            physicsClientId=cid,
+        )
         plane = pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=cid)
         self.ground = pb.createMultiBody(0.0, plane, physicsClientId=cid)
-        self.body = pb.loadURDF(str(urdf), basePosition=[0.0, 0.0, 0.5], flags=pb.URDF_USE_INERTIA_FROM_FILE,
-                                physicsClientId=cid)
+        self.body = pb.loadURDF(
+            str(urdf), basePosition=[0.0, 0.0, 0.5], flags=pb.URDF_USE_INERTIA_FROM_FILE, physicsClientId=cid
+        )
         self.n_joints = pb.getNumJoints(self.body, physicsClientId=cid)
-        names = {pb.getJointInfo(self.body, j, physicsClientId=cid)[1].decode(): j for j in range(self.n_joints)}
+        names = {
+            pb.getJointInfo(self.body, j, physicsClientId=cid)[1].decode(): j for j in range(self.n_joints)
+        }
         jm = self.model.joint_map
         self.wing_joints = [names[n] for n in jm.wing]
         self.leg_joints = [names[n] for n in jm.leg]
         self.driven = self.wing_joints + self.leg_joints
-        self.max_force_n_m = np.array([pb.getJointInfo(self.body, j, physicsClientId=cid)[10] for j in self.driven])
+        self.max_force_n_m = np.array(
+            [pb.getJointInfo(self.body, j, physicsClientId=cid)[10] for j in self.driven]
+        )
         self.max_force_n_m = np.where(self.max_force_n_m > 0, self.max_force_n_m, 1.0)
         self.links = [-1, *range(self.n_joints)]
-        self.link_mass_kg = np.array([pb.getDynamicsInfo(self.body, k, physicsClientId=cid)[0] for k in self.links])
+        self.link_mass_kg = np.array(
+            [pb.getDynamicsInfo(self.body, k, physicsClientId=cid)[0] for k in self.links]
+        )
         self.mass_kg = float(self.link_mass_kg.sum())
         # pybullet's base pose is the base's inertial frame; the body frame is the base link's URDF frame
         info = pb.getDynamicsInfo(self.body, -1, physicsClientId=cid)
@@ -210,22 +220,41 @@ class World:
         self._inertial_rot = None if np.allclose(r, np.eye(3), rtol=0.0, atol=1e-12) else r
         offset = self._inertial_rot is not None or not np.allclose(info[3], 0.0, rtol=0.0, atol=1e-12)
         self._base_inertial = (tuple(info[3]), tuple(info[4])) if offset else None
-        soft = {} if c.stiffness_n_m is None else {"contactStiffness": c.stiffness_n_m,
-                                                    "contactDamping": c.damping_n_s_m}
-        pb.changeDynamics(self.ground, -1, lateralFriction=c.friction, restitution=1.0,
-                          contactProcessingThreshold=0.0, physicsClientId=cid)
+        soft = (
+            {}
+            if c.stiffness_n_m is None
+            else {"contactStiffness": c.stiffness_n_m, "contactDamping": c.damping_n_s_m}
+        )
+        pb.changeDynamics(
+            self.ground,
+            -1,
+            lateralFriction=c.friction,
+            restitution=1.0,
+            contactProcessingThreshold=0.0,
+            physicsClientId=cid,
+        )
         for k in self.links:
-            pb.changeDynamics(self.body, k, lateralFriction=c.friction, restitution=c.restitution,
-                              contactProcessingThreshold=0.0, linearDamping=0.0, angularDamping=0.0,
-                              jointDamping=0.0, **soft, physicsClientId=cid)
+            pb.changeDynamics(
+                self.body,
+                k,
+                lateralFriction=c.friction,
+                restitution=c.restitution,
+                contactProcessingThreshold=0.0,
+                linearDamping=0.0,
+                angularDamping=0.0,
+                jointDamping=0.0,
+                **soft,
+                physicsClientId=cid,
+            )
         # free the non-driven joints of pybullet's default velocity motors
         for j in range(self.n_joints):
             if j not in self.driven:
                 pb.setJointMotorControl2(self.body, j, pb.VELOCITY_CONTROL, force=0.0, physicsClientId=cid)
 
     # ------------------------------------------------------------------ state
-    def place(self, pitch_rad: float, roll_rad: float, *, joints_rad: NDArray[np.float64],
-              clearance_m: float = 1e-4) -> None:
+    def place(
+        self, pitch_rad: float, roll_rad: float, *, joints_rad: NDArray[np.float64], clearance_m: float = 1e-4
+    ) -> None:
         """Put the robot at rest at (pitch, roll), joints at ``joints_rad``, its lowest point ``clearance_m`` above
         the ground (by pybullet's own bounding boxes, which include the collision margin)."""
         cid = self.cid
@@ -246,10 +275,22 @@ class World:
         if gains is None:
             n = len(self.driven)
             # pybullet caps the motor impulse per substep at force * fixedTimeStep (the whole substepped step)
-            gains = self._gains[(kp, kd)] = ([kp] * n, [kd] * n, (self.max_force_n_m / self.substeps).tolist())
-        pb.setJointMotorControlArray(self.body, self.driven, pb.POSITION_CONTROL, targetPositions=target_rad,
-                                     targetVelocities=speed_rad_s, forces=gains[2], positionGains=gains[0],
-                                     velocityGains=gains[1], physicsClientId=self.cid)
+            gains = self._gains[(kp, kd)] = (
+                [kp] * n,
+                [kd] * n,
+                (self.max_force_n_m / self.substeps).tolist(),
+            )
+        pb.setJointMotorControlArray(
+            self.body,
+            self.driven,
+            pb.POSITION_CONTROL,
+            targetPositions=target_rad,
+            targetVelocities=speed_rad_s,
+            forces=gains[2],
+            positionGains=gains[0],
+            velocityGains=gains[1],
+            physicsClientId=self.cid,
+        )
 
     def advance(self, n_steps: int) -> None:
         """Advance ``n_steps`` physics steps of ``dt_s`` (a multiple of ``substeps``)."""
@@ -279,7 +320,9 @@ class World:
     def com_height_m(self) -> float:
         """Height of the robot's mass-weighted CoM, m."""
         z = [self.base_pose()[0][2]]
-        z += [s[0][2] for s in pb.getLinkStates(self.body, list(range(self.n_joints)), physicsClientId=self.cid)]
+        z += [
+            s[0][2] for s in pb.getLinkStates(self.body, list(range(self.n_joints)), physicsClientId=self.cid)
+        ]
         return float(np.dot(self.link_mass_kg, z) / self.mass_kg)
 
     def check_finite(self, t_s: float, *, max_speed_m_s: float = 50.0, max_dist_m: float = 100.0) -> None:

@@ -36,8 +36,18 @@ def test_readme_has_the_python_twins():
     blocks = _python_blocks()
     assert blocks, "the README lost its Python API block"
     text = "\n".join(blocks)
-    for cmd in ("compute", "barrier-map", "render", "simulate", "sweep", "export", "analyze", "report", "bench",
-                "robot export"):
+    for cmd in (
+        "compute",
+        "barrier-map",
+        "render",
+        "simulate",
+        "sweep",
+        "export",
+        "analyze",
+        "report",
+        "bench",
+        "robot export",
+    ):
         assert f"# landscape {cmd}" in text or f"; landscape {cmd}" in text, f"no Python twin for {cmd}"
 
 
@@ -53,8 +63,23 @@ def test_readme_python_block_runs(block, capsys):
 
 
 # ---------------------------------------------------------------------------------------------- $ landscape ...
-VOLATILE = ("timing", "ms", " s ", " s;", " s)", "trials/s", "CPU", "/root/", "checked in", "...", "…", "wrote",
-            "seed ", "0 already in", "s wall")
+VOLATILE = (
+    "timing",
+    "ms",
+    " s ",
+    " s;",
+    " s)",
+    "trials/s",
+    "CPU",
+    "/root/",
+    "checked in",
+    "...",
+    "…",
+    "wrote",
+    "seed ",
+    "0 already in",
+    "s wall",
+)
 """Output lines holding times, paths or machine-dependent counts: not compared."""
 
 
@@ -83,8 +108,10 @@ def test_the_readme_shows_examples():
     assert len(EXAMPLES) >= 5 and any(c.startswith("landscape compute") for c, _ in EXAMPLES)
 
 
-@pytest.mark.parametrize("cmd, expected", [
-    pytest.param(c, e, marks=[pytest.mark.slow] if _slow(c) else [], id=c[:60]) for c, e in EXAMPLES])
+@pytest.mark.parametrize(
+    "cmd, expected",
+    [pytest.param(c, e, marks=[pytest.mark.slow] if _slow(c) else [], id=c[:60]) for c, e in EXAMPLES],
+)
 def test_readme_command_prints_what_the_readme_shows(cmd, expected, tmp_path):
     """Each README command runs as written (from a scratch directory) and prints the README's stable lines."""
     import shlex
@@ -134,4 +161,8 @@ def _check_json_excerpt(expected: list[str], stdout: str, cmd: str) -> None:
             assert shown.strip('"') in got, (key, shown, got)
         else:
             digits = len(shown.split(".")[1]) if "." in shown else 0
-            assert any(isinstance(v, (int, float)) and round(v, digits) == float(shown) for v in got), (key, shown, got)
+            assert any(isinstance(v, (int, float)) and round(v, digits) == float(shown) for v in got), (
+                key,
+                shown,
+                got,
+            )

@@ -26,7 +26,9 @@ def _best_time(fn, repeat: int, *, warm: bool = True) -> tuple[float, object]:
     return float(np.min(times)), out
 
 
-def landscape_bench(robot: Robot, *, theta_w_deg: float = 74.0, theta_l_deg: float = 0.0, repeat: int = 20) -> str:
+def landscape_bench(
+    robot: Robot, *, theta_w_deg: float = 74.0, theta_l_deg: float = 0.0, repeat: int = 20
+) -> str:
     """Run the benchmark and return a markdown table."""
     pose = robot.pose(theta_w_deg, theta_l_deg) if robot.has_joints else robot.pose()
     points = pose.all_points_m()
@@ -34,13 +36,13 @@ def landscape_bench(robot: Robot, *, theta_w_deg: float = 74.0, theta_l_deg: flo
     hull = pose.hull
     t_hull = time.perf_counter() - t0
 
-    t_lab, lab = _best_time(lambda: brute_force_landscape(points, pose.com_m, pose.mass_kg, step_deg=1.0), 2,
-                            warm=False)
+    t_lab, lab = _best_time(
+        lambda: brute_force_landscape(points, pose.com_m, pose.mass_kg, step_deg=1.0), 2, warm=False
+    )
     t_ours, ours = _best_time(lambda: energy_landscape(pose, step_deg=1.0), repeat)
     rel = float(np.abs(ours.energy_j - lab).max() / np.abs(lab).max())
 
-    start = (metastable_orientation(robot, theta_w_deg, theta_l_deg) if robot.has_joints
-             else (0.0, 0.0))
+    start = metastable_orientation(robot, theta_w_deg, theta_l_deg) if robot.has_joints else (0.0, 0.0)
     cell = grid_minimum(ours, *start)
     t_bar, bar = _best_time(lambda: grid_barrier(ours, cell), repeat)
     t_exact, ex = _best_time(lambda: exact_barrier(pose, *start, sectors=False), 5)
@@ -65,13 +67,19 @@ def landscape_bench(robot: Robot, *, theta_w_deg: float = 74.0, theta_l_deg: flo
         (f"1° landscape, ours (hull walk, best of {repeat})", f"{t_ours * 1e3:.2f} ms"),
         ("speed-up, lab / ours", f"{t_lab / t_ours:.0f}x"),
         ("agreement, max |ours - lab| / max |lab|", f"{rel:.1e}"),
-        (f"1° grid barriers (righting, pitch-, roll-wise, escape; best of {repeat})", f"{t_bar * 1e3:.2f} ms"),
+        (
+            f"1° grid barriers (righting, pitch-, roll-wise, escape; best of {repeat})",
+            f"{t_bar * 1e3:.2f} ms",
+        ),
         ("righting barrier, 1° grid", f"{r.barrier_j * 1e3:.3f} mJ ({r.direction})" if r else "none"),
         ("exact righting + escape (hull face-edge graph, best of 5)", f"{t_exact * 1e3:.1f} ms"),
         ("righting barrier, exact", f"{re_.barrier_j * 1e3:.3f} mJ ({re_.direction})" if re_ else "none"),
         ("1° grid error against exact", f"{err * 100:.1f} %"),
         ("0.1° landscape (3600 x 3600 cells)", f"{t_fine:.2f} s, peak memory {peak / 2**20:.0f} MiB"),
-        ("an orientations x vertices array at 0.1°", f"would be {naive_bytes / 2**30:.0f} GiB (never formed)"),
+        (
+            "an orientations x vertices array at 0.1°",
+            f"would be {naive_bytes / 2**30:.0f} GiB (never formed)",
+        ),
     ]
     w = max(len(a) for a, _ in rows)
     lines = [f"| {'quantity':<{w}} | value |", f"|{'-' * (w + 2)}|-------|"]

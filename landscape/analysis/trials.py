@@ -116,16 +116,34 @@ def probability_table(rows: Iterable[dict]) -> list[ProbabilityCell]:
     groups: dict[tuple, list[dict]] = defaultdict(list)
     for r in _ok(rows):
         if r["attempts"] == 0:
-            groups[(r["theta_w_deg"], r["theta_l_deg"], r["cv"], r["phase"], r["wing_period_s"],
-                    r["leg_period_s"])].append(r)
+            groups[
+                (
+                    r["theta_w_deg"],
+                    r["theta_l_deg"],
+                    r["cv"],
+                    r["phase"],
+                    r["wing_period_s"],
+                    r["leg_period_s"],
+                )
+            ].append(r)
     out = []
     for key in sorted(groups):
         g = groups[key]
         wins = [r for r in g if r["success"]]
         lo, hi = wilson_interval(len(wins), len(g))
-        out.append(ProbabilityCell(*key, len(g), len(wins), len(wins) / len(g), lo, hi,
-                                   _mean([r["time_to_right_s"] for r in wins]), _mean([r["attempt"] for r in wins]),
-                                   _mean([r["mode"] == "roll" for r in wins])))
+        out.append(
+            ProbabilityCell(
+                *key,
+                len(g),
+                len(wins),
+                len(wins) / len(g),
+                lo,
+                hi,
+                _mean([r["time_to_right_s"] for r in wins]),
+                _mean([r["attempt"] for r in wins]),
+                _mean([r["mode"] == "roll" for r in wins]),
+            )
+        )
     return out
 
 
@@ -206,15 +224,30 @@ def phase_maps(rows: Iterable[dict]) -> dict[tuple[float, float], PhaseMap]:
                 wins[i, j] += 1
                 delay[i, j] += r["time_to_right_s"] - r["attempt_starts_s"][0]
         with np.errstate(invalid="ignore", divide="ignore"):
-            out[key] = PhaseMap(key[0], key[1], tls, phs, np.where(n > 0, wins / n, np.nan),
-                                np.where(wins > 0, delay / np.maximum(wins, 1), np.nan), n)
+            out[key] = PhaseMap(
+                key[0],
+                key[1],
+                tls,
+                phs,
+                np.where(n > 0, wins / n, np.nan),
+                np.where(wins > 0, delay / np.maximum(wins, 1), np.nan),
+                n,
+            )
     return out
 
 
 # ---------------------------------------------------------------------------------------------- prediction
-def attempt_sequence(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv: float, seed: int,
-                     duration_s: float, wing_period_s: float = PAPER_WING_PERIOD_S,
-                     leg_period_s: float = PAPER_LEG_PERIOD_S) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def attempt_sequence(
+    theta_w_deg: float,
+    theta_l_deg: float,
+    *,
+    phase: float,
+    cv: float,
+    seed: int,
+    duration_s: float,
+    wing_period_s: float = PAPER_WING_PERIOD_S,
+    leg_period_s: float = PAPER_LEG_PERIOD_S,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Opening times (s) and phases of every attempt of a trial, drawn exactly as :func:`sim.trial.run_trial`
     draws them from the trial's seed.
 
@@ -229,8 +262,13 @@ def attempt_sequence(theta_w_deg: float, theta_l_deg: float, *, phase: float, cv
     return starts, attempt_phases(starts, act)
 
 
-def predict_attempt(pm: PhaseMap, theta_l_deg: float, starts_s: NDArray[np.float64],
-                    phases: NDArray[np.float64], duration_s: float) -> int | None:
+def predict_attempt(
+    pm: PhaseMap,
+    theta_l_deg: float,
+    starts_s: NDArray[np.float64],
+    phases: NDArray[np.float64],
+    duration_s: float,
+) -> int | None:
     """1-based attempt at which the robot is predicted to right first, or None (not within ``duration_s``)."""
     for k, (t, ph) in enumerate(zip(starts_s, phases, strict=True)):
         good, delay = pm.lookup(theta_l_deg, float(ph))
@@ -279,12 +317,29 @@ def predict_trials(rows: Iterable[dict], maps: dict[tuple[float, float], PhaseMa
         pm = maps.get((r["theta_w_deg"], r["leg_period_s"]))
         if pm is None or not np.isclose(pm.theta_l_deg, r["theta_l_deg"], rtol=0.0, atol=1e-9).any():
             continue
-        starts, phs = attempt_sequence(r["theta_w_deg"], r["theta_l_deg"], phase=r["phase"], cv=r["cv"],
-                                       seed=r["seed"], duration_s=r["duration_s"], wing_period_s=r["wing_period_s"],
-                                       leg_period_s=r["leg_period_s"])
-        out.append(PredictedTrial(r["theta_w_deg"], r["theta_l_deg"], r["cv"], r["phase"], r["wing_period_s"],
-                                  r["leg_period_s"], r["seed"], r["attempt"] if r["success"] else None,
-                                  predict_attempt(pm, r["theta_l_deg"], starts, phs, r["duration_s"])))
+        starts, phs = attempt_sequence(
+            r["theta_w_deg"],
+            r["theta_l_deg"],
+            phase=r["phase"],
+            cv=r["cv"],
+            seed=r["seed"],
+            duration_s=r["duration_s"],
+            wing_period_s=r["wing_period_s"],
+            leg_period_s=r["leg_period_s"],
+        )
+        out.append(
+            PredictedTrial(
+                r["theta_w_deg"],
+                r["theta_l_deg"],
+                r["cv"],
+                r["phase"],
+                r["wing_period_s"],
+                r["leg_period_s"],
+                r["seed"],
+                r["attempt"] if r["success"] else None,
+                predict_attempt(pm, r["theta_l_deg"], starts, phs, r["duration_s"]),
+            )
+        )
     return out
 
 
@@ -318,14 +373,25 @@ def prediction_accuracy(pred: Iterable[PredictedTrial]) -> list[AccuracyCell]:
         k = sum(p.correct for p in g)
         sim_wins = sum(p.simulated_attempt is not None for p in g)
         lo, hi = wilson_interval(sim_wins, len(g))
-        out.append(AccuracyCell(*key, len(g), k, k / len(g), sim_wins / len(g),
-                                sum(p.predicted_attempt is not None for p in g) / len(g), lo, hi))
+        out.append(
+            AccuracyCell(
+                *key,
+                len(g),
+                k,
+                k / len(g),
+                sim_wins / len(g),
+                sum(p.predicted_attempt is not None for p in g) / len(g),
+                lo,
+                hi,
+            )
+        )
     return out
 
 
 # ---------------------------------------------------------------------------------------------- barrier vs outcome
-def spearman_bootstrap(x: Sequence[float], y: Sequence[float], *, n_boot: int = 2000,
-                       seed: int = 0) -> tuple[float, float, float, float]:
+def spearman_bootstrap(
+    x: Sequence[float], y: Sequence[float], *, n_boot: int = 2000, seed: int = 0
+) -> tuple[float, float, float, float]:
     """Spearman's rho, its percentile bootstrap 95 % interval (resampling the points) and its p-value.
 
     Examples
@@ -416,12 +482,15 @@ def logistic_fit(e_mj: Sequence[float], k: Sequence[int], n: Sequence[int]) -> L
     a = a_z - b * xm
     lo_fail = x[k < n]
     hi_win = x[k > 0]
-    separated = bool(len(lo_fail) and len(hi_win) and (hi_win.max() < lo_fail.min() or lo_fail.max() < hi_win.min()))
+    separated = bool(
+        len(lo_fail) and len(hi_win) and (hi_win.max() < lo_fail.min() or lo_fail.max() < hi_win.min())
+    )
     return LogisticFit(float(a), float(b), float(-a / b) if b != 0 else math.nan, converged, separated)
 
 
-def landscape_barriers(robot, pairs: Iterable[tuple[float, float]], *, step_deg: float = 1.0,
-                       progress: bool = False) -> dict[tuple[float, float], tuple[float, float]]:
+def landscape_barriers(
+    robot, pairs: Iterable[tuple[float, float]], *, step_deg: float = 1.0, progress: bool = False
+) -> dict[tuple[float, float], tuple[float, float]]:
     """Minimal righting barrier (J) per (theta_w, theta_l): (exact, grid at ``step_deg``), nan where none.
 
     The start minimum comes from one shared continuation (:func:`landscape.computation.sweep_starts`), as in
@@ -444,8 +513,14 @@ def landscape_barriers(robot, pairs: Iterable[tuple[float, float]], *, step_deg:
     for w, leg in it:
         vals = []
         for method in ("exact", "grid"):
-            c = compute(robot, theta_w_deg=w, theta_l_deg=leg, step_deg=step_deg, start_deg=starts[(w, leg)],
-                        method=method)
+            c = compute(
+                robot,
+                theta_w_deg=w,
+                theta_l_deg=leg,
+                step_deg=step_deg,
+                start_deg=starts[(w, leg)],
+                method=method,
+            )
             vals.append(math.nan if c.barrier.righting is None else c.barrier.righting.barrier_j)
         out[(w, leg)] = (vals[0], vals[1])
     return out
@@ -487,8 +562,12 @@ class BarrierOutcome:
     fit: LogisticFit
 
 
-def barrier_outcome(cells: Sequence[ProbabilityCell], barriers: dict[tuple[float, float], tuple[float, float]],
-                    *, n_boot: int = 2000) -> list[BarrierOutcome]:
+def barrier_outcome(
+    cells: Sequence[ProbabilityCell],
+    barriers: dict[tuple[float, float], tuple[float, float]],
+    *,
+    n_boot: int = 2000,
+) -> list[BarrierOutcome]:
     """Spearman correlations and logistic fits of outcome on barrier, one per Cv (cells must share Tw, Tl, phi_1)."""
     by_cv: dict[float, list[ProbabilityCell]] = defaultdict(list)
     for c in cells:
@@ -507,7 +586,10 @@ def barrier_outcome(cells: Sequence[ProbabilityCell], barriers: dict[tuple[float
         rho_t = spearman_bootstrap(ex[okt], t[okt], n_boot=n_boot)
         okg = np.isfinite(gr)
         rho_g = spearman_bootstrap(gr[okg], p[okg], n_boot=0)[0] if okg.sum() >= 3 else math.nan
-        fit = logistic_fit(ex[ok], [c.successes for c, o in zip(cs, ok, strict=True) if o],
-                           [c.n for c, o in zip(cs, ok, strict=True) if o])
+        fit = logistic_fit(
+            ex[ok],
+            [c.successes for c, o in zip(cs, ok, strict=True) if o],
+            [c.n for c, o in zip(cs, ok, strict=True) if o],
+        )
         out.append(BarrierOutcome(cv, cs, ex, gr, *rho, *rho_t, rho_g, fit))
     return out

@@ -18,7 +18,9 @@ from types import ModuleType
 from geometry.errors import UsageError
 
 #: names of the barrier methods, one per module of this package
-METHODS: tuple[str, ...] = tuple(sorted(m.name for m in pkgutil.iter_modules(__path__) if not m.name.startswith("_")))
+METHODS: tuple[str, ...] = tuple(
+    sorted(m.name for m in pkgutil.iter_modules(__path__) if not m.name.startswith("_"))
+)
 DEFAULT_METHOD = "exact"
 #: exit names at the interfaces -> fields of :class:`Barrier`
 EXITS = {"righting": "righting", "pitch-wise": "pitch_wise", "roll-wise": "roll_wise", "escape": "escape"}

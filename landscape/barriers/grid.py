@@ -50,13 +50,21 @@ def _direction(start_deg: NDArray[np.float64], saddle_deg: NDArray[np.float64]) 
     return "pitch" if dp >= dr else "roll"
 
 
-def _exit(landscape: Landscape, level: float, cell: int, parent, e_start: float, kind: str | None) -> Exit | None:
+def _exit(
+    landscape: Landscape, level: float, cell: int, parent, e_start: float, kind: str | None
+) -> Exit | None:
     if cell < 0:
         return None
     n = len(landscape.angles_deg)
     path = _path(parent, cell, n, landscape.angles_deg)
-    e_path = np.array([landscape.energy_j[int(round((p + 180) / landscape.step_deg)) % n,
-                                          int(round((r + 180) / landscape.step_deg)) % n] for p, r in path])
+    e_path = np.array(
+        [
+            landscape.energy_j[
+                int(round((p + 180) / landscape.step_deg)) % n, int(round((r + 180) / landscape.step_deg)) % n
+            ]
+            for p, r in path
+        ]
+    )
     k = int(np.argmax(e_path))
     sp, sr = canonical_pitch_roll_deg(*path[k])
     direction = kind or _direction(path[0], path[k])
@@ -119,11 +127,14 @@ def grid_barrier(landscape: Landscape, start: tuple[int, int], *, connectivity: 
         for kind, outside in (("pitch", dr > d), ("roll", d > dr)):
             outside = np.ascontiguousarray(outside.ravel())
             outside[s] = False
-            levels, cells, parent = _kernels.flood(e, s, target, outside, is_min, same, tol, connectivity, False)
+            levels, cells, parent = _kernels.flood(
+                e, s, target, outside, is_min, same, tol, connectivity, False
+            )
             out.append(_exit(landscape, levels[0], int(cells[0]), parent, e_start, kind))
         pitch, roll = out
-    levels, cells, parent = _kernels.flood(e, s, np.zeros(n * n, dtype=np.int8), none, is_min, same, tol,
-                                           connectivity, True)
+    levels, cells, parent = _kernels.flood(
+        e, s, np.zeros(n * n, dtype=np.int8), none, is_min, same, tol, connectivity, True
+    )
     escape = _exit(landscape, levels[2], int(cells[2]), parent, e_start, None)
     return Barrier(righting, pitch, roll, escape)
 
@@ -131,8 +142,15 @@ def grid_barrier(landscape: Landscape, start: tuple[int, int], *, connectivity: 
 SECTORS = True
 
 
-def solve(pose, landscape: Landscape, start_deg: tuple[float, float], *, step_deg: float, connectivity: int,
-          g_m_s2: float):
+def solve(
+    pose,
+    landscape: Landscape,
+    start_deg: tuple[float, float],
+    *,
+    step_deg: float,
+    connectivity: int,
+    g_m_s2: float,
+):
     """The registry's entry (:mod:`landscape.barriers`): the grid minimum nearest ``start_deg`` and its
     barriers on ``landscape``."""
     from landscape.minima import as_minimum, grid_minimum

@@ -107,8 +107,14 @@ def _exit(g, energy, level, cell, parent, e_start, p0, r0, kind):
     return Exit(float(level - e_start), sp, sr, kind, deg)
 
 
-def sphere_barrier(pose: Pose, start_pitch_deg: float, start_roll_deg: float, *, subdivisions: int = 6,
-                   g_m_s2: float = G_M_S2) -> SphereBarrier:
+def sphere_barrier(
+    pose: Pose,
+    start_pitch_deg: float,
+    start_roll_deg: float,
+    *,
+    subdivisions: int = 6,
+    g_m_s2: float = G_M_S2,
+) -> SphereBarrier:
     """Righting and escape barriers on an icosphere of up-directions (pitch-/roll-wise are None).
 
     Parameters
@@ -123,7 +129,11 @@ def sphere_barrier(pose: Pose, start_pitch_deg: float, start_roll_deg: float, *,
         raise UsageError(f"subdivisions must be 1..8; got {subdivisions!r}")
     g = sphere_graph(subdivisions)
     d = np.ascontiguousarray(pose.com_m[None, :] - pose.hull.vertices_m)
-    energy = pose.mass_kg * g_m_s2 * _kernels.support_points(d, pose.hull.neighbor_ptr, pose.hull.neighbor_idx, g.u)
+    energy = (
+        pose.mass_kg
+        * g_m_s2
+        * _kernels.support_points(d, pose.hull.neighbor_ptr, pose.hull.neighbor_idx, g.u)
+    )
     u0 = up_vector(np.deg2rad(start_pitch_deg), np.deg2rad(start_roll_deg))
     s = int(_kernels.descend_graph(energy, g.ptr, g.idx, int(np.argmax(g.u @ u0))))
     e_start = float(energy[s])
@@ -148,8 +158,15 @@ def sphere_barrier(pose: Pose, start_pitch_deg: float, start_roll_deg: float, *,
 SECTORS = False
 
 
-def solve(pose: Pose, landscape, start_deg: tuple[float, float], *, step_deg: float, connectivity: int,
-          g_m_s2: float):
+def solve(
+    pose: Pose,
+    landscape,
+    start_deg: tuple[float, float],
+    *,
+    step_deg: float,
+    connectivity: int,
+    g_m_s2: float,
+):
     """The registry's entry (:mod:`landscape.barriers`): the search on an icosphere spaced about ``step_deg``."""
     sb = sphere_barrier(pose, *start_deg, subdivisions=subdivisions_for_step(step_deg), g_m_s2=g_m_s2)
     return sb.start, sb.barrier

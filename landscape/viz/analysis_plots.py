@@ -39,15 +39,22 @@ def plot_probability(cells: Sequence[ProbabilityCell], png: Path, *, title: str 
                 continue
             i, j = ws.index(c.theta_w_deg), ls.index(c.theta_l_deg)
             p[i, j] = c.p
-            ax.text(j, i, f"{c.p:.2f}\n[{c.ci_low:.2f}, {c.ci_high:.2f}]\nn={c.n}", ha="center", va="center",
-                    fontsize=6.5, color="white" if c.p < 0.6 else "black")
+            ax.text(
+                j,
+                i,
+                f"{c.p:.2f}\n[{c.ci_low:.2f}, {c.ci_high:.2f}]\nn={c.n}",
+                ha="center",
+                va="center",
+                fontsize=6.5,
+                color="white" if c.p < 0.6 else "black",
+            )
         im = ax.imshow(p, origin="lower", cmap="viridis", vmin=0.0, vmax=1.0, aspect="auto")
         ax.set_xticks(range(len(ls)), [f"{x:g}" for x in ls])
         ax.set_yticks(range(len(ws)), [f"{x:g}" for x in ws])
         ax.set_xlabel("leg amplitude θl (°)")
         ax.set_ylabel("wing angle θw (°)")
         ax.set_title(f"Cv = {cv * 100:g} %")
-    for ax in list(axes.flat)[len(cvs):]:
+    for ax in list(axes.flat)[len(cvs) :]:
         ax.set_visible(False)
     if im is not None:
         fig.colorbar(im, ax=axes, shrink=0.8, label="self-righting probability")
@@ -65,22 +72,33 @@ def plot_phase_maps(maps: Sequence[PhaseMap], png: Path, *, title: str = "") -> 
         edges_x = np.append(pm.phases - step / 2, pm.phases[-1] + step / 2) * 100
         dl = float(np.min(np.diff(pm.theta_l_deg))) if len(pm.theta_l_deg) > 1 else 10.0
         edges_y = np.append(pm.theta_l_deg - dl / 2, pm.theta_l_deg[-1] + dl / 2)
-        ax.pcolormesh(edges_x, edges_y, np.where(np.isnan(pm.success), np.nan, pm.success >= 0.5),
-                      cmap=OUTCOME_CMAP, vmin=0, vmax=1, edgecolors="white", linewidth=0.5)
+        ax.pcolormesh(
+            edges_x,
+            edges_y,
+            np.where(np.isnan(pm.success), np.nan, pm.success >= 0.5),
+            cmap=OUTCOME_CMAP,
+            vmin=0,
+            vmax=1,
+            edgecolors="white",
+            linewidth=0.5,
+        )
         ax.set_yticks(pm.theta_l_deg)
         ax.set_xlabel("phase φ of the wing opening (% of Tl)")
         ax.set_ylabel("θl (°)")
-        ax.set_title(f"θw = {pm.theta_w_deg:g}°, Tl = {pm.leg_period_s:g} s: "
-                     f"{int(np.nansum(pm.success >= 0.5))}/{int((pm.n > 0).sum())} attempts right")
-    for ax in list(axes.flat)[len(maps):]:
+        ax.set_title(
+            f"θw = {pm.theta_w_deg:g}°, Tl = {pm.leg_period_s:g} s: "
+            f"{int(np.nansum(pm.success >= 0.5))}/{int((pm.n > 0).sum())} attempts right"
+        )
+    for ax in list(axes.flat)[len(maps) :]:
         ax.set_visible(False)
     if title:
         fig.suptitle(title)
     return _save(fig, png)
 
 
-def plot_prediction(acc: Sequence[AccuracyCell], noisy: Sequence[AccuracyCell], png: Path, *,
-                    title: str = "") -> Path:
+def plot_prediction(
+    acc: Sequence[AccuracyCell], noisy: Sequence[AccuracyCell], png: Path, *, title: str = ""
+) -> Path:
     """(a) Prediction accuracy over Tw x Tl without noise; (b) predicted against simulated self-righting
     probability with noise (Wilson 95 % intervals of the simulation)."""
     fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
@@ -91,14 +109,23 @@ def plot_prediction(acc: Sequence[AccuracyCell], noisy: Sequence[AccuracyCell], 
         for c in acc:
             i, j = tws.index(c.wing_period_s), tls.index(c.leg_period_s)
             m[i, j] = c.accuracy
-            a.text(j, i, f"{c.accuracy * 100:.0f} %\n({c.correct}/{c.n})", ha="center", va="center", fontsize=8,
-                   color="white" if c.accuracy < 0.6 else "black")
+            a.text(
+                j,
+                i,
+                f"{c.accuracy * 100:.0f} %\n({c.correct}/{c.n})",
+                ha="center",
+                va="center",
+                fontsize=8,
+                color="white" if c.accuracy < 0.6 else "black",
+            )
         im = a.imshow(m, origin="lower", cmap="viridis", vmin=0, vmax=1, aspect="auto")
         a.set_xticks(range(len(tls)), [f"{x:g}" for x in tls])
         a.set_yticks(range(len(tws)), [f"{x:g}" for x in tws])
         fig.colorbar(im, ax=a, label="accuracy")
         accs = np.array([c.accuracy for c in acc])
-        a.set_title(f"first righting attempt predicted: {accs.mean() * 100:.0f} ± {accs.std(ddof=1) * 100 if len(accs) > 1 else 0:.0f} %")
+        a.set_title(
+            f"first righting attempt predicted: {accs.mean() * 100:.0f} ± {accs.std(ddof=1) * 100 if len(accs) > 1 else 0:.0f} %"
+        )
     else:
         a.text(0.5, 0.5, "no multi-attempt trials with a phase map", ha="center", transform=a.transAxes)
     a.set_xlabel("leg period Tl (s)")
@@ -106,7 +133,9 @@ def plot_prediction(acc: Sequence[AccuracyCell], noisy: Sequence[AccuracyCell], 
     if noisy:
         sim_p = np.array([c.simulated_p for c in noisy])
         pred_p = np.array([c.predicted_p for c in noisy])
-        yerr = np.clip([[c.simulated_p - c.ci_low for c in noisy], [c.ci_high - c.simulated_p for c in noisy]], 0, 1)
+        yerr = np.clip(
+            [[c.simulated_p - c.ci_low for c in noisy], [c.ci_high - c.simulated_p for c in noisy]], 0, 1
+        )
         sc = b.scatter(pred_p, sim_p, c=[c.cv * 100 for c in noisy], cmap="plasma", zorder=3, s=18)
         b.errorbar(pred_p, sim_p, yerr=yerr, fmt="none", ecolor="0.7", zorder=2, lw=0.8)
         fig.colorbar(sc, ax=b, label="Cv (%)")
@@ -124,26 +153,46 @@ def plot_prediction(acc: Sequence[AccuracyCell], noisy: Sequence[AccuracyCell], 
     return _save(fig, png)
 
 
-def plot_evolution(pm: PhaseMap, theta_l_deg: float, sequences: Sequence[tuple[str, np.ndarray, int | None]],
-                   png: Path, *, title: str = "") -> Path:
+def plot_evolution(
+    pm: PhaseMap,
+    theta_l_deg: float,
+    sequences: Sequence[tuple[str, np.ndarray, int | None]],
+    png: Path,
+    *,
+    title: str = "",
+) -> Path:
     """Phases visited over attempts, drawn over the single-attempt map row of ``theta_l_deg``.
 
     ``sequences``: (label, phases of attempts 1..K, first attempt on a good phase or None) per panel.
     """
     row = int(np.flatnonzero(np.isclose(pm.theta_l_deg, theta_l_deg))[0])
     step = float(np.min(np.diff(pm.phases))) if len(pm.phases) > 1 else 0.05
-    fig, axes = plt.subplots(1, len(sequences), figsize=(5.0 * len(sequences), 3.8), squeeze=False,
-                             constrained_layout=True)
+    fig, axes = plt.subplots(
+        1, len(sequences), figsize=(5.0 * len(sequences), 3.8), squeeze=False, constrained_layout=True
+    )
     for ax, (label, phases, first) in zip(axes.flat, sequences, strict=True):
         k = np.arange(1, len(phases) + 1)
         for ph, s in zip(pm.phases, pm.success[row], strict=True):
             if np.isfinite(s):
-                ax.axvspan((ph - step / 2) * 100, (ph + step / 2) * 100, color=OUTCOME_CMAP(int(s >= 0.5)),
-                           alpha=0.25, lw=0)
+                ax.axvspan(
+                    (ph - step / 2) * 100,
+                    (ph + step / 2) * 100,
+                    color=OUTCOME_CMAP(int(s >= 0.5)),
+                    alpha=0.25,
+                    lw=0,
+                )
         ax.plot(np.asarray(phases) * 100, k, "o-", color="k", ms=4, lw=0.8)
         if first is not None:
-            ax.plot(phases[first - 1] * 100, first, "*", color="gold", mec="k", ms=16, zorder=5,
-                    label=f"first good phase: attempt {first}")
+            ax.plot(
+                phases[first - 1] * 100,
+                first,
+                "*",
+                color="gold",
+                mec="k",
+                ms=16,
+                zorder=5,
+                label=f"first good phase: attempt {first}",
+            )
             ax.legend(loc="upper right", fontsize=8)
         ax.set_xlim(-step * 50, 100 - step * 50)
         ax.set_ylim(len(phases) + 0.5, 0.5)
@@ -166,8 +215,17 @@ def plot_barrier_outcome(results: Sequence[BarrierOutcome], png: Path, *, title:
         col = cmap(0.85 * r.cv / span)
         p = np.array([x.p for x in r.cells])
         yerr = np.clip([p - [x.ci_low for x in r.cells], [x.ci_high for x in r.cells] - p], 0, 1)
-        a.errorbar(r.exact_mj, p, yerr=yerr, fmt="o", color=col, ms=4, lw=0.7, capsize=2,
-                   label=f"Cv {r.cv * 100:g} %: ρ = {r.rho:.2f} [{r.rho_low:.2f}, {r.rho_high:.2f}]")
+        a.errorbar(
+            r.exact_mj,
+            p,
+            yerr=yerr,
+            fmt="o",
+            color=col,
+            ms=4,
+            lw=0.7,
+            capsize=2,
+            label=f"Cv {r.cv * 100:g} %: ρ = {r.rho:.2f} [{r.rho_low:.2f}, {r.rho_high:.2f}]",
+        )
         ok = np.isfinite(r.exact_mj)
         if ok.any():
             xs = np.linspace(np.nanmin(r.exact_mj), np.nanmax(r.exact_mj), 200)

@@ -19,8 +19,13 @@ MJ = 1e3
 def _exit_dict(x: Exit | None) -> dict | None:
     if x is None:
         return None
-    return {"barrier_j": x.barrier_j, "saddle_pitch_deg": x.saddle_pitch_deg, "saddle_roll_deg": x.saddle_roll_deg,
-            "direction": x.direction, "path_deg": np.round(x.path_deg, 6).tolist()}
+    return {
+        "barrier_j": x.barrier_j,
+        "saddle_pitch_deg": x.saddle_pitch_deg,
+        "saddle_roll_deg": x.saddle_roll_deg,
+        "direction": x.direction,
+        "path_deg": np.round(x.path_deg, 6).tolist(),
+    }
 
 
 def barrier_fields(b) -> dict:
@@ -42,13 +47,28 @@ def barrier_fields(b) -> dict:
 
 def barrier_map_rows(bm: BarrierMap) -> list[dict]:
     """One row per pose of a barrier map: the angles, the start minimum and :func:`barrier_fields`."""
-    return [{"theta_w_deg": c.theta_w_deg, "theta_l_deg": c.theta_l_deg, "min_pitch_deg": c.minimum.pitch_deg,
-             "min_roll_deg": c.minimum.roll_deg, "min_energy_j": c.minimum.energy_j, **barrier_fields(c.barrier)}
-            for c in bm.computations]
+    return [
+        {
+            "theta_w_deg": c.theta_w_deg,
+            "theta_l_deg": c.theta_l_deg,
+            "min_pitch_deg": c.minimum.pitch_deg,
+            "min_roll_deg": c.minimum.roll_deg,
+            "min_energy_j": c.minimum.energy_j,
+            **barrier_fields(c.barrier),
+        }
+        for c in bm.computations
+    ]
 
 
-def summary(c: Computation, *, robot_name: str, robot_source: str | None, robot_hash: str,
-            com_source: str = "", description_hash: str | None = None) -> dict:
+def summary(
+    c: Computation,
+    *,
+    robot_name: str,
+    robot_source: str | None,
+    robot_hash: str,
+    com_source: str = "",
+    description_hash: str | None = None,
+) -> dict:
     """The JSON summary of one computation (energies in J, angles in degrees, lengths in m).
 
     ``robot_hash`` identifies the robot and how its joints are driven (``Robot.robot_hash``);
@@ -56,8 +76,12 @@ def summary(c: Computation, *, robot_name: str, robot_source: str | None, robot_
     """
     b = c.barrier
     return {
-        "robot": {"name": robot_name, "source": robot_source, "robot_hash": robot_hash,
-                  "description_hash": description_hash or robot_hash},
+        "robot": {
+            "name": robot_name,
+            "source": robot_source,
+            "robot_hash": robot_hash,
+            "description_hash": description_hash or robot_hash,
+        },
         "theta_w_deg": c.theta_w_deg,
         "theta_l_deg": c.theta_l_deg,
         "step_deg": c.step_deg,
@@ -66,8 +90,12 @@ def summary(c: Computation, *, robot_name: str, robot_source: str | None, robot_
         "com_m": [float(x) for x in c.com_m],
         "com_source": com_source,
         "start_deg": {"pitch_deg": c.start_deg[0], "roll_deg": c.start_deg[1]},
-        "minimum": {"pitch_deg": c.minimum.pitch_deg, "roll_deg": c.minimum.roll_deg,
-                    "energy_j": c.minimum.energy_j, "height_m": c.minimum.height_m},
+        "minimum": {
+            "pitch_deg": c.minimum.pitch_deg,
+            "roll_deg": c.minimum.roll_deg,
+            "energy_j": c.minimum.energy_j,
+            "height_m": c.minimum.height_m,
+        },
         "barrier": barrier_fields(b),
         "paths": {k: _exit_dict(getattr(b, k)) for k in ("righting", "pitch_wise", "roll_wise", "escape")},
         "timing_s": {k: round(v, 6) for k, v in c.timing_s.items()},
@@ -80,8 +108,14 @@ def write_computation(c: Computation, summary_dict: dict, out_dir: Path) -> list
     angles, energy = c.landscape.inclusive()
     npz = out_dir / "landscape.npz"
     np.savez_compressed(
-        npz, pitch_deg=angles, roll_deg=angles, energy_j=energy, mass_kg=c.mass_kg, com_m=c.com_m,
-        step_deg=c.step_deg, theta_w_deg=np.nan if c.theta_w_deg is None else c.theta_w_deg,
+        npz,
+        pitch_deg=angles,
+        roll_deg=angles,
+        energy_j=energy,
+        mass_kg=c.mass_kg,
+        com_m=c.com_m,
+        step_deg=c.step_deg,
+        theta_w_deg=np.nan if c.theta_w_deg is None else c.theta_w_deg,
         theta_l_deg=np.nan if c.theta_l_deg is None else c.theta_l_deg,
         minimum_deg=np.array([c.minimum.pitch_deg, c.minimum.roll_deg]),
         righting_path_deg=np.zeros((0, 2)) if c.barrier.righting is None else c.barrier.righting.path_deg,
@@ -89,8 +123,14 @@ def write_computation(c: Computation, summary_dict: dict, out_dir: Path) -> list
     csv_path = out_dir / "landscape.csv"
     pp, rr = np.meshgrid(angles, angles, indexing="ij")
     table = np.column_stack([pp.ravel(), rr.ravel(), energy.ravel()])
-    np.savetxt(csv_path, table, delimiter=",", header="pitch_deg,roll_deg,energy_j", comments="",
-               fmt=["%.6g", "%.6g", "%.12g"])
+    np.savetxt(
+        csv_path,
+        table,
+        delimiter=",",
+        header="pitch_deg,roll_deg,energy_j",
+        comments="",
+        fmt=["%.6g", "%.6g", "%.12g"],
+    )
     js = out_dir / "summary.json"
     js.write_text(json_text(summary_dict, indent=2) + "\n")
     return [npz, csv_path, js]

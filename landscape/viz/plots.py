@@ -22,11 +22,13 @@ def render_barrier_map(theta_w_deg, theta_l_deg, barrier_mj, path: Path, *, titl
         ax.set_ylabel("righting barrier (mJ)")
         ax.grid(alpha=0.3)
     else:
+
         def edges(v):
             if len(v) == 1:
                 return np.array([v[0] - 0.5, v[0] + 0.5])
             mid = (v[1:] + v[:-1]) / 2
             return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
+
         m = ax.pcolormesh(edges(tl), edges(tw), b, cmap="viridis", shading="flat")
         for i, w in enumerate(tw):
             for j, leg in enumerate(tl):

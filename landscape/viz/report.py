@@ -47,8 +47,16 @@ PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 RESERVED_KEYS = ("contents", "inputs", "versions", "timings")
 CHROMIUM_NAMES = ("chromium", "chromium-browser", "google-chrome", "chrome")
 CHROMIUM_NOT_FOUND = "chromium not found; install Debian's chromium package (apt-get install chromium)"
-CHROMIUM_FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                  "--disable-background-networking", "--disable-component-update", "--disable-sync")
+CHROMIUM_FLAGS = (
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+)
 VIRTUAL_TIME_BUDGET_MS = 5000
 SCREENSHOT_SIZE_PX = (1280, 2000)
 
@@ -194,7 +202,9 @@ def png_size(path: Path) -> tuple[int, int]:
     with open(path, "rb") as f:
         head = f.read(24)
     if len(head) < 24 or head[:8] != PNG_SIGNATURE or head[12:16] != b"IHDR":
-        raise ValueError(f"'{path}' is not a PNG file (no PNG signature and IHDR chunk in its first 24 bytes)")
+        raise ValueError(
+            f"'{path}' is not a PNG file (no PNG signature and IHDR chunk in its first 24 bytes)"
+        )
     width_px, height_px = struct.unpack(">II", head[16:24])
     return int(width_px), int(height_px)
 
@@ -234,7 +244,9 @@ def _table_html(t: Table, base: Path) -> str:
     out += ["<tr>" + "".join(_cell("td", c) for c in r) + "</tr>" for r in body[: t.max_rows]]
     out.append("</tbody></table>")
     if len(body) > t.max_rows:
-        out.append(f"<p class='small'>… {len(body) - t.max_rows} more rows in <a href='{href}'>{name}</a></p>")
+        out.append(
+            f"<p class='small'>… {len(body) - t.max_rows} more rows in <a href='{href}'>{name}</a></p>"
+        )
     return "\n".join(out)
 
 
@@ -244,15 +256,21 @@ def _figure_html(fig: Figure, base: Path) -> str:
     links = f"<a href='{_rel(fig.png, base)}'>PNG</a>"
     if fig.svg is not None:
         links += f" · <a href='{_rel(fig.svg, base)}'>SVG</a>"
-    return (f"<figure><img src='data:image/png;base64,{data}' width='{width_px}' height='{height_px}' "
-            f"alt='{escape(fig.caption)}'><figcaption>{_text(fig.caption)} ({links})</figcaption></figure>")
+    return (
+        f"<figure><img src='data:image/png;base64,{data}' width='{width_px}' height='{height_px}' "
+        f"alt='{escape(fig.caption)}'><figcaption>{_text(fig.caption)} ({links})</figcaption></figure>"
+    )
 
 
 def _kv_table(d: Mapping[str, str], header: tuple[str, str]) -> str:
-    rows = "".join(f"<tr><th class='l'>{escape(str(k))}</th><td class='l'>{escape(str(v))}</td></tr>"
-                   for k, v in d.items())
-    return (f"<table><thead><tr><th class='l'>{escape(header[0])}</th><th class='l'>{escape(header[1])}</th>"
-            f"</tr></thead><tbody>{rows}</tbody></table>")
+    rows = "".join(
+        f"<tr><th class='l'>{escape(str(k))}</th><td class='l'>{escape(str(v))}</td></tr>"
+        for k, v in d.items()
+    )
+    return (
+        f"<table><thead><tr><th class='l'>{escape(header[0])}</th><th class='l'>{escape(header[1])}</th>"
+        f"</tr></thead><tbody>{rows}</tbody></table>"
+    )
 
 
 def _check_sections(sections: Sequence[Section]) -> None:
@@ -261,8 +279,10 @@ def _check_sections(sections: Sequence[Section]) -> None:
         if not s.key or re.search(r"\s", s.key):
             raise ValueError(f"Section key must be a non-empty HTML id without whitespace; got {s.key!r}")
         if s.key in seen or s.key in RESERVED_KEYS:
-            raise ValueError(f"Section key {s.key!r} is used twice or reserved ({', '.join(RESERVED_KEYS)}); "
-                             "give each section its own key")
+            raise ValueError(
+                f"Section key {s.key!r} is used twice or reserved ({', '.join(RESERVED_KEYS)}); "
+                "give each section its own key"
+            )
         if s.missing is None:
             for t in s.tables:
                 if t.max_rows < 0:
@@ -270,8 +290,16 @@ def _check_sections(sections: Sequence[Section]) -> None:
         seen.add(s.key)
 
 
-def write_report(sections: Sequence[Section], out_dir: Path, *, title: str, inputs: Mapping[str, str],
-                 versions: Mapping[str, str], timings_s: Mapping[str, float], filename: str = "index.html") -> Path:
+def write_report(
+    sections: Sequence[Section],
+    out_dir: Path,
+    *,
+    title: str,
+    inputs: Mapping[str, str],
+    versions: Mapping[str, str],
+    timings_s: Mapping[str, float],
+    filename: str = "index.html",
+) -> Path:
     """Write one self-contained HTML page: table of contents, sections, inputs, versions and run times.
 
     Images are embedded as ``data:`` URIs with their pixel size from the PNG header; tables and SVGs are linked
@@ -319,17 +347,30 @@ def write_report(sections: Sequence[Section], out_dir: Path, *, title: str, inpu
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     stamp = datetime.now(timezone.utc).isoformat(timespec="seconds")
-    parts = ["<!DOCTYPE html>", "<html lang='en'><head><meta charset='utf-8'>",
-             "<meta name='viewport' content='width=device-width, initial-scale=1'>",
-             f"<title>{escape(title)}</title>", f"<style>{CSS}</style>", f"<script>{SELF_CHECK_JS}</script>",
-             "</head><body>", f"<h1>{escape(title)}</h1>",
-             f"<p class='small'>Generated <time datetime='{stamp}'>{stamp}</time> (UTC).</p>",
-             "<nav id='contents'><h2>Contents</h2><ul>"]
-    parts += [f"<li><a href='#{escape(s.key)}'>{escape(s.title)}</a>"
-              + (" <span class='small'>(not enough data)</span>" if s.missing is not None else "") + "</li>"
-              for s in sections]
-    parts += ["<li><a href='#inputs'>Inputs</a></li>", "<li><a href='#versions'>Software versions</a></li>",
-              "<li><a href='#timings'>Run times</a></li>", "</ul></nav>"]
+    parts = [
+        "<!DOCTYPE html>",
+        "<html lang='en'><head><meta charset='utf-8'>",
+        "<meta name='viewport' content='width=device-width, initial-scale=1'>",
+        f"<title>{escape(title)}</title>",
+        f"<style>{CSS}</style>",
+        f"<script>{SELF_CHECK_JS}</script>",
+        "</head><body>",
+        f"<h1>{escape(title)}</h1>",
+        f"<p class='small'>Generated <time datetime='{stamp}'>{stamp}</time> (UTC).</p>",
+        "<nav id='contents'><h2>Contents</h2><ul>",
+    ]
+    parts += [
+        f"<li><a href='#{escape(s.key)}'>{escape(s.title)}</a>"
+        + (" <span class='small'>(not enough data)</span>" if s.missing is not None else "")
+        + "</li>"
+        for s in sections
+    ]
+    parts += [
+        "<li><a href='#inputs'>Inputs</a></li>",
+        "<li><a href='#versions'>Software versions</a></li>",
+        "<li><a href='#timings'>Run times</a></li>",
+        "</ul></nav>",
+    ]
     for s in sections:
         parts.append(f"<section id='{escape(s.key)}'><h2>{escape(s.title)}</h2>")
         parts += [f"<p>{_text(p)}</p>" for p in s.paragraphs]
@@ -339,11 +380,19 @@ def write_report(sections: Sequence[Section], out_dir: Path, *, title: str, inpu
             parts += [_figure_html(f, out_dir) for f in s.figures]
             parts += [_table_html(t, out_dir) for t in s.tables]
         parts.append("</section>")
-    parts += ["<section id='inputs'><h2>Inputs</h2>", _kv_table(inputs, ("input", "value")), "</section>",
-              "<section id='versions'><h2>Software versions</h2>", _kv_table(versions, ("software", "version")),
-              "</section>", "<section id='timings'><h2>Run times</h2>",
-              _kv_table({k: f"{float(v):.2f} s" for k, v in timings_s.items()}, ("part", "time")),
-              "</section>", "</body></html>", ""]
+    parts += [
+        "<section id='inputs'><h2>Inputs</h2>",
+        _kv_table(inputs, ("input", "value")),
+        "</section>",
+        "<section id='versions'><h2>Software versions</h2>",
+        _kv_table(versions, ("software", "version")),
+        "</section>",
+        "<section id='timings'><h2>Run times</h2>",
+        _kv_table({k: f"{float(v):.2f} s" for k, v in timings_s.items()}, ("part", "time")),
+        "</section>",
+        "</body></html>",
+        "",
+    ]
     path = out_dir / filename
     fd, tmp = tempfile.mkstemp(prefix=f".{filename}.", suffix=".tmp", dir=out_dir)
     try:
@@ -412,14 +461,23 @@ def _run_chromium(exe: str, args: Sequence[str], timeout_s: float) -> subprocess
     """Run the browser with a fresh profile in its own process group; kill the group on timeout."""
     with tempfile.TemporaryDirectory(prefix="landscape-chromium-", ignore_cleanup_errors=True) as profile:
         cmd = [exe, *CHROMIUM_FLAGS, f"--user-data-dir={profile}", *args]
-        proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                text=True, errors="replace", start_new_session=True)
+        proc = subprocess.Popen(
+            cmd,
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            errors="replace",
+            start_new_session=True,
+        )
         try:
             out, err = proc.communicate(timeout=timeout_s)
         except subprocess.TimeoutExpired:
             _kill_group(proc)
-            raise RuntimeError(f"{Path(exe).name} did not finish within {timeout_s:g} s "
-                               f"({' '.join(a for a in args if not a.startswith('--'))})") from None
+            raise RuntimeError(
+                f"{Path(exe).name} did not finish within {timeout_s:g} s "
+                f"({' '.join(a for a in args if not a.startswith('--'))})"
+            ) from None
         _kill_group(proc)  # helpers the browser left behind in its group
         return subprocess.CompletedProcess(cmd, proc.returncode, out, err)
 
@@ -465,8 +523,10 @@ def _body_attrs(dom: str) -> dict[str, str]:
 
 
 # [pid:tid:MMDD/HHMMSS.us:INFO:CONSOLE:5] "msg", source: url (5)   (older builds: INFO:CONSOLE(5)] ...)
-_CONSOLE_LINE = re.compile(r':(?P<level>[A-Z]+|VERBOSE\d*):CONSOLE(?::\d+|\(\d+\))?\] "(?P<msg>.*)", '
-                           r"source: (?P<src>.*?)(?: \((?P<line>\d+)\))?$")
+_CONSOLE_LINE = re.compile(
+    r':(?P<level>[A-Z]+|VERBOSE\d*):CONSOLE(?::\d+|\(\d+\))?\] "(?P<msg>.*)", '
+    r"source: (?P<src>.*?)(?: \((?P<line>\d+)\))?$"
+)
 
 
 def _console_errors_from_log(stderr: str) -> list[tuple[str, str]]:
@@ -542,8 +602,17 @@ def check_page(html: Path, *, screenshot: Path | None = None, timeout_s: float =
     url = page.as_uri()
     browser = _browser_version(exe, timeout_s)
 
-    res = _run_chromium(exe, ["--enable-logging=stderr", "--v=0", f"--virtual-time-budget={VIRTUAL_TIME_BUDGET_MS}",
-                              "--dump-dom", url], timeout_s)
+    res = _run_chromium(
+        exe,
+        [
+            "--enable-logging=stderr",
+            "--v=0",
+            f"--virtual-time-budget={VIRTUAL_TIME_BUDGET_MS}",
+            "--dump-dom",
+            url,
+        ],
+        timeout_s,
+    )
     attrs = _body_attrs(res.stdout)
     done = attrs.get("data-selfcheck") == "done"
     m = re.fullmatch(r"(\d+)/(\d+)", attrs.get("data-images-ok", ""))
@@ -554,8 +623,10 @@ def check_page(html: Path, *, screenshot: Path | None = None, timeout_s: float =
         in_page = [f"unreadable data-console-errors: {attrs['data-console-errors'][:200]}"]
     errors = _merge_errors(in_page, _console_errors_from_log(res.stderr))
     if not done:
-        errors.append(f"the page's self-check did not run ({Path(exe).name} exit status {res.returncode}; "
-                      "does the page carry SELF_CHECK_JS?)")
+        errors.append(
+            f"the page's self-check did not run ({Path(exe).name} exit status {res.returncode}; "
+            "does the page carry SELF_CHECK_JS?)"
+        )
 
     shot = None
     if screenshot is not None:
@@ -563,8 +634,17 @@ def check_page(html: Path, *, screenshot: Path | None = None, timeout_s: float =
         target.parent.mkdir(parents=True, exist_ok=True)
         target.unlink(missing_ok=True)
         w_px, h_px = SCREENSHOT_SIZE_PX
-        _run_chromium(exe, [f"--screenshot={target}", f"--window-size={w_px},{h_px}", "--hide-scrollbars",
-                            f"--virtual-time-budget={VIRTUAL_TIME_BUDGET_MS}", url], timeout_s)
+        _run_chromium(
+            exe,
+            [
+                f"--screenshot={target}",
+                f"--window-size={w_px},{h_px}",
+                "--hide-scrollbars",
+                f"--virtual-time-budget={VIRTUAL_TIME_BUDGET_MS}",
+                url,
+            ],
+            timeout_s,
+        )
         try:
             if target.stat().st_size > 0:
                 png_size(target)
@@ -577,5 +657,14 @@ def check_page(html: Path, *, screenshot: Path | None = None, timeout_s: float =
     return PageCheck(ok, images_ok, images_total, tuple(errors), shot, browser)
 
 
-__all__ = ["Figure", "Table", "Section", "PageCheck", "SELF_CHECK_JS", "png_size", "write_report", "find_chromium",
-           "check_page"]
+__all__ = [
+    "Figure",
+    "Table",
+    "Section",
+    "PageCheck",
+    "SELF_CHECK_JS",
+    "png_size",
+    "write_report",
+    "find_chromium",
+    "check_page",
+]

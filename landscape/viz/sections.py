@@ -87,17 +87,28 @@ class PaperCells:
     @property
     def protocol_text(self) -> str:
         return f"{self.duration_s:g} s trials, dt {self.dt_s:g} s" + (
-            f", model {self.model_set}" if self.model_set != "paper" else "")
+            f", model {self.model_set}" if self.model_set != "paper" else ""
+        )
 
 
 def _paper_cells(rows: list[dict], phase: float | None, db) -> PaperCells:
     """Probability cells of the paper protocol (Tw 2 s, Tl 0.8 s, no attempt limit) at one phi_1 (default: the
     one with most trials), of the trial protocol (duration, time step) with most trials."""
-    paper = [r for r in rows if r["status"] == "ok" and r["attempts"] == 0
-             and (r["wing_period_s"], r["leg_period_s"]) == PAPER_PERIODS]
+    paper = [
+        r
+        for r in rows
+        if r["status"] == "ok"
+        and r["attempts"] == 0
+        and (r["wing_period_s"], r["leg_period_s"]) == PAPER_PERIODS
+    ]
     if not paper:
-        return PaperCells([], None, missing="no multi-attempt trials of the paper's protocol (Tw 2 s, Tl 0.8 s); "
-                          f"run `{PAPER_SWEEP.format(db=db)}`")
+        return PaperCells(
+            [],
+            None,
+            missing="no multi-attempt trials of the paper's protocol (Tw 2 s, Tl 0.8 s); "
+            f"run `{PAPER_SWEEP.format(db=db)}`",
+        )
+
     def protocol(r: dict) -> tuple:
         return r["duration_s"], r["dt_s"], r.get("model_set") or "paper"
 
@@ -115,16 +126,28 @@ def _paper_cells(rows: list[dict], phase: float | None, db) -> PaperCells:
         phase = max(counts, key=lambda k: (counts[k], -k))
     elif phase not in counts:
         have = ", ".join(f"{x:g}" for x in sorted(counts))
-        return PaperCells([], phase, duration_s, dt_s, len(paper) - len(kept),
-                          missing=f"no multi-attempt trials at φ1 = {phase:g}; the database has φ1 = {have}")
+        return PaperCells(
+            [],
+            phase,
+            duration_s,
+            dt_s,
+            len(paper) - len(kept),
+            missing=f"no multi-attempt trials at φ1 = {phase:g}; the database has φ1 = {have}",
+        )
     at_phase = [c for c in cells if c.phase == phase]
     # a setting swept over phi_1 with one trial each (the prediction sweep) is not a probability estimate
     several = [c for c in at_phase if c.n > 1]
     if not several:
-        return PaperCells([], phase, duration_s, dt_s, len(paper) - len(kept),
-                          missing=f"the {len(at_phase)} settings at φ1 = {phase:g} have one trial each "
-                          f"({sum(c.n for c in at_phase)} trials): a probability needs several; sweep again "
-                          f"with --trials 2 or more (`{PAPER_SWEEP.format(db=db)} --trials 2 ...`)")
+        return PaperCells(
+            [],
+            phase,
+            duration_s,
+            dt_s,
+            len(paper) - len(kept),
+            missing=f"the {len(at_phase)} settings at φ1 = {phase:g} have one trial each "
+            f"({sum(c.n for c in at_phase)} trials): a probability needs several; sweep again "
+            f"with --trials 2 or more (`{PAPER_SWEEP.format(db=db)} --trials 2 ...`)",
+        )
     return PaperCells(several, phase, duration_s, dt_s, len(paper) - len(kept), model_set=model_set)
 
 
@@ -150,7 +173,9 @@ def section_probability(rows: list[dict], out: Path, db: Path, *, phase: float |
         return Section("probability", title, missing=pc.missing)
     csv_path = _write_csv(out / "probability.csv", [asdict(c) for c in cells])
     png = plot_probability(
-        cells, out / "probability.png", title=f"Self-righting probability (φ1 = {phase:g}, {pc.protocol_text})"
+        cells,
+        out / "probability.png",
+        title=f"Self-righting probability (φ1 = {phase:g}, {pc.protocol_text})",
     )
     n = sum(c.n for c in cells)
     wins = sum(c.successes for c in cells)
@@ -161,9 +186,12 @@ def section_probability(rows: list[dict], out: Path, db: Path, *, phase: float |
     paras = (
         f"{n} trials ({len(cells)} settings, φ1 = {phase:g}, {pc.protocol_text}): {wins} righted "
         f"({wins / n * 100:.1f} %)."
-        + (f" {pc.other_protocol_trials} trials of other durations, time steps or model sets are not pooled with "
-           "them."
-           if pc.other_protocol_trials else ""),
+        + (
+            f" {pc.other_protocol_trials} trials of other durations, time steps or model sets are not pooled with "
+            "them."
+            if pc.other_protocol_trials
+            else ""
+        ),
         "Overall by Cv: "
         + "; ".join(
             f"Cv {cv * 100:g} %: {k}/{m} = {k / m * 100:.1f} %" for cv, (k, m) in sorted(by_cv.items())

@@ -39,8 +39,9 @@ def test_compute_mesh_json(capsys, box_stl):
 
 def test_compute_out_files(capsys, box_stl, tmp_path):
     out_dir = tmp_path / "out"
-    code, out, err = run(capsys, "compute", "--mesh", str(box_stl), "--units", "mm", "--step", "5",
-                         "--out", str(out_dir))
+    code, out, err = run(
+        capsys, "compute", "--mesh", str(box_stl), "--units", "mm", "--step", "5", "--out", str(out_dir)
+    )
     assert code == 0, err
     assert "righting" in out and "mJ" in out
     z = np.load(out_dir / "landscape.npz")
@@ -51,8 +52,9 @@ def test_compute_out_files(capsys, box_stl, tmp_path):
 
 
 def test_compute_lab_robot(capsys, lab_robot):
-    code, out, err = run(capsys, "compute", "--theta-w", "74", "--robot", str(lab_robot.source), "--json",
-                         "--method", "grid")
+    code, out, err = run(
+        capsys, "compute", "--theta-w", "74", "--robot", str(lab_robot.source), "--json", "--method", "grid"
+    )
     assert code == 0, err
     s = json.loads(out)
     assert s["minimum"]["pitch_deg"] == pytest.approx(70, abs=1)
@@ -65,18 +67,21 @@ def test_compute_lab_robot(capsys, lab_robot):
     assert exact["barrier"]["righting_j"] == pytest.approx(s["barrier"]["righting_j"], rel=0.05)
 
 
-@pytest.mark.parametrize("argv, message", [
-    (["compute", "--robot", "missing.urdf"], "not found"),
-    (["compute", "--mesh", "missing.stl"], "not found"),
-    (["compute", "--step", "7", "--mesh", "{box}"], "does not divide 360"),
-    (["compute", "--theta-w", "nan", "--mesh", "{box}"], "finite"),
-    (["compute", "--start-pitch", "inf", "--mesh", "{box}"], "finite"),
-    (["compute", "--mesh", "{box}", "--com", "1,2"], "three finite numbers"),
-    (["compute", "--mesh", "{box}", "--mass", "-1"], "positive"),
-    (["compute", "--mesh", "{box}", "--robot", "builtin"], "not both"),
-    (["barrier-map", "--theta-w", "", "--mesh", "{box}"], "empty"),
-    (["compute", "--no-such-option"], "No such option"),
-])
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["compute", "--robot", "missing.urdf"], "not found"),
+        (["compute", "--mesh", "missing.stl"], "not found"),
+        (["compute", "--step", "7", "--mesh", "{box}"], "does not divide 360"),
+        (["compute", "--theta-w", "nan", "--mesh", "{box}"], "finite"),
+        (["compute", "--start-pitch", "inf", "--mesh", "{box}"], "finite"),
+        (["compute", "--mesh", "{box}", "--com", "1,2"], "three finite numbers"),
+        (["compute", "--mesh", "{box}", "--mass", "-1"], "positive"),
+        (["compute", "--mesh", "{box}", "--robot", "builtin"], "not both"),
+        (["barrier-map", "--theta-w", "", "--mesh", "{box}"], "empty"),
+        (["compute", "--no-such-option"], "No such option"),
+    ],
+)
 def test_bad_input_one_line(capsys, box_stl, argv, message):
     argv = [a.replace("{box}", str(box_stl)) for a in argv]
     code, out, err = run(capsys, *argv)
@@ -87,7 +92,11 @@ def test_bad_input_one_line(capsys, box_stl, argv, message):
 
 def test_lab_robot_bad_angles(capsys, lab_robot):
     code, _, err = run(capsys, "compute", "--theta-w", "120", "--robot", str(lab_robot.source))
-    assert code == 2 and "outside [0, 95] deg, the wing opening range of lab_robot" in err and err.count("\n") == 1
+    assert (
+        code == 2
+        and "outside [0, 95] deg, the wing opening range of lab_robot" in err
+        and err.count("\n") == 1
+    )
     code, _, err = run(capsys, "compute", "--robot", str(lab_robot.source), "--joints", "wing=x;leg=leg")
     assert code == 2 and "joint 'x'" in err
 
@@ -105,8 +114,20 @@ def test_open_mesh_solid_refused(capsys, tmp_path):
 
 
 def test_barrier_map_lab(capsys, lab_robot, tmp_path):
-    code, out, err = run(capsys, "barrier-map", "--theta-w", "70:76:2", "--theta-l", "20,50", "--step", "2",
-                         "--robot", str(lab_robot.source), "--out", str(tmp_path))
+    code, out, err = run(
+        capsys,
+        "barrier-map",
+        "--theta-w",
+        "70:76:2",
+        "--theta-l",
+        "20,50",
+        "--step",
+        "2",
+        "--robot",
+        str(lab_robot.source),
+        "--out",
+        str(tmp_path),
+    )
     assert code == 0, err
     rows = np.genfromtxt(tmp_path / "barrier_map.csv", delimiter=",", names=True, dtype=None, encoding=None)
     assert len(rows) == 8
@@ -127,12 +148,28 @@ def test_real_process_clean_streams(box_stl):
     import subprocess
     import sys
 
-    ok = subprocess.run([sys.executable, "-m", "landscape", "compute", "--mesh", str(box_stl), "--units", "mm",
-                         "--json", "--step", "10"], capture_output=True, text=True)
+    ok = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "landscape",
+            "compute",
+            "--mesh",
+            str(box_stl),
+            "--units",
+            "mm",
+            "--json",
+            "--step",
+            "10",
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert ok.returncode == 0 and ok.stderr == ""
     assert json.loads(ok.stdout)["mass_kg"] == 1.0
-    bad = subprocess.run([sys.executable, "-m", "landscape", "compute", "--mesh", "nope.stl"],
-                         capture_output=True, text=True)
+    bad = subprocess.run(
+        [sys.executable, "-m", "landscape", "compute", "--mesh", "nope.stl"], capture_output=True, text=True
+    )
     assert bad.returncode == 2 and bad.stdout == ""
     assert bad.stderr.count("\n") == 1 and bad.stderr.startswith("landscape: error:")
 
@@ -146,8 +183,9 @@ def test_robot_export_round_trip(capsys, tmp_path):
     files = builtin_description()
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(files)
     assert (tmp_path / "robot.urdf").read_bytes() == files["robot.urdf"]
-    code, out, err = run(capsys, "compute", "--robot", str(tmp_path / "robot.urdf"), "--theta-w", "74", "--json",
-                         "--step", "4")
+    code, out, err = run(
+        capsys, "compute", "--robot", str(tmp_path / "robot.urdf"), "--theta-w", "74", "--json", "--step", "4"
+    )
     exported = json.loads(out)
     code, out, err = run(capsys, "compute", "--theta-w", "74", "--json", "--step", "4")
     default = json.loads(out)
@@ -189,6 +227,16 @@ def test_no_arguments_prints_help_and_exits_0(capsys):
 def test_every_command_is_registered(capsys):
     """Commands are imported explicitly: none vanishes when a module fails to import."""
     code, out, err = run(capsys, "--help")
-    for name in ("compute", "barrier-map", "render", "robot", "bench", "simulate", "sweep", "export", "analyze",
-                 "report"):
+    for name in (
+        "compute",
+        "barrier-map",
+        "render",
+        "robot",
+        "bench",
+        "simulate",
+        "sweep",
+        "export",
+        "analyze",
+        "report",
+    ):
         assert f"  {name} " in out

@@ -18,8 +18,9 @@ SCRIPT = Path(sys.executable).parent / "landscape"
 def landscape(*args, cwd=None, timeout=120):
     exe = [str(SCRIPT)] if SCRIPT.is_file() else [sys.executable, "-m", "landscape"]
     env = {k: v for k, v in os.environ.items() if k != "LANDSCAPE_DEBUG"}
-    return subprocess.run([*exe, *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=timeout,
-                          env=env)
+    return subprocess.run(
+        [*exe, *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=timeout, env=env
+    )
 
 
 def digest(path: Path) -> str:
@@ -46,29 +47,42 @@ def refused(r, *needles):
         assert n in r.stderr, (n, r.stderr)
 
 
-@pytest.mark.parametrize("args, needles", [
-    (["compute", "--theta-w", "nan"], ["--theta-w must be a finite number"]),
-    (["compute", "--theta-w", "120"], ["--theta-w 120 deg is outside [0, 95] deg"]),
-    (["compute", "--step", "7"], ["does not divide 360"]),
-    (["compute", "--method", "magic"], ["magic"]),
-    (["compute", "--robot", "{d}/robotdir"], ["is a directory"]),
-    (["compute", "--mesh", "{d}/robotdir"], ["is a directory"]),
-    (["compute", "--robot", "{d}/absent.urdf"], ["absent.urdf"]),
-    (["compute", "--mesh", "{d}/box.stl", "--com", "0,0,0.5"], ["outside the convex hull"]),
-    (["compute", "--mesh", "{d}/box.stl", "--com", "0,0,0.5", "--method", "grid"], ["outside the convex hull"]),
-    (["compute", "--mesh", "{d}/box.stl", "--com", "0,0,0.5", "--method", "sphere"], ["outside the convex hull"]),
-    (["compute", "--mesh", "{d}/box.stl", "--joints", "wing=a;leg=b"], ["--joints applies to a URDF"]),
-    (["barrier-map", "--theta-w", "0:90:1e-7", "--out", "{d}/bm"], ["more than the 100000 allowed"]),
-    (["barrier-map", "--theta-w", "0:1e308:1e-308", "--out", "{d}/bm"], ["more than the 100000 allowed"]),
-    (["barrier-map", "--theta-w", "", "--out", "{d}/bm"], ["is empty"]),
-    (["bench", "--repeat", "0"], ["--repeat"]),
-    (["sweep", "--db", "{d}/s.sqlite", "--scheduler", "not a url"], ["not a scheduler address"]),
-    (["export", "--db", "{d}/absent.sqlite", "--csv", "{d}/x.csv"], ["not found"]),
-])
+@pytest.mark.parametrize(
+    "args, needles",
+    [
+        (["compute", "--theta-w", "nan"], ["--theta-w must be a finite number"]),
+        (["compute", "--theta-w", "120"], ["--theta-w 120 deg is outside [0, 95] deg"]),
+        (["compute", "--step", "7"], ["does not divide 360"]),
+        (["compute", "--method", "magic"], ["magic"]),
+        (["compute", "--robot", "{d}/robotdir"], ["is a directory"]),
+        (["compute", "--mesh", "{d}/robotdir"], ["is a directory"]),
+        (["compute", "--robot", "{d}/absent.urdf"], ["absent.urdf"]),
+        (["compute", "--mesh", "{d}/box.stl", "--com", "0,0,0.5"], ["outside the convex hull"]),
+        (
+            ["compute", "--mesh", "{d}/box.stl", "--com", "0,0,0.5", "--method", "grid"],
+            ["outside the convex hull"],
+        ),
+        (
+            ["compute", "--mesh", "{d}/box.stl", "--com", "0,0,0.5", "--method", "sphere"],
+            ["outside the convex hull"],
+        ),
+        (["compute", "--mesh", "{d}/box.stl", "--joints", "wing=a;leg=b"], ["--joints applies to a URDF"]),
+        (["barrier-map", "--theta-w", "0:90:1e-7", "--out", "{d}/bm"], ["more than the 100000 allowed"]),
+        (["barrier-map", "--theta-w", "0:1e308:1e-308", "--out", "{d}/bm"], ["more than the 100000 allowed"]),
+        (["barrier-map", "--theta-w", "", "--out", "{d}/bm"], ["is empty"]),
+        (["bench", "--repeat", "0"], ["--repeat"]),
+        (["sweep", "--db", "{d}/s.sqlite", "--scheduler", "not a url"], ["not a scheduler address"]),
+        (["export", "--db", "{d}/absent.sqlite", "--csv", "{d}/x.csv"], ["not found"]),
+    ],
+)
 def test_refused_with_one_line(corpus, args, needles):
     r = landscape(*[a.format(d=corpus) for a in args])
     refused(r, *needles)
-    assert not (corpus / "bm").exists() and not (corpus / "s.sqlite").exists() and not (corpus / "x.csv").exists()
+    assert (
+        not (corpus / "bm").exists()
+        and not (corpus / "s.sqlite").exists()
+        and not (corpus / "x.csv").exists()
+    )
 
 
 def test_export_never_writes_over_its_input(corpus, tmp_path):
@@ -105,15 +119,68 @@ def test_a_robot_the_landscape_accepts_can_be_simulated_and_swept(tmp_path):
     jm = "wing=j_wing_pitch_left,j_wing_pitch_right,j_wing_roll_left,j_wing_roll_right;leg=j_leg"
     r = landscape("compute", "--robot", urdf, "--joints", jm, "--theta-w", "74", "--json")
     assert r.returncode == 0, r.stderr
-    r = landscape("simulate", "--robot", urdf, "--joints", jm, "--theta-w", "74", "--theta-l", "30",
-                  "--duration", "0.2", "--json")
+    r = landscape(
+        "simulate",
+        "--robot",
+        urdf,
+        "--joints",
+        jm,
+        "--theta-w",
+        "74",
+        "--theta-l",
+        "30",
+        "--duration",
+        "0.2",
+        "--json",
+    )
     assert r.returncode == 0, r.stderr
     db = tmp_path / "s.sqlite"
-    r = landscape("sweep", "--robot", urdf, "--joints", jm, "--theta-w", "74", "--theta-l", "30", "--cv", "0",
-                  "--trials", "1", "--duration", "0.2", "--db", db, "--workers", "1", "--no-progress")
+    r = landscape(
+        "sweep",
+        "--robot",
+        urdf,
+        "--joints",
+        jm,
+        "--theta-w",
+        "74",
+        "--theta-l",
+        "30",
+        "--cv",
+        "0",
+        "--trials",
+        "1",
+        "--duration",
+        "0.2",
+        "--db",
+        db,
+        "--workers",
+        "1",
+        "--no-progress",
+    )
     assert r.returncode == 0, r.stderr
-    refused(landscape("sweep", "--robot", urdf, "--theta-w", "74", "--theta-l", "30", "--cv", "0", "--trials",
-                      "1", "--duration", "0.2", "--db", db, "--workers", "1", "--no-progress"), "none of the default")
+    refused(
+        landscape(
+            "sweep",
+            "--robot",
+            urdf,
+            "--theta-w",
+            "74",
+            "--theta-l",
+            "30",
+            "--cv",
+            "0",
+            "--trials",
+            "1",
+            "--duration",
+            "0.2",
+            "--db",
+            db,
+            "--workers",
+            "1",
+            "--no-progress",
+        ),
+        "none of the default",
+    )
 
 
 def test_an_unwritable_cache_names_landscape_cache(tmp_path):
@@ -122,7 +189,9 @@ def test_an_unwritable_cache_names_landscape_cache(tmp_path):
     blocker.write_text("a file where the cache directory should be")
     exe = [str(SCRIPT)] if SCRIPT.is_file() else [sys.executable, "-m", "landscape"]
     env = {**{k: v for k, v in os.environ.items() if k != "LANDSCAPE_DEBUG"}, "LANDSCAPE_CACHE": str(blocker)}
-    r = subprocess.run([*exe, "compute", "--theta-w", "74"], capture_output=True, text=True, env=env, timeout=300)
+    r = subprocess.run(
+        [*exe, "compute", "--theta-w", "74"], capture_output=True, text=True, env=env, timeout=300
+    )
     refused(r, "cannot write the built-in robot's files", "LANDSCAPE_CACHE")
 
 
@@ -133,22 +202,51 @@ def _limited():
     resource.setrlimit(resource.RLIMIT_AS, (4 * 2**30, 4 * 2**30))
 
 
-@pytest.mark.parametrize("args, needle", [
-    (["simulate", "--theta-w", "74", "--theta-l", "30", "--duration", "1e308"], "longer than MAX_DURATION_S"),
-    (["simulate", "--theta-w", "74", "--theta-l", "30", "--duration", "1e6"], "longer than MAX_DURATION_S"),
-    (["simulate", "--theta-w", "74", "--theta-l", "30", "--dt", "1e-300"], "dt"),
-    (["simulate", "--theta-w", "74", "--theta-l", "30", "--dt", "1e-9", "--duration", "0.1"], "dt"),
-    (["sweep", "--trials", "1000000000", "--db", "{d}/big.sqlite"], "--trials"),
-    (["sweep", "--theta-w", "0:90:0.001", "--theta-l", "0:50:0.01", "--cv", "0", "--trials", "1", "--db",
-      "{d}/big.sqlite"], "more than MAX_TRIALS"),
-    (["barrier-map", "--theta-w", "0:90:1e-7", "--out", "{d}/bm"], "more than the 100000 allowed"),
-    (["compute", "--step", "0.05"], "needs about 3.7 GB"),
-])
+@pytest.mark.parametrize(
+    "args, needle",
+    [
+        (
+            ["simulate", "--theta-w", "74", "--theta-l", "30", "--duration", "1e308"],
+            "longer than MAX_DURATION_S",
+        ),
+        (
+            ["simulate", "--theta-w", "74", "--theta-l", "30", "--duration", "1e6"],
+            "longer than MAX_DURATION_S",
+        ),
+        (["simulate", "--theta-w", "74", "--theta-l", "30", "--dt", "1e-300"], "dt"),
+        (["simulate", "--theta-w", "74", "--theta-l", "30", "--dt", "1e-9", "--duration", "0.1"], "dt"),
+        (["sweep", "--trials", "1000000000", "--db", "{d}/big.sqlite"], "--trials"),
+        (
+            [
+                "sweep",
+                "--theta-w",
+                "0:90:0.001",
+                "--theta-l",
+                "0:50:0.01",
+                "--cv",
+                "0",
+                "--trials",
+                "1",
+                "--db",
+                "{d}/big.sqlite",
+            ],
+            "more than MAX_TRIALS",
+        ),
+        (["barrier-map", "--theta-w", "0:90:1e-7", "--out", "{d}/bm"], "more than the 100000 allowed"),
+        (["compute", "--step", "0.05"], "needs about 3.7 GB"),
+    ],
+)
 def test_resource_bounds_refused_up_front_under_a_memory_limit(corpus, args, needle):
     """Requests that would exhaust memory or time are refused before any work, even with 4 GiB and 60 s."""
     exe = [str(SCRIPT)] if SCRIPT.is_file() else [sys.executable, "-m", "landscape"]
     env = {k: v for k, v in os.environ.items() if k != "LANDSCAPE_DEBUG"}
-    r = subprocess.run([*exe, *[a.format(d=corpus) for a in args]], capture_output=True, text=True, env=env,
-                       timeout=60, preexec_fn=_limited)
+    r = subprocess.run(
+        [*exe, *[a.format(d=corpus) for a in args]],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=60,
+        preexec_fn=_limited,
+    )
     refused(r, needle)
     assert not (corpus / "big.sqlite").exists()

@@ -15,7 +15,7 @@ from geometry.robot import JointMap
 from landscape.cli.options import finite
 from landscape.params import MAX_VALUES, parse_values
 
-numbers = st.floats(allow_nan=True, allow_infinity=True) | st.integers(-10**6, 10**6).map(float)
+numbers = st.floats(allow_nan=True, allow_infinity=True) | st.integers(-(10**6), 10**6).map(float)
 text = st.text(alphabet="0123456789.,:-+eEinfa ", max_size=30)
 
 
@@ -56,15 +56,15 @@ names = st.text(alphabet="abcxyz_019", min_size=0, max_size=6)
 
 @settings(max_examples=300, deadline=None)
 @given(st.lists(names, max_size=5), st.lists(names, max_size=3), st.sampled_from([";", "; ", ";;"]))
-@example(["", ""], [""], ";")            # wing=,;leg=
-@example(["leg"], ["leg"], ";")          # the same joint twice
+@example(["", ""], [""], ";")  # wing=,;leg=
+@example(["leg"], ["leg"], ";")  # the same joint twice
 def test_joint_maps_round_trip_or_refuse(wing, leg, sep):
     s = f"wing={','.join(wing)}{sep}leg={','.join(leg)}"
     try:
         jm = JointMap.parse(s)
     except UsageError as exc:
         assert "\n" not in str(exc)
-        assert (not wing or not leg or "" in wing or "" in leg or len(set(wing + leg)) < len(wing + leg))
+        assert not wing or not leg or "" in wing or "" in leg or len(set(wing + leg)) < len(wing + leg)
         return
     assert jm.wing == tuple(wing) and jm.leg == tuple(leg)
     assert all(wing) and all(leg) and len(set(wing + leg)) == len(wing) + len(leg)

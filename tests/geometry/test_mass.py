@@ -12,7 +12,8 @@ def test_box_solid_closed_form():
     mp = solid_mass_properties(box, mass_kg=m)
     assert mp.com_m == pytest.approx([1.0, -2.0, 0.5], abs=1e-12)
     assert np.diag(mp.inertia_kg_m2) == pytest.approx(
-        [m * (b**2 + c**2) / 12, m * (a**2 + c**2) / 12, m * (a**2 + b**2) / 12], rel=1e-9)
+        [m * (b**2 + c**2) / 12, m * (a**2 + c**2) / 12, m * (a**2 + b**2) / 12], rel=1e-9
+    )
     assert box.volume == pytest.approx(a * b * c, rel=1e-12)
 
 

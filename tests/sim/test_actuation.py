@@ -9,8 +9,9 @@ def test_wing_profile_closed_form(theta_w):
     act = Actuation(theta_w, 30.0)
     t1 = 0.56
     t_open, t_close0, t_closed = theta_w / 300.0, 1.05, 1.05 + theta_w / 250.0
-    t = t1 + np.array([-0.01, 0.0, t_open / 2, t_open, t_open + 0.1, t_close0, (t_close0 + t_closed) / 2,
-                       t_closed, 1.99])
+    t = t1 + np.array(
+        [-0.01, 0.0, t_open / 2, t_open, t_open + 0.1, t_close0, (t_close0 + t_closed) / 2, t_closed, 1.99]
+    )
     a, w = wing_profile_deg(t, [t1], act)
     assert a == pytest.approx([0, 0, theta_w / 2, theta_w, theta_w, theta_w, theta_w / 2, 0, 0], abs=1e-9)
     assert w[[2, 6]].tolist() == [300.0, -250.0]
@@ -77,12 +78,15 @@ def test_same_seed_extends_same_sequence():
     assert long[: len(short)] == pytest.approx(short)
 
 
-@pytest.mark.parametrize("kw, match", [
-    (dict(theta_w_deg=-1.0, theta_l_deg=30.0), "theta_w_deg"),
-    (dict(theta_w_deg=70.0, theta_l_deg=float("nan")), "theta_l_deg"),
-    (dict(theta_w_deg=70.0, theta_l_deg=30.0, leg_cross_s=0.5), "half the leg period"),
-    (dict(theta_w_deg=70.0, theta_l_deg=30.0, wing_period_s=1.0), "longer than wing_period_s"),
-])
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        (dict(theta_w_deg=-1.0, theta_l_deg=30.0), "theta_w_deg"),
+        (dict(theta_w_deg=70.0, theta_l_deg=float("nan")), "theta_l_deg"),
+        (dict(theta_w_deg=70.0, theta_l_deg=30.0, leg_cross_s=0.5), "half the leg period"),
+        (dict(theta_w_deg=70.0, theta_l_deg=30.0, wing_period_s=1.0), "longer than wing_period_s"),
+    ],
+)
 def test_bad_actuation(kw, match):
     with pytest.raises(ValueError, match=match):
         Actuation(**kw)

@@ -32,16 +32,22 @@ def _stable(row):
 def test_trial_seed_depends_on_every_parameter():
     base = trial_seed(74.0, 30.0, 0.1, 0.7, 3)
     assert base == trial_seed(74, 30, 0.1, 0.7, 3) == 1741896613310929248
-    others = {trial_seed(76.0, 30.0, 0.1, 0.7, 3), trial_seed(74.0, 40.0, 0.1, 0.7, 3),
-              trial_seed(74.0, 30.0, 0.15, 0.7, 3), trial_seed(74.0, 30.0, 0.1, 0.2, 3),
-              trial_seed(74.0, 30.0, 0.1, 0.7, 4), trial_seed(74.0, 30.0, 0.1, 0.7, 3, base_seed=1)}
+    others = {
+        trial_seed(76.0, 30.0, 0.1, 0.7, 3),
+        trial_seed(74.0, 40.0, 0.1, 0.7, 3),
+        trial_seed(74.0, 30.0, 0.15, 0.7, 3),
+        trial_seed(74.0, 30.0, 0.1, 0.2, 3),
+        trial_seed(74.0, 30.0, 0.1, 0.7, 4),
+        trial_seed(74.0, 30.0, 0.1, 0.7, 3, base_seed=1),
+    }
     assert base not in others and len(others) == 6
     assert 0 <= base < 2**63
 
 
 def test_sweep_specs_paper_grid_and_errors():
-    specs = sweep_specs((70, 72, 74, 76), (20, 30, 40, 50), (0, 0.05, 0.1, 0.15, 0.2, 0.25), trials=40,
-                        robot=ROBOT)
+    specs = sweep_specs(
+        (70, 72, 74, 76), (20, 30, 40, 50), (0, 0.05, 0.1, 0.15, 0.2, 0.25), trials=40, robot=ROBOT
+    )
     assert len(specs) == 3840 == len({s.key() for s in specs})
     assert specs[0].theta_w_deg == 70.0 and specs[-1].theta_w_deg == 76.0 and specs[-1].trial == 39
     with pytest.raises(TrialInputError, match="--theta-w is empty"):
@@ -84,8 +90,12 @@ def test_sweep_stores_resumes_and_exports(tmp_path):
     assert (s3.total, s3.skipped, s3.ran) == (8, 4, 4)
     with TrialStore(db) as store:
         table = success_table(store.rows())
-    assert sum(n for _, n in table.values()) == 8 and set(table) == {(74.0, 50.0, 0.0), (74.0, 50.0, 0.2),
-                                                                     (80.0, 50.0, 0.0), (80.0, 50.0, 0.2)}
+    assert sum(n for _, n in table.values()) == 8 and set(table) == {
+        (74.0, 50.0, 0.0),
+        (74.0, 50.0, 0.2),
+        (80.0, 50.0, 0.0),
+        (80.0, 50.0, 0.2),
+    }
     n = export_csv(db, tmp_path / "r.csv")
     lines = (tmp_path / "r.csv").read_text().splitlines()
     assert n == 8 and len(lines) == 9 and lines[0].startswith(",".join(KEY_COLUMNS))
@@ -117,8 +127,15 @@ def _script(tmp_path):
 
 def test_two_sweeps_share_one_db(tmp_path):
     db, f = tmp_path / "shared.sqlite", _script(tmp_path)
-    procs = [subprocess.Popen([sys.executable, str(f), str(db), "3", tw], stdout=subprocess.PIPE,
-                              stderr=subprocess.DEVNULL, text=True) for tw in ("74,80", "80,76")]
+    procs = [
+        subprocess.Popen(
+            [sys.executable, str(f), str(db), "3", tw],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.DEVNULL,
+            text=True,
+        )
+        for tw in ("74,80", "80,76")
+    ]
     outs = [p.communicate(timeout=240)[0] for p in procs]
     assert [p.returncode for p in procs] == [0, 0], outs
     with TrialStore(db) as store:
@@ -133,8 +150,13 @@ def test_two_sweeps_share_one_db(tmp_path):
 def test_killed_sweep_loses_at_most_in_flight_and_resumes(tmp_path):
     db, f = tmp_path / "killed.sqlite", _script(tmp_path)
     total = 12
-    p = subprocess.Popen([sys.executable, str(f), str(db), str(total), "80"], stdout=subprocess.PIPE,
-                         stderr=subprocess.DEVNULL, text=True, start_new_session=True)
+    p = subprocess.Popen(
+        [sys.executable, str(f), str(db), str(total), "80"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        text=True,
+        start_new_session=True,
+    )
     stored = 0
     deadline = time.time() + 180
     while stored < 4 and time.time() < deadline:
@@ -174,16 +196,49 @@ def test_sweep_on_dask_cluster(tmp_path):
     env = {**os.environ, "DASK_DISTRIBUTED__WORKER__DAEMON": "False"}
     logs = tmp_path / "dask.log"
     with open(logs, "w") as log:
-        procs = [subprocess.Popen([str(dask), "scheduler", "--host", "127.0.0.1", "--port", str(port),
-                                   "--dashboard-address", "127.0.0.1:0", "--no-show"], stdout=log, stderr=log,
-                                  env=env)]
+        procs = [
+            subprocess.Popen(
+                [
+                    str(dask),
+                    "scheduler",
+                    "--host",
+                    "127.0.0.1",
+                    "--port",
+                    str(port),
+                    "--dashboard-address",
+                    "127.0.0.1:0",
+                    "--no-show",
+                ],
+                stdout=log,
+                stderr=log,
+                env=env,
+            )
+        ]
         try:
             time.sleep(1.0)
             for _ in range(2):
-                procs.append(subprocess.Popen(
-                    [str(dask), "worker", addr, "--host", "127.0.0.1", "--nworkers", "1", "--nthreads", "1",
-                     "--no-dashboard", "--no-nanny", "--local-directory", str(tmp_path / "dw")],
-                    stdout=log, stderr=log, env=env))
+                procs.append(
+                    subprocess.Popen(
+                        [
+                            str(dask),
+                            "worker",
+                            addr,
+                            "--host",
+                            "127.0.0.1",
+                            "--nworkers",
+                            "1",
+                            "--nthreads",
+                            "1",
+                            "--no-dashboard",
+                            "--no-nanny",
+                            "--local-directory",
+                            str(tmp_path / "dw"),
+                        ],
+                        stdout=log,
+                        stderr=log,
+                        env=env,
+                    )
+                )
             with distributed.Client(addr, timeout="60s", set_as_default=False) as client:
                 client.wait_for_workers(2, timeout=120)
             db = tmp_path / "dask.sqlite"
@@ -245,17 +300,33 @@ def test_reduced_paper_sweep_success_rises_with_leg_and_wing(tmp_path):
 def test_trial_seed_keeps_the_paper_protocol_seeds_and_separates_other_protocols():
     base = trial_seed(74.0, 30.0, 0.1, 0.7, 3)
     assert trial_seed(74.0, 30.0, 0.1, 0.7, 3, wing_period_s=2.0, leg_period_s=0.8, attempts=0) == base
-    others = {trial_seed(74.0, 30.0, 0.1, 0.7, 3, wing_period_s=2.5),
-              trial_seed(74.0, 30.0, 0.1, 0.7, 3, leg_period_s=1.0),
-              trial_seed(74.0, 30.0, 0.1, 0.7, 3, attempts=1)}
+    others = {
+        trial_seed(74.0, 30.0, 0.1, 0.7, 3, wing_period_s=2.5),
+        trial_seed(74.0, 30.0, 0.1, 0.7, 3, leg_period_s=1.0),
+        trial_seed(74.0, 30.0, 0.1, 0.7, 3, attempts=1),
+    }
     assert base not in others and len(others) == 3
 
 
 def test_sweep_specs_cover_periods_and_attempts_and_refuse_impossible_cycles():
-    specs = sweep_specs((74,), (30,), (0,), phase=(0.0, 0.5), trials=1, wing_period_s=(2, 2.5),
-                        leg_period_s=(0.6, 1.0), attempts=1, robot=ROBOT)
+    specs = sweep_specs(
+        (74,),
+        (30,),
+        (0,),
+        phase=(0.0, 0.5),
+        trials=1,
+        wing_period_s=(2, 2.5),
+        leg_period_s=(0.6, 1.0),
+        attempts=1,
+        robot=ROBOT,
+    )
     assert len(specs) == 8 and {s.attempts for s in specs} == {1}
-    assert {(s.wing_period_s, s.leg_period_s) for s in specs} == {(2.0, 0.6), (2.0, 1.0), (2.5, 0.6), (2.5, 1.0)}
+    assert {(s.wing_period_s, s.leg_period_s) for s in specs} == {
+        (2.0, 0.6),
+        (2.0, 1.0),
+        (2.5, 0.6),
+        (2.5, 1.0),
+    }
     assert len({s.key() for s in specs}) == 8 and len({s.seed for s in specs}) == 8
     with pytest.raises(TrialInputError, match="wing-period 1"):
         sweep_specs((74,), (30,), (0,), wing_period_s=(1.0,), robot=ROBOT)  # open+hold+close > 1 s

@@ -186,7 +186,9 @@ def test_lab_robot_exact_vs_grid(lab_robot):
     b = exact_barrier(pose, *start)
     # regression pin: start pitch 69.625 deg printed by `exact_barrier(pose, *start).start.pitch_deg` for the lab
     # robot at (74, 0) at commit cf94f22; the lab's published 1° grid minimum is 70 deg (test_grid.LAB_MIN)
-    assert b.start.pitch_deg == pytest.approx(69.6, abs=0.2) and b.start.roll_deg == pytest.approx(0.0, abs=1e-6)
+    assert b.start.pitch_deg == pytest.approx(69.6, abs=0.2) and b.start.roll_deg == pytest.approx(
+        0.0, abs=1e-6
+    )
     assert b.barrier.righting.direction == "roll"
     ls = energy_landscape(pose, step_deg=0.5)
     gb = grid_barrier(ls, grid_minimum(ls, *start))
@@ -243,16 +245,19 @@ def test_rotation_invariance(seed, rot_seed, yaw_deg):
     ex = exact_landscape(Robot.from_trimesh(hull, com=com).pose())
     u0 = ex.face_up[ex.critical.minima_face[0]]
     b = exact_barrier(ex, *_deg(u0))
-    for R, same_up in ((Rotation.random(random_state=rot_seed).as_matrix(), False),
-                       (Rotation.from_euler("z", yaw_deg, degrees=True).as_matrix(), True)):
+    for R, same_up in (
+        (Rotation.random(random_state=rot_seed).as_matrix(), False),
+        (Rotation.from_euler("z", yaw_deg, degrees=True).as_matrix(), True),
+    ):
         turned = hull.copy()
         turned.apply_transform(np.block([[R, np.zeros((3, 1))], [np.zeros((1, 3)), np.ones((1, 1))]]))
         br = exact_barrier(Robot.from_trimesh(turned, com=R @ com).pose(), *_deg(R @ u0))
         assert br.start.energy_j == pytest.approx(b.start.energy_j, rel=1e-9)
         assert br.barrier.escape.barrier_j == pytest.approx(b.barrier.escape.barrier_j, rel=1e-7, abs=1e-12)
         if same_up:
-            assert br.barrier.righting.barrier_j == pytest.approx(b.barrier.righting.barrier_j, rel=1e-7,
-                                                                  abs=1e-12)
+            assert br.barrier.righting.barrier_j == pytest.approx(
+                b.barrier.righting.barrier_j, rel=1e-7, abs=1e-12
+            )
 
 
 @settings(max_examples=15, deadline=None)

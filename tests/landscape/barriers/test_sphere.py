@@ -14,7 +14,9 @@ def test_graph_is_uniform_and_connected():
     assert np.allclose(np.linalg.norm(g.u, axis=1), 1.0)
     deg = np.diff(g.ptr)
     assert set(np.unique(deg)) <= {5, 6}  # icosphere: 12 vertices of degree 5, the rest 6
-    lengths = np.rad2deg(np.arccos(np.clip((g.u[np.repeat(np.arange(len(g.u)), deg)] * g.u[g.idx]).sum(1), -1, 1)))
+    lengths = np.rad2deg(
+        np.arccos(np.clip((g.u[np.repeat(np.arange(len(g.u)), deg)] * g.u[g.idx]).sum(1), -1, 1))
+    )
     assert lengths.max() / lengths.min() < 1.5  # nearly uniform, unlike the torus near its poles
 
 
@@ -24,8 +26,10 @@ def test_box_closed_form_and_convergence():
     it halves with every level (0.081, 0.041, 0.021, 0.010 relative at levels 4..7)."""
     box = Robot.from_trimesh(trimesh.creation.box(extents=(4.0, 2.0, 1.0)), com=[0, 0, 0])
     exact = np.sqrt(1.25) - 0.5
-    vals = [sphere_barrier(box.pose(), 0.0, 0.0, subdivisions=k, g_m_s2=1.0).barrier.righting.barrier_j
-            for k in (4, 5, 6, 7)]
+    vals = [
+        sphere_barrier(box.pose(), 0.0, 0.0, subdivisions=k, g_m_s2=1.0).barrier.righting.barrier_j
+        for k in (4, 5, 6, 7)
+    ]
     errs = np.array(vals) - exact
     assert np.all(errs > 0)  # vertices off the valley floor only ever overestimate here
     assert np.allclose(errs[1:] / errs[:-1], 0.5, atol=0.05)

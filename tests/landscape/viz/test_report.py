@@ -45,14 +45,29 @@ def page(tmp_path):
     small = _csv(tmp_path / "small.csv", [["name", "value"], ["<b>bold</b>", "1"], ["x & y", "2.5"]])
     big = _csv(tmp_path / "big.csv", [["i", "i2"]] + [[str(i), str(i * i)] for i in range(100)])
     sections = [
-        Section("one", "First", ("Some `code` here & <there>.",),
-                (Figure(a, "fig A <4x3>", a.with_suffix(".svg")),), (Table("Small", small), Table("Big", big))),
+        Section(
+            "one",
+            "First",
+            ("Some `code` here & <there>.",),
+            (Figure(a, "fig A <4x3>", a.with_suffix(".svg")),),
+            (Table("Small", small), Table("Big", big)),
+        ),
         Section("two", "Second", figures=(Figure(b, "fig B"),)),
-        Section("three", "Third", figures=(Figure(b, "never shown"),),
-                missing="run `landscape sweep --db x.sqlite` first"),
+        Section(
+            "three",
+            "Third",
+            figures=(Figure(b, "never shown"),),
+            missing="run `landscape sweep --db x.sqlite` first",
+        ),
     ]
-    return write_report(sections, tmp_path / "out", title="Test <report>", inputs={"db": "x.sqlite"},
-                        versions={"python": "3.11", "numpy": "2.0"}, timings_s={"all": 1.234, "plots": 0.006})
+    return write_report(
+        sections,
+        tmp_path / "out",
+        title="Test <report>",
+        inputs={"db": "x.sqlite"},
+        versions={"python": "3.11", "numpy": "2.0"},
+        timings_s={"all": 1.234, "plots": 0.006},
+    )
 
 
 def test_report_is_self_contained(page, tmp_path):
@@ -67,11 +82,15 @@ def test_report_is_self_contained(page, tmp_path):
 
 def test_images_are_data_uris_with_their_pixel_size(page, tmp_path):
     text = page.read_text(encoding="utf-8")
-    imgs = re.findall(r"<img src='data:image/png;base64,([^']+)' width='(\d+)' height='(\d+)' alt='([^']*)'>", text)
+    imgs = re.findall(
+        r"<img src='data:image/png;base64,([^']+)' width='(\d+)' height='(\d+)' alt='([^']*)'>", text
+    )
     # 4 x 3 in and 2 x 2 in at 50 dpi
     assert [(int(w), int(h)) for _, w, h, _ in imgs] == [(200, 150), (100, 100)]
     assert [png_size(tmp_path / n) for n in ("a.png", "b.png")] == [(200, 150), (100, 100)]
-    assert [base64.b64decode(d) for d, *_ in imgs] == [(tmp_path / n).read_bytes() for n in ("a.png", "b.png")]
+    assert [base64.b64decode(d) for d, *_ in imgs] == [
+        (tmp_path / n).read_bytes() for n in ("a.png", "b.png")
+    ]
     assert [alt for *_, alt in imgs] == ["fig A &lt;4x3&gt;", "fig B"]
     assert "href='../a.svg'>SVG</a>" in text and "never shown" not in text
 
@@ -83,7 +102,9 @@ def test_text_is_escaped_and_tables_truncated(page):
     assert "<p>Some <code>code</code> here &amp; &lt;there&gt;.</p>" in text
     assert "… 40 more rows in <a href='../big.csv'>big.csv</a>" in text
     assert ">59</td><td>3481</td>" in text and ">60</td>" not in text  # rows 0..59 shown
-    assert "<div class='missing'>Not enough data: run <code>landscape sweep --db x.sqlite</code> first" in text
+    assert (
+        "<div class='missing'>Not enough data: run <code>landscape sweep --db x.sqlite</code> first" in text
+    )
 
 
 def test_contents_inputs_versions_and_timings(page):
@@ -99,31 +120,40 @@ def test_contents_inputs_versions_and_timings(page):
 
 def test_write_report_refuses_bad_input(tmp_path):
     with pytest.raises(ValueError, match="used twice or reserved"):
-        write_report([Section("a", "A"), Section("a", "B")], tmp_path, title="t", inputs={}, versions={},
-                     timings_s={})
+        write_report(
+            [Section("a", "A"), Section("a", "B")], tmp_path, title="t", inputs={}, versions={}, timings_s={}
+        )
     with pytest.raises(ValueError, match="without whitespace"):
         write_report([Section("a b", "A")], tmp_path, title="t", inputs={}, versions={}, timings_s={})
     fake = tmp_path / "fake.png"
     fake.write_bytes(b"not a png at all, really not")
     with pytest.raises(ValueError, match="not a PNG"):
-        write_report([Section("a", "A", figures=(Figure(fake, "x"),))], tmp_path, title="t", inputs={},
-                     versions={}, timings_s={})
+        write_report(
+            [Section("a", "A", figures=(Figure(fake, "x"),))],
+            tmp_path,
+            title="t",
+            inputs={},
+            versions={},
+            timings_s={},
+        )
     assert not list(tmp_path.glob("*.html")) and not list(tmp_path.glob(".*"))
 
 
 def test_console_errors_are_read_from_chromium_log():
     # Lines as Chromium 156 writes them with --enable-logging=stderr: every console level is INFO.
-    log = "\n".join([
-        '/usr/bin/chromium: 9: [: 25275772928: unexpected operator',
-        '[27702:27732:1122/131311.733550:ERROR:dbus/bus.cc:405] Failed to connect to the bus: No such file',
-        '[27702:27702:1122/131312.277960:INFO:CONSOLE:2] "just-a-log", source: file:///tmp/p.html (2)',
-        '[27702:27702:1122/131312.278420:INFO:CONSOLE:2] "boom 42", source: file:///tmp/p.html (2)',
-        '[27702:27702:1122/131312.279972:INFO:CONSOLE:5] "Uncaught ReferenceError: f is not defined", '
-        'source: file:///tmp/p.html (5)',
-        '[27702:27702:1122/131312.290847:INFO:CONSOLE:4] "Uncaught (in promise) Error: no", '
-        'source: file:///tmp/p.html (4)',
-        '[1:1:0101/000000.1:INFO:CONSOLE(7)] "Uncaught Error: old format", source: file:///tmp/p.html (7)',
-    ])
+    log = "\n".join(
+        [
+            "/usr/bin/chromium: 9: [: 25275772928: unexpected operator",
+            "[27702:27732:1122/131311.733550:ERROR:dbus/bus.cc:405] Failed to connect to the bus: No such file",
+            '[27702:27702:1122/131312.277960:INFO:CONSOLE:2] "just-a-log", source: file:///tmp/p.html (2)',
+            '[27702:27702:1122/131312.278420:INFO:CONSOLE:2] "boom 42", source: file:///tmp/p.html (2)',
+            '[27702:27702:1122/131312.279972:INFO:CONSOLE:5] "Uncaught ReferenceError: f is not defined", '
+            "source: file:///tmp/p.html (5)",
+            '[27702:27702:1122/131312.290847:INFO:CONSOLE:4] "Uncaught (in promise) Error: no", '
+            "source: file:///tmp/p.html (4)",
+            '[1:1:0101/000000.1:INFO:CONSOLE(7)] "Uncaught Error: old format", source: file:///tmp/p.html (7)',
+        ]
+    )
     assert _console_errors_from_log(log) == [
         ("Uncaught ReferenceError: f is not defined", "file:///tmp/p.html:5"),
         ("Uncaught (in promise) Error: no", "file:///tmp/p.html:4"),
@@ -168,9 +198,11 @@ def test_report_loads_in_headless_chromium(chromium, page, tmp_path):
 
 def test_browser_check_catches_broken_images_and_console_errors(chromium, tmp_path):
     bad = tmp_path / "bad.html"
-    bad.write_text(f"<html><head><script>{SELF_CHECK_JS}</script></head><body>"
-                   "<img src='data:image/png;base64,AAAA'><script>console.log('just-a-log'); "
-                   "console.error('boom'); undefinedFunction();</script></body></html>")
+    bad.write_text(
+        f"<html><head><script>{SELF_CHECK_JS}</script></head><body>"
+        "<img src='data:image/png;base64,AAAA'><script>console.log('just-a-log'); "
+        "console.error('boom'); undefinedFunction();</script></body></html>"
+    )
     res = check_page(bad, timeout_s=CHROMIUM_TIMEOUT_S)
     assert not res.ok and (res.images_ok, res.images_total) == (0, 1) and res.screenshot is None
     assert any("boom" in e for e in res.console_errors)
@@ -183,4 +215,6 @@ def test_browser_check_fails_a_page_without_the_self_check(chromium, tmp_path):
     plain.write_text("<html><body><p>no self-check here</p></body></html>")
     res = check_page(plain, timeout_s=CHROMIUM_TIMEOUT_S)
     assert not res.ok and (res.images_ok, res.images_total) == (0, 0)
-    assert res.console_errors == (res.console_errors[0],) and "self-check did not run" in res.console_errors[0]
+    assert (
+        res.console_errors == (res.console_errors[0],) and "self-check did not run" in res.console_errors[0]
+    )

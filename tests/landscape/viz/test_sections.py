@@ -127,6 +127,11 @@ def test_probability_says_why_there_is_no_estimate(tmp_path):
     """One trial per setting, or a phase the database lacks: the message says which and what to run (#17)."""
     ones = [_won(theta_l_deg=float(x)) for x in (20, 30, 40)]
     sec = sections.section_probability(ones, tmp_path, tmp_path / "t.sqlite")
-    assert "the 3 settings at φ1 = 0.7 have one trial each (3 trials)" in sec.missing and "--trials 2" in sec.missing
-    sec = sections.section_probability([_won(seed=1), _row(seed=2)], tmp_path, tmp_path / "t.sqlite", phase=0.3)
+    assert (
+        "the 3 settings at φ1 = 0.7 have one trial each (3 trials)" in sec.missing
+        and "--trials 2" in sec.missing
+    )
+    sec = sections.section_probability(
+        [_won(seed=1), _row(seed=2)], tmp_path, tmp_path / "t.sqlite", phase=0.3
+    )
     assert sec.missing == "no multi-attempt trials at φ1 = 0.3; the database has φ1 = 0.7"
