@@ -47,6 +47,9 @@ def test_readme_has_the_python_twins():
         "report",
         "bench",
         "robot export",
+        "physical table",
+        "physical kinematics",
+        "serve",
     ):
         assert f"# landscape {cmd}" in text or f"; landscape {cmd}" in text, f"no Python twin for {cmd}"
 

@@ -249,7 +249,7 @@ def simulate(
             video_path,
             robot=robot_path,
             joint_map=JointMap.parse(joints) if joints else None,
-            title=f"{Path(robot_path).stem}  θw {theta_w:g}°  θl {theta_l:g}°  {outcome}",
+            title=f"{Path(robot_path).stem}  wing {theta_w:g}°  leg {theta_l:g}°  {outcome}",
         )
     if as_json:
         d = r.to_dict()
