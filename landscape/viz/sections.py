@@ -809,8 +809,8 @@ def section_trajectories(
         f"The setting closest to the boundary: θw {cell.theta_w_deg:g}°, θl {cell.theta_l_deg:g}°, Cv "
         f"{cell.cv * 100:g} %, φ1 = {cell.phase:g} ({pc.protocol_text}), where {cell.successes} of {cell.n} "
         f"trials righted, the most mixed outcomes of the {len(pc.cells)} settings of the paper protocol.",
-        f"{len(results)} of its trials (seeds {', '.join(str(r['seed']) for r in chosen)}) were run again with a "
-        f"trace: {n_ok} righted, {len(results) - n_ok} did not. "
+        f"{len(results)} of its trials (trials {', '.join(str(r['trial']) for r in chosen)}; seeds in the table) "
+        f"were run again with a trace: {n_ok} righted, {len(results) - n_ok} did not. "
         + (
             f"Every rerun reproduces its stored outcome (success and time to right within "
             f"{RERUN_TTR_TOL_S * 1e6:g} µs)."
@@ -819,7 +819,7 @@ def section_trajectories(
             f"within {RERUN_TTR_TOL_S * 1e6:g} µs): the simulation here differs from the one that filled the "
             "database (package versions in the inputs table)."
         ),
-        "Each path is the body's (pitch, roll) from the start of actuation to the end of the trial, over the "
+        "Each path is the body's (pitch, roll) from the end of settling until the trial stopped, over the "
         f"landscape of the setting's pose (grid step {step_deg:g}°), with the minimal righting barrier's saddle "
         "and path.",
     ]
