@@ -220,14 +220,24 @@ def barrier_cmd(db, out, step, phase, robot):
     show_default=True,
     help="Open the page in headless Chromium: no console errors, every image loaded, a screenshot.",
 )
+@click.option(
+    "--physical",
+    "physical_dir",
+    type=click.Path(exists=True, file_okay=False, path_type=Path),
+    default=None,
+    help="The lab's data-robot folder (e.g. ../shared/ref/physical_robot): add a section with the physical "
+    "robot's recorded attempts at each wing angle over the landscape at its measured wing plateau, and its "
+    "trials' outcomes per setting [default: no physical section].",
+)
 @TRIALS_ROBOT
-def report_cmd(db, out, check, robot):
-    """One self-contained HTML page with every analysis, its figures (PNG, SVG) and tables (CSV)."""
+def report_cmd(db, out, check, physical_dir, robot):
+    """One self-contained HTML page with every analysis, its figures (PNG, SVG) and tables (CSV); with
+    --physical, the physical robot's attempts too."""
     from landscape.viz.report import check_page
     from landscape.viz.sections import build_report
 
     out = _out(out)
-    page, sections = build_report(db, out, robot=_robot_file(robot))
+    page, sections = build_report(db, out, robot=_robot_file(robot), physical_dir=physical_dir)
     missing = [s.title for s in sections if s.missing]
     click.echo(
         f"wrote {page} ({len(sections) - len(missing)}/{len(sections)} analyses"

@@ -155,7 +155,6 @@ def _traces_pose(ctx, read, theta_w, theta_l):
 def _render_physical(ctx, robot, data_dir, theta_w, theta_l, step, method, exit_kind, out) -> None:
     """``render --physical``: per commanded wing angle, the landscape at the measured wing plateau and theta_l 0,
     with the recorded attempts of the trials at that wing angle and leg amplitude ``theta_l`` drawn on it."""
-    import math
     from pathlib import Path
 
     import numpy as np
@@ -164,7 +163,7 @@ def _render_physical(ctx, robot, data_dir, theta_w, theta_l, step, method, exit_
     from landscape.analysis import physical as ph
     from landscape.computation import compute as run
     from landscape.viz.scene import render_computation
-    from landscape.viz.trajectory import render_trajectories
+    from landscape.viz.trajectory import physical_poses, physical_robot_note, render_trajectories
 
     one = ctx.get_parameter_source("theta_w") is not ParameterSource.DEFAULT
     if one and theta_w not in ph.WING_COMMANDS_DEG:
@@ -172,31 +171,17 @@ def _render_physical(ctx, robot, data_dir, theta_w, theta_l, step, method, exit_
             f"--theta-w {theta_w:g} with --physical picks the trials' commanded wing angle; the physical robot ran "
             f"at {', '.join(f'{w:g}' for w in ph.WING_COMMANDS_DEG)} degrees"
         )
-    commands = [theta_w] if one else list(ph.WING_COMMANDS_DEG)
     # read every attempt first: a data problem is refused before any note or computation
-    by_command = {
-        cmd: ph.physical_attempts(data_dir, theta_w_cmd_deg=cmd, theta_l_deg=theta_l) for cmd in commands
-    }
-    if robot.source is None or "lab" not in robot.name:
-        click.echo(
-            f"landscape: note: the recorded attempts are of the lab's robot, drawn over {robot.name}'s landscape; "
-            "give --robot ../shared/ref/lab_robot/lab_robot.urdf for the lab robot's",
-            err=True,
-        )
-    if theta_l:
-        click.echo(
-            f"landscape: note: the trials' leg oscillates by ±{theta_l:g}°; the landscape is at theta_l 0, the "
-            "leg's mean position",
-            err=True,
-        )
+    poses = physical_poses(
+        data_dir, commands_deg=[theta_w] if one else list(ph.WING_COMMANDS_DEG), theta_l_deg=theta_l
+    )
+    for note in physical_robot_note(robot, theta_l):
+        click.echo(f"landscape: note: {note}", err=True)
     written, notes = [], []
-    for cmd, attempts in by_command.items():
-        plateau = round(attempts[0].theta_w_measured_deg, 1)  # the servo's plateau, to 0.1 deg
-        if not math.isfinite(plateau):
-            notes.append(
-                f"no measured wing plateau (robot_attempts.mat) for {cmd:g}°: landscape at the command"
-            )
-            plateau = cmd
+    for pose in poses:
+        cmd, plateau, attempts = pose.theta_w_cmd_deg, pose.theta_w_deg, pose.attempts
+        if pose.note:
+            notes.append(pose.note)
         if robot.has_joints:
             check_theta_w(plateau, robot.theta_limits_deg(), robot.name)
         c = run(

@@ -635,6 +635,279 @@ def _robot_of(rows: list[dict], robot: str | Path | None = None):
     )
 
 
+TRAJECTORY_TRIALS = 8
+"""How many trials of the chosen setting the trajectories section reruns with a trace, by default."""
+RERUN_TTR_TOL_S = 1e-6
+"""A rerun reproduces a stored time to right if they differ by at most this, s (far below any time step)."""
+
+
+def _mixed_cell(cells: list) -> an.ProbabilityCell:
+    """The setting whose trials disagree most: most trials of the minority outcome per trial, then most trials."""
+    return max(
+        cells,
+        key=lambda c: (min(c.successes, c.n - c.successes) / c.n, c.n, -c.cv, c.theta_w_deg, c.theta_l_deg),
+    )
+
+
+def _both_outcomes_first(rows: list[dict], n: int) -> list[dict]:
+    """Up to ``n`` rows in trial order, alternating righted and not righted while both last."""
+    won = sorted((r for r in rows if r["success"]), key=lambda r: r["trial"])
+    lost = sorted((r for r in rows if not r["success"]), key=lambda r: r["trial"])
+    out = []
+    while len(out) < n and (won or lost):
+        for group in (won, lost):
+            if group and len(out) < n:
+                out.append(group.pop(0))
+    return sorted(out, key=lambda r: r["trial"])
+
+
+def rerun_trial(row: dict, *, robot_urdf: str | Path):
+    """A stored trial run again with a trace, with every parameter of its row (as :func:`sim.sweep.run_spec` runs
+    it): same seed, protocol, model set and robot.
+
+    Raises
+    ------
+    UsageError
+        If the row's model set cannot be loaded or has changed since the trial ran.
+    """
+    from sim.model_set import ModelSetError, load_model_set
+    from sim.trial import run_trial
+
+    name = row.get("model_set") or "paper"
+    try:
+        ms = load_model_set(name)
+    except ModelSetError as exc:
+        raise UsageError(f"cannot rerun trial {row['trial']}: {exc}") from None
+    if row.get("model_set_hash") and ms.model_set_hash != row["model_set_hash"]:
+        raise UsageError(
+            f"cannot rerun trial {row['trial']}: model set {name} changed since it ran (hash "
+            f"{ms.model_set_hash} != {row['model_set_hash']})"
+        )
+    act = ms.actuation(
+        row["theta_w_deg"],
+        row["theta_l_deg"],
+        wing_period_s=row["wing_period_s"],
+        leg_period_s=row["leg_period_s"],
+    )
+    return run_trial(
+        row["theta_w_deg"],
+        row["theta_l_deg"],
+        phase=row["phase"],
+        cv=row["cv"],
+        rng=row["seed"],
+        duration_s=row["duration_s"],
+        dt_s=row["dt_s"],
+        robot=robot_urdf,
+        actuation=act,
+        attempts=row["attempts"] or None,
+        model_set=ms,
+        trace=True,
+    )
+
+
+def _reproduces(row: dict, res) -> bool:
+    if bool(row["success"]) != bool(res.success):
+        return False
+    if not res.success:
+        return True
+    return abs(float(row["time_to_right_s"]) - float(res.time_to_right_s)) <= RERUN_TTR_TOL_S
+
+
+def _three_d_note() -> tuple[bool, str | None]:
+    """Whether 3-D rendering runs here, and if not, the sentence that says why."""
+    from landscape.viz import render as rd
+
+    problem = rd.off_screen_problem()
+    if problem is None:
+        return True, None
+    return False, f"3-D rendering is unavailable here ({problem}), so only the contour map is drawn."
+
+
+def _trajectory_figures(files: list[Path], caption: str) -> tuple[Figure, ...]:
+    """The contour map (PNG with its SVG) and, if drawn, the 3-D landscape of :func:`render_trajectories`."""
+    figs = [Figure(files[0], f"{caption}: contour map", files[1])]
+    if len(files) > 2:
+        figs.append(Figure(files[2], f"{caption}: over the 3-D landscape"))
+    return tuple(figs)
+
+
+def section_trajectories(
+    rows: list[dict],
+    out: Path,
+    db: Path,
+    *,
+    robot: str | Path | None = None,
+    max_trials: int = TRAJECTORY_TRIALS,
+    step_deg: float = 1.0,
+) -> Section:
+    """Trajectories of the sweep's trials at its most uncertain setting, drawn over that setting's landscape.
+
+    The setting is the paper protocol's (Tw 2 s, Tl 0.8 s, no attempt limit, the φ1 and trial protocol with most
+    trials) whose trials disagree most (largest minority outcome fraction, then most trials). Up to
+    ``max_trials`` (default :data:`TRAJECTORY_TRIALS`) of its trials, both outcomes alternately, are rerun with a
+    trace (:func:`rerun_trial`); each rerun is checked against the stored outcome and time to right. The paths
+    are drawn by :func:`landscape.viz.trajectory.render_trajectories` on a ``step_deg`` grid, into
+    ``out/trajectories``; without off-screen 3-D rendering, the contour map only.
+    """
+    from landscape.computation import compute
+    from landscape.viz.trajectory import render_trajectories
+
+    title = "Trajectories of simulated trials over the landscape"
+    if max_trials < 1:
+        raise UsageError(f"max_trials must be at least 1; got {max_trials}")
+    pc = _paper_cells(rows, None, db)
+    if not pc.cells:
+        return Section("trajectories", title, missing=pc.missing)
+    cell = _mixed_cell(pc.cells)
+    at = [
+        r
+        for r in rows
+        if r["status"] == "ok"
+        and r["attempts"] == 0
+        and (r["wing_period_s"], r["leg_period_s"]) == PAPER_PERIODS
+        and (r["duration_s"], r["dt_s"], r.get("model_set") or "paper")
+        == (pc.duration_s, pc.dt_s, pc.model_set)
+        and (r["theta_w_deg"], r["theta_l_deg"], r["cv"], r["phase"])
+        == (cell.theta_w_deg, cell.theta_l_deg, cell.cv, cell.phase)
+    ]
+    try:
+        rb = _robot_of(at, robot)
+    except UsageError as exc:
+        return Section("trajectories", title, missing=str(exc))
+    chosen = _both_outcomes_first(at, max_trials)
+    results = [rerun_trial(r, robot_urdf=rb.source) for r in chosen]
+    recs = []
+    for r, res in zip(chosen, results, strict=True):
+        recs.append(
+            {
+                "trial": r["trial"],
+                "seed": r["seed"],
+                "stored_success": int(bool(r["success"])),
+                "rerun_success": int(res.success),
+                "stored_time_to_right_s": r["time_to_right_s"],
+                "rerun_time_to_right_s": res.time_to_right_s,
+                "attempt": res.attempt,
+                "mode": res.mode,
+                "reproduced": int(_reproduces(r, res)),
+            }
+        )
+    same = sum(x["reproduced"] for x in recs)
+    csv_path = _write_csv(out / "trajectories.csv", recs)
+    c = compute(rb, theta_w_deg=cell.theta_w_deg, theta_l_deg=cell.theta_l_deg, step_deg=step_deg)
+    three_d, note = _three_d_note()
+    files = render_trajectories(
+        c,
+        [np.column_stack([res.trace.pitch_deg, res.trace.roll_deg]) for res in results],
+        [res.success for res in results],
+        out / "trajectories",
+        robot_name=rb.name,
+        what="simulated",
+        landscape_3d=three_d,
+    )
+    n_ok = sum(res.success for res in results)
+    paras = [
+        f"The setting closest to the boundary: θw {cell.theta_w_deg:g}°, θl {cell.theta_l_deg:g}°, Cv "
+        f"{cell.cv * 100:g} %, φ1 = {cell.phase:g} ({pc.protocol_text}), where {cell.successes} of {cell.n} "
+        f"trials righted, the most mixed outcomes of the {len(pc.cells)} settings of the paper protocol.",
+        f"{len(results)} of its trials (trials {', '.join(str(r['trial']) for r in chosen)}; seeds in the table) "
+        f"were run again with a trace: {n_ok} righted, {len(results) - n_ok} did not. "
+        + (
+            f"Every rerun reproduces its stored outcome (success and time to right within "
+            f"{RERUN_TTR_TOL_S * 1e6:g} µs)."
+            if same == len(recs)
+            else f"Only {same} of {len(recs)} reruns reproduce their stored outcome (success and time to right "
+            f"within {RERUN_TTR_TOL_S * 1e6:g} µs): the simulation here differs from the one that filled the "
+            "database (package versions in the inputs table)."
+        ),
+        "Each path is the body's (pitch, roll) from the end of settling until the trial stopped, over the "
+        f"landscape of the setting's pose (grid step {step_deg:g}°), with the minimal righting barrier's saddle "
+        "and path.",
+    ]
+    if note:
+        paras.append(note)
+    return Section(
+        "trajectories",
+        title,
+        tuple(paras),
+        _trajectory_figures(
+            files, f"{len(results)} simulated trials at θw {cell.theta_w_deg:g}°, θl {cell.theta_l_deg:g}°"
+        ),
+        (Table("Reruns against the stored outcomes", csv_path),),
+    )
+
+
+def section_physical(
+    rows: list[dict],
+    out: Path,
+    db: Path,
+    *,
+    data_dir: str | Path,
+    robot: str | Path | None = None,
+    step_deg: float = 1.0,
+) -> Section:
+    """The physical robot's recorded attempts at each commanded wing angle, over the landscape at the measured wing
+    plateau and theta_l 0 (as ``landscape render --physical`` draws them, into ``out/physical/wing_W``), and
+    the physical trials' outcomes per (theta_w, theta_l) with Wilson intervals.
+
+    The landscape is the robot of the trials (``robot``, else as :func:`_robot_of` finds it); a note says so when
+    it is not the lab robot.
+
+    Raises
+    ------
+    PhysicalDataError
+        If ``data_dir`` is not the lab's data directory.
+    """
+    from landscape.analysis import physical as ph
+    from landscape.computation import compute
+    from landscape.viz.trajectory import physical_poses, physical_robot_note, render_trajectories
+
+    title = "The physical robot's attempts over the landscape"
+    cells = ph.physical_cells(ph.physical_trials(data_dir))
+    csv_path = _write_csv(
+        out / "physical_cells.csv", [{k: getattr(c, k) for k in ph.PhysicalCell.CSV_COLUMNS} for c in cells]
+    )
+    poses = physical_poses(data_dir, commands_deg=ph.WING_COMMANDS_DEG, theta_l_deg=0.0)
+    try:
+        rb = _robot_of(rows, robot)
+    except UsageError as exc:
+        return Section("physical", title, missing=str(exc))
+    three_d, note = _three_d_note()
+    paras = [
+        f"Every recorded attempt (one per wing opening, up to the one that righted) of the trials with the leg "
+        f"still (θl 0°), per commanded wing angle, over {rb.name}'s landscape at the measured wing plateau "
+        f"(grid step {step_deg:g}°)."
+    ]
+    paras += [n[0].upper() + n[1:] + "." for n in physical_robot_note(rb)]
+    figures: list[Figure] = []
+    for pose in poses:
+        c = compute(rb, theta_w_deg=pose.theta_w_deg, theta_l_deg=0.0, step_deg=step_deg)
+        files = render_trajectories(
+            c,
+            [np.column_stack([a.pitch_deg, a.roll_deg]) for a in pose.attempts],
+            [a.righted for a in pose.attempts],
+            out / "physical" / f"wing_{pose.theta_w_cmd_deg:g}",
+            robot_name=rb.name,
+            what="physical",
+            landscape_3d=three_d,
+        )
+        n_ok = sum(a.righted for a in pose.attempts)
+        paras.append(
+            f"Wing command {pose.theta_w_cmd_deg:g}° (landscape at {pose.theta_w_deg:.1f}°"
+            + ("" if pose.plateau_measured else ", the command: no measured plateau")
+            + f"): {len(pose.attempts)} attempts of {len({a.name for a in pose.attempts})} trials, {n_ok} righted."
+        )
+        figures += _trajectory_figures(files, f"Physical attempts, wing command {pose.theta_w_cmd_deg:g}°")
+    if note:
+        paras.append(note)
+    return Section(
+        "physical",
+        title,
+        tuple(paras),
+        tuple(figures),
+        (Table("Physical trials per wing angle and leg amplitude (Wilson 95 % intervals)", csv_path),),
+    )
+
+
 #: the report's sections in page order; a new analysis is one ``section_*`` function and one entry here
 SECTIONS = {
     "probability": section_probability,
@@ -642,11 +915,17 @@ SECTIONS = {
     "prediction": section_prediction,
     "phase evolution": section_evolution,
     "barrier vs outcome": section_barrier,
+    "trajectories": section_trajectories,
 }
+#: sections that take the trials' robot (``robot=``)
+_ROBOT_SECTIONS = {"barrier vs outcome", "trajectories"}
 
 
-def build_report(db: Path, out: Path, *, robot: str | Path | None = None) -> tuple[Path, list[Section]]:
-    """Every section of :data:`SECTIONS` on the trials of ``db``, and one self-contained HTML page in ``out``.
+def build_report(
+    db: Path, out: Path, *, robot: str | Path | None = None, physical_dir: str | Path | None = None
+) -> tuple[Path, list[Section]]:
+    """Every section of :data:`SECTIONS` on the trials of ``db``, and one self-contained HTML page in ``out``;
+    with ``physical_dir`` (the lab's data directory), also :func:`section_physical`.
 
     Returns
     -------
@@ -664,8 +943,12 @@ def build_report(db: Path, out: Path, *, robot: str | Path | None = None) -> tup
     sections = []
     for name, fn in SECTIONS.items():
         t0 = time.perf_counter()
-        sections.append(fn(rows, out, db, robot=robot) if fn is section_barrier else fn(rows, out, db))
+        sections.append(fn(rows, out, db, robot=robot) if name in _ROBOT_SECTIONS else fn(rows, out, db))
         timings[name] = time.perf_counter() - t0
+    if physical_dir is not None:
+        t0 = time.perf_counter()
+        sections.append(section_physical(rows, out, db, data_dir=physical_dir, robot=robot))
+        timings["physical robot"] = time.perf_counter() - t0
     ok = [r for r in rows if r["status"] == "ok"]
     inputs = {
         "database": str(Path(db).resolve()),
@@ -674,6 +957,7 @@ def build_report(db: Path, out: Path, *, robot: str | Path | None = None) -> tup
         "robots": ", ".join(sorted({f"{Path(r['robot']).name} ({r['robot_hash']})" for r in rows})),
         "time steps (s)": ", ".join(f"{x:g}" for x in sorted({r["dt_s"] for r in rows})),
         "trial CPU time (s)": f"{sum(r['cpu_s'] or 0.0 for r in ok):.0f}",
+        **({"physical data": str(Path(physical_dir).resolve())} if physical_dir is not None else {}),
         "package versions in the database": ", ".join(sorted({str(r["version"]) for r in rows})),
     }
     versions = {"python": platform.python_version(), "platform": platform.platform()}

@@ -35,6 +35,9 @@ __all__ = [
     "render_trajectories",
     "render_trajectories_contour",
     "render_trajectories_landscape",
+    "PhysicalPose",
+    "physical_poses",
+    "physical_robot_note",
     "trace_meta_lines",
 ]
 
@@ -473,6 +476,7 @@ def render_trajectories(
     robot_name: str,
     exit_kind: str = "righting",
     what: str = "simulated",
+    landscape_3d: bool = True,
 ) -> list[Path]:
     """The attempts of one pose over its landscape: ``trajectories.png`` (3-D), ``trajectories_contour.png`` and
     ``.svg``, in ``out_dir``.
@@ -492,11 +496,14 @@ def render_trajectories(
         Which barrier's saddle and path to mark (:data:`landscape.barriers.EXITS`).
     what : str
         Word for the attempts in the title ("simulated", "physical").
+    landscape_3d : bool
+        Also draw the 3-D ``trajectories.png`` (False: the contour maps only, e.g. where
+        :func:`landscape.viz.render.off_screen_problem` says 3-D rendering cannot run).
 
     Returns
     -------
     list of Path
-        The contour map (PNG, SVG) first, then the 3-D PNG.
+        The contour map (PNG, SVG) first, then the 3-D PNG (if ``landscape_3d``).
 
     Raises
     ------
@@ -547,6 +554,8 @@ def render_trajectories(
         )
         for s in ("png", "svg")
     ]
+    if not landscape_3d:
+        return written
     problem = rd.off_screen_problem()
     if problem is not None:
         raise UsageError(f"{problem} (wrote only {', '.join(p.name for p in written)} in {outd})")
@@ -564,3 +573,79 @@ def render_trajectories(
         )
     )
     return written
+
+
+# ------------------------------------------------------------------------------------------------ physical robot
+@dataclass(frozen=True)
+class PhysicalPose:
+    """The physical robot's recorded attempts at one commanded wing angle, and the pose to draw them on.
+
+    Attributes
+    ----------
+    theta_w_cmd_deg : float
+        Commanded wing angle, degrees.
+    theta_w_deg : float
+        The landscape's wing angle, degrees: the measured wing plateau to 0.1 degree, else the command.
+    plateau_measured : bool
+        Whether ``theta_w_deg`` is the measured plateau (False: none was recorded, it is the command).
+    theta_l_deg : float
+        The trials' leg amplitude, degrees (the landscape is drawn at theta_l 0, the leg's mean position).
+    attempts : tuple of landscape.analysis.physical.PhysicalAttempt
+    """
+
+    theta_w_cmd_deg: float
+    theta_w_deg: float
+    plateau_measured: bool
+    theta_l_deg: float
+    attempts: tuple
+
+    @property
+    def note(self) -> str | None:
+        """What to tell the reader when the landscape is not at the measured plateau."""
+        if self.plateau_measured:
+            return None
+        return f"no measured wing plateau (robot_attempts.mat) for {self.theta_w_cmd_deg:g}°: landscape at the command"
+
+
+def physical_poses(
+    data_dir: str | Path, *, commands_deg: Sequence[float], theta_l_deg: float = 0.0
+) -> list[PhysicalPose]:
+    """The recorded attempts at each commanded wing angle (:func:`landscape.analysis.physical.physical_attempts`),
+    all read before anything is drawn, with the landscape pose of each (``landscape render --physical`` and the
+    report's physical section).
+
+    Raises
+    ------
+    PhysicalDataError
+        If the directory or a file is not in the lab's format, or no trial has a wing command and leg amplitude
+        asked for (the message lists those recorded).
+    """
+    from landscape.analysis import physical as ph
+
+    out = []
+    for cmd in commands_deg:
+        attempts = ph.physical_attempts(data_dir, theta_w_cmd_deg=cmd, theta_l_deg=theta_l_deg)
+        plateau = round(attempts[0].theta_w_measured_deg, 1)  # the servo's plateau, to 0.1 deg
+        measured = math.isfinite(plateau)
+        out.append(
+            PhysicalPose(
+                float(cmd), plateau if measured else float(cmd), measured, float(theta_l_deg), tuple(attempts)
+            )
+        )
+    return out
+
+
+def physical_robot_note(robot, theta_l_deg: float = 0.0) -> list[str]:
+    """Notes for physical attempts drawn over ``robot``'s landscape: the attempts are the lab robot's, and a leg
+    that oscillated is drawn at its mean position."""
+    notes = []
+    if robot.source is None or "lab" not in robot.name:
+        notes.append(
+            f"the recorded attempts are of the lab's robot, drawn over {robot.name}'s landscape; "
+            "give --robot ../shared/ref/lab_robot/lab_robot.urdf for the lab robot's"
+        )
+    if theta_l_deg:
+        notes.append(
+            f"the trials' leg oscillates by ±{theta_l_deg:g}°; the landscape is at theta_l 0, the leg's mean position"
+        )
+    return notes

@@ -42,7 +42,7 @@ def test_report_builds_every_analysis_from_a_real_database(capsys, db, tmp_path)
     out = tmp_path / "report"
     code, stdout, err = run(capsys, "report", "--db", db, "--out", out)
     assert code == 0, err
-    assert "5/5 analyses" in stdout
+    assert "6/6 analyses" in stdout
     html = (out / "index.html").read_text()
     for title in (
         "Self-righting probability",
@@ -50,6 +50,7 @@ def test_report_builds_every_analysis_from_a_real_database(capsys, db, tmp_path)
         "Phase-based prediction",
         "Phase evolution",
         "Barrier against outcome",
+        "Trajectories of simulated trials",
     ):
         assert title in html
     assert "Not enough data" not in html
@@ -63,6 +64,9 @@ def test_report_builds_every_analysis_from_a_real_database(capsys, db, tmp_path)
     assert len(stats) == 1 and stats[0]["cv"] == "0.1"
     bo = _csv(out / "barrier_outcome.csv")
     assert all(float(r["exact_barrier_mj"]) > 0 and float(r["grid_barrier_mj"]) > 0 for r in bo)
+    reruns = _csv(out / "trajectories.csv")
+    assert len(reruns) == 3 and all(r["reproduced"] == "1" for r in reruns)  # the 3 trials of one setting
+    assert (out / "trajectories" / "trajectories_contour.png").stat().st_size > 1000
 
 
 def test_report_says_which_command_produces_missing_trials(capsys, tmp_path):

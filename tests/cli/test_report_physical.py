@@ -1,0 +1,56 @@
+"""`landscape report --physical DIR`: the physical robot's attempts and outcomes as a section of the report."""
+
+import csv
+
+import pytest
+
+pytest.importorskip("pybullet")
+
+from landscape.cli import main  # noqa: E402
+from sim.sweep import run_sweep, sweep_specs  # noqa: E402
+from tests.conftest import SHARED  # noqa: E402
+
+PHYSICAL = SHARED / "ref" / "physical_robot"
+
+
+def run(capsys, *argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.fixture(scope="module")
+def db(tmp_path_factory):
+    """Two 2 s paper-protocol trials on the built-in robot."""
+    path = tmp_path_factory.mktemp("physical") / "t.sqlite"
+    specs = sweep_specs((74.0,), (30.0,), (0.1,), phase=(0.1,), trials=2, duration_s=2.0, dt_s=1e-3)
+    run_sweep(specs, db=path, workers=1, progress=False)
+    return path
+
+
+def test_report_refuses_a_physical_directory_that_does_not_exist(capsys, db, tmp_path):
+    code, out, err = run(capsys, "report", "--db", db, "--out", tmp_path / "r", "--physical", tmp_path / "no")
+    assert code == 2 and "does not exist" in err and len(err.strip().splitlines()) == 1
+    code, out, err = run(capsys, "report", "--db", db, "--out", tmp_path / "r", "--physical", tmp_path)
+    assert code == 2 and "Traceback" not in err and len(err.strip().splitlines()) == 1  # not the lab's data
+
+
+@pytest.mark.shared
+@pytest.mark.skipif(
+    not (PHYSICAL / "robot_attempts.mat").is_file(), reason=f"{PHYSICAL} is absent (set LANDSCAPE_SHARED)"
+)
+def test_report_with_physical_adds_the_attempts_and_the_cells(capsys, db, tmp_path):
+    from landscape.analysis import physical as ph
+
+    out = tmp_path / "r"
+    code, stdout, err = run(capsys, "report", "--db", db, "--out", out, "--physical", PHYSICAL)
+    assert code == 0, err
+    html = (out / "index.html").read_text()
+    assert "The physical robot&#x27;s attempts over the landscape" in html
+    assert "The recorded attempts are of the lab&#x27;s robot, drawn over builtin_robot" in html
+    for cmd in ph.WING_COMMANDS_DEG:
+        assert (out / "physical" / f"wing_{cmd:g}" / "trajectories_contour.svg").is_file()
+    with open(out / "physical_cells.csv", newline="") as f:
+        cells = list(csv.DictReader(f))
+    assert len(cells) == len(ph.physical_cells(ph.physical_trials(PHYSICAL)))
+    assert "physical_cells.csv" in html and str(PHYSICAL.resolve()) in html
