@@ -11,6 +11,7 @@ import click
 
 from geometry.errors import UsageError
 from landscape.cli.options import robot_option
+from sim.protocol import PAPER_LEG_PERIOD_S, PAPER_WING_PERIOD_S
 
 TRIALS_ROBOT = robot_option(
     extra_help="The robot the trials ran on, if its stored URDF moved.",
@@ -94,7 +95,11 @@ def probability_cmd(db, out, phase):
 @DB_OPT
 @OUT_OPT
 @click.option(
-    "--leg-period", type=float, default=0.8, show_default=True, help="Tl, the leg period of the map, s."
+    "--leg-period",
+    type=float,
+    default=PAPER_LEG_PERIOD_S,
+    show_default=True,
+    help="Tl, the leg period of the map, s.",
 )
 def phase_map_cmd(db, out, leg_period):
     """Single-attempt outcome against phase and theta_l, per theta_w (Fig. 7)."""
@@ -148,10 +153,18 @@ def prediction_cmd(db, out):
     help="Random seed of the noisy sequence.",
 )
 @click.option(
-    "--wing-period", type=float, default=2.0, show_default=True, help="Tw, time between wing openings, s."
+    "--wing-period",
+    type=float,
+    default=PAPER_WING_PERIOD_S,
+    show_default=True,
+    help="Tw, time between wing openings, s.",
 )
 @click.option(
-    "--leg-period", type=float, default=0.8, show_default=True, help="Tl, leg oscillation period, s."
+    "--leg-period",
+    type=float,
+    default=PAPER_LEG_PERIOD_S,
+    show_default=True,
+    help="Tl, leg oscillation period, s.",
 )
 @click.option(
     "--attempts",

@@ -26,7 +26,9 @@ from sim.protocol import (
     MAX_TRIALS,
     MIN_DT_S,
     OTHER_ROBOT_DT_S,
+    PAPER_LEG_PERIOD_S,
     PAPER_TRIALS,
+    PAPER_WING_PERIOD_S,
 )
 
 DURATION_OPT = click.option(
@@ -155,10 +157,18 @@ def _human(r, robot: str) -> str:
 @robot_option
 @joints_option
 @click.option(
-    "--wing-period", type=float, default=2.0, show_default=True, help="Tw, time between wing openings, s."
+    "--wing-period",
+    type=float,
+    default=PAPER_WING_PERIOD_S,
+    show_default=True,
+    help="Tw, time between wing openings, s.",
 )
 @click.option(
-    "--leg-period", type=float, default=0.8, show_default=True, help="Tl, leg oscillation period, s."
+    "--leg-period",
+    type=float,
+    default=PAPER_LEG_PERIOD_S,
+    show_default=True,
+    help="Tl, leg oscillation period, s.",
 )
 @click.option(
     "--attempts",
@@ -283,9 +293,17 @@ def simulate(
     help=f"Trials per parameter combination (a sweep holds at most {MAX_TRIALS:,} trials).",
 )
 @click.option(
-    "--wing-period", default="2", show_default=True, help="Tw values, s (time between wing openings)."
+    "--wing-period",
+    default=f"{PAPER_WING_PERIOD_S:g}",
+    show_default=True,
+    help="Tw values, s (time between wing openings).",
 )
-@click.option("--leg-period", default="0.8", show_default=True, help="Tl values, s (leg oscillation period).")
+@click.option(
+    "--leg-period",
+    default=f"{PAPER_LEG_PERIOD_S:g}",
+    show_default=True,
+    help="Tl values, s (leg oscillation period).",
+)
 @click.option(
     "--attempts",
     type=click.IntRange(min=0),

@@ -121,6 +121,31 @@ def _errors_only():
         vtkLogger.SetStderrVerbosity(before)
 
 
+def mark_point(ax, at_deg, *, marker: str, colour: str, text: str, gid: str) -> None:
+    """A start or saddle mark on a pitch-roll map, labelled with its angles (SVG id ``gid``)."""
+    (pt,) = ax.plot(
+        at_deg[0],
+        at_deg[1],
+        marker,
+        ms=10,
+        mfc=colour,
+        mec="black",
+        mew=1.0,
+        ls="none",
+        label=f"{text} ({at_deg[0]:.1f}°, {at_deg[1]:.1f}°)",
+    )
+    pt.set_gid(gid)
+
+
+def pitch_roll_axes(ax, pitch_deg, roll_deg) -> None:
+    """Label a pitch-roll map's axes in degrees, ticks every 90° inside the drawn range."""
+    ax.set_xlabel("pitch (°)")
+    ax.set_ylabel("roll (°)")
+    ticks = np.arange(-180, 181, 90)
+    ax.set_xticks(ticks[(ticks >= np.min(pitch_deg)) & (ticks <= np.max(pitch_deg))])
+    ax.set_yticks(ticks[(ticks >= np.min(roll_deg)) & (ticks <= np.max(roll_deg))])
+
+
 def _screenshot(pl, path: Path) -> Path:
     """Write the plotter's image to ``path`` (creating the directory) and close the plotter whatever happens."""
     try:
@@ -753,23 +778,8 @@ def render_contour(
     }
     for name, (at, _) in mark.items():
         gid, text, marker, colour = styles[name]
-        (pt,) = ax.plot(
-            at[0],
-            at[1],
-            marker,
-            ms=10,
-            mfc=colour,
-            mec="black",
-            mew=1.0,
-            ls="none",
-            label=f"{text} ({at[0]:.1f}°, {at[1]:.1f}°)",
-        )
-        pt.set_gid(gid)
-    ax.set_xlabel("pitch (°)")
-    ax.set_ylabel("roll (°)")
-    ticks = np.arange(-180, 181, 90)
-    ax.set_xticks(ticks[(ticks >= p.min()) & (ticks <= p.max())])
-    ax.set_yticks(ticks[(ticks >= r.min()) & (ticks <= r.max())])
+        mark_point(ax, at, marker=marker, colour=colour, text=text, gid=gid)
+    pitch_roll_axes(ax, p, r)
     ax.set_aspect("equal")
     if mark or trail is not None:
         ax.legend(loc="upper left", fontsize=7, framealpha=0.85)

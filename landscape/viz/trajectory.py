@@ -356,24 +356,10 @@ def render_trajectories_contour(
     ):
         if at is None:
             continue
-        a = np.asarray(at, dtype=np.float64).reshape(2)
-        (pt,) = ax.plot(
-            a[0],
-            a[1],
-            marker,
-            ms=10,
-            mfc=colour,
-            mec="black",
-            mew=1.0,
-            ls="none",
-            label=f"{text} ({a[0]:.1f}°, {a[1]:.1f}°)",
+        rd.mark_point(
+            ax, np.asarray(at, dtype=np.float64).reshape(2), marker=marker, colour=colour, text=text, gid=gid
         )
-        pt.set_gid(gid)
-    ax.set_xlabel("pitch (°)")
-    ax.set_ylabel("roll (°)")
-    ticks = np.arange(-180, 181, 90)
-    ax.set_xticks(ticks[(ticks >= p.min()) & (ticks <= p.max())])
-    ax.set_yticks(ticks[(ticks >= r.min()) & (ticks <= r.max())])
+    rd.pitch_roll_axes(ax, p, r)
     ax.set_xlim(p.min(), p.max())
     ax.set_ylim(r.min(), r.max())
     ax.set_aspect("equal")
