@@ -276,10 +276,13 @@ class Landscapes:
         """Start (or join) the computation of a key in the thread pool."""
         with self._lock:
             fut = self._inflight.get(key)
-            if fut is None:
-                fut = self.pool.submit(self._compute, entry, key, need_computation)
-                self._inflight[key] = fut
-                fut.add_done_callback(lambda _f, k=key: self._forget(k))
+            if fut is not None:
+                return fut
+            fut = self.pool.submit(self._compute, entry, key, need_computation)
+            self._inflight[key] = fut
+        # outside the lock: a future that is already done runs the callback here at once, and _forget takes the
+        # lock (a computation that failed at once used to deadlock the request)
+        fut.add_done_callback(lambda _f, k=key: self._forget(k))
         return fut
 
     def _forget(self, key: tuple) -> None:

@@ -470,3 +470,32 @@ def test_a_streamed_upload_without_length_is_cut_at_the_limit(make_app):
     ) as c:
         r = c.post("/api/robots", content=body(), headers={"Content-Type": "multipart/form-data; boundary=b"})
     assert r.status_code == 413 and "over the limit" in r.json()["detail"]
+
+
+def test_a_computation_already_done_when_submitted_does_not_deadlock():
+    """A computation that fails (or finishes) before its done-callback is registered runs the callback at once in
+    the submitting thread; that callback takes the in-flight lock, which submit must no longer hold (this hung
+    a fresh-clone CI run in test_an_unexpected_error_is_a_generic_500)."""
+    import threading
+    from concurrent.futures import Future
+
+    from landscape.service.landscapes import Landscapes
+
+    class DonePool:
+        def submit(self, fn, *args):
+            f = Future()
+            f.set_exception(RuntimeError("failed at once"))
+            return f
+
+    ls = Landscapes.__new__(Landscapes)
+    ls._lock = threading.Lock()
+    ls._inflight = {}
+    ls.pool = DonePool()
+    out = []
+    t = threading.Thread(
+        target=lambda: out.append(ls.submit(None, ("h", 1.0, 0.0, "exact", 10.0))), daemon=True
+    )
+    t.start()
+    t.join(timeout=10)
+    assert not t.is_alive(), "submit deadlocked on its own lock"
+    assert out[0].done() and ls._inflight == {}
