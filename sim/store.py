@@ -40,8 +40,7 @@ KEY_COLUMNS = (
     "seed",
 )
 """Every parameter of a trial; ``attempts`` 0 means "as many as fit in ``duration_s``"."""
-COLUMNS = KEY_COLUMNS + (
-    "status",
+RESULT_COLUMNS = (
     "success",
     "time_to_right_s",
     "attempt",
@@ -53,6 +52,11 @@ COLUMNS = KEY_COLUMNS + (
     "cpu_s",
     "max_tracking_error_deg",
     "model_hash",
+)
+"""What a finished trial stores from its :class:`sim.trial.TrialResult` (``TrialResult.to_dict`` keys)."""
+COLUMNS = KEY_COLUMNS + (
+    "status",
+    *RESULT_COLUMNS,
     "robot",
     "version",
     "error",

@@ -42,7 +42,7 @@ from .protocol import (
     PAPER_TRIALS,
     PAPER_WING_PERIOD_S,
 )
-from .store import KEY_COLUMNS, TrialStore
+from .store import KEY_COLUMNS, RESULT_COLUMNS, TrialStore
 from .trial import DEFAULT_DURATION_S, TrialInputError, check_trial_cost, default_dt_s, run_trial
 from .world import SimulationDiverged
 
@@ -306,24 +306,7 @@ def run_spec(spec: TrialSpec) -> dict:
         row.update(status="diverged", error=str(exc))
         return row
     d = r.to_dict()
-    row.update(
-        {
-            k: d[k]
-            for k in (
-                "success",
-                "time_to_right_s",
-                "attempt",
-                "mode",
-                "phases",
-                "attempt_starts_s",
-                "sim_s",
-                "wall_s",
-                "cpu_s",
-                "max_tracking_error_deg",
-                "model_hash",
-            )
-        }
-    )
+    row.update({k: d[k] for k in RESULT_COLUMNS})
     row["success"] = int(r.success)
     row["status"] = "ok"
     if r.robot_hash != spec.robot_hash:

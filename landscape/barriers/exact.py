@@ -48,7 +48,7 @@ from __future__ import annotations
 
 import heapq
 import logging
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -514,22 +514,7 @@ def _build(
         g,
     )
     crit = _critical_points(partial, d, nbr_ptr, nbr_idx, margin, peak_s, theta, foot, seg_len, ang_tol)
-    return ExactLandscape(
-        mass_kg,
-        g_m_s2,
-        com,
-        pts,
-        tol_m,
-        face_up,
-        face_h,
-        margin,
-        arc_faces,
-        arcs_ab,
-        arc_max,
-        peak_up,
-        crit,
-        g,
-    )
+    return replace(partial, critical=crit)
 
 
 def _face_margins(pts, normal, proj, face_ptr, face_idx, half_ptr, half_a, half_b):
