@@ -63,9 +63,15 @@ COLUMNS = KEY_COLUMNS + (
     "created_utc",
     "model_set",
     "model_set_hash",
+    "side",
 )
 """``model_set``/``model_set_hash``: the model parameter set (:mod:`sim.model_set`); a store made before sets
-existed gets both columns with the ``paper`` set's values (the only model then) when opened for writing."""
+existed gets both columns with the ``paper`` set's values (the only model then) when opened for writing.
+``side``: the roll sign a righted trial rolled over to (:class:`sim.trial.TrialResult`); NULL in trials stored
+before it was recorded."""
+LATE_COLUMNS = ("model_set", "model_set_hash", "side")
+"""Columns added after the first layout: an older store gets them when opened for writing (read-only: read as
+NULL); a missing ``model_set``/``model_set_hash`` means the ``paper`` set, a missing ``side`` is unknown."""
 _TYPES = {
     "robot_hash": "TEXT NOT NULL",
     "theta_w_deg": "REAL NOT NULL",
@@ -97,6 +103,7 @@ _TYPES = {
     "created_utc": "TEXT",
     "model_set": "TEXT",
     "model_set_hash": "TEXT",
+    "side": "INTEGER",
 }
 SCHEMA = (
     "CREATE TABLE IF NOT EXISTS trials ("
@@ -298,13 +305,13 @@ class TrialStore:
                     "restore it from a backup or give a new --db"
                 )
             layout = self._trials_layout()
-            if layout in ("no column model_set", "no column model_set_hash"):
-                if self.readonly:  # read as the paper set's trials, without writing
+            if self._lacks_only_late(layout):
+                if self.readonly:  # read the missing columns as NULL, without writing
                     names = {r[1] for r in self.con.execute("PRAGMA table_info(trials)")}
-                    self._legacy = {c: None for c in ("model_set", "model_set_hash") if c not in names}
+                    self._legacy = {c: None for c in LATE_COLUMNS if c not in names}
                     layout = "current" if set(COLUMNS) - names <= set(self._legacy) else layout
                 else:
-                    self._add_model_set_columns()
+                    self._add_late_columns()
                     layout = self._trials_layout()
             if layout.startswith("no column"):
                 raise StoreError(
@@ -318,18 +325,28 @@ class TrialStore:
                 dict(self.con.execute("SELECT robot, robot_hash FROM robots")) if "robots" in tables else {}
             )
 
-    def _add_model_set_columns(self) -> None:
-        """Give a store made before model sets the two columns, its trials the ``paper`` set (the only model then)."""
+    def _lacks_only_late(self, layout: str) -> bool:
+        """Whether the trials table lacks columns and every one it lacks is one of :data:`LATE_COLUMNS`."""
+        if not layout.startswith("no column"):
+            return False
+        names = {r[1] for r in self.con.execute("PRAGMA table_info(trials)")}
+        return set(COLUMNS) - names <= set(LATE_COLUMNS)
+
+    def _add_late_columns(self) -> None:
+        """Give an older store the columns of :data:`LATE_COLUMNS` it lacks, in order: its trials get the
+        ``paper`` set (the only model before sets existed) and an unknown (NULL) side."""
         from .model_set import load_model_set
 
         paper = load_model_set("paper")
+        fill = {"model_set": paper.name, "model_set_hash": paper.model_set_hash, "side": None}
         self.con.execute("BEGIN IMMEDIATE")
         try:
             names = {r[1] for r in self.con.execute("PRAGMA table_info(trials)")}
-            for col, value in (("model_set", paper.name), ("model_set_hash", paper.model_set_hash)):
+            for col in LATE_COLUMNS:
                 if col not in names:
-                    self.con.execute(f"ALTER TABLE trials ADD COLUMN {col} TEXT")
-                    self.con.execute(f"UPDATE trials SET {col} = ?", (value,))
+                    self.con.execute(f"ALTER TABLE trials ADD COLUMN {col} {_TYPES[col]}")
+                    if fill[col] is not None:
+                        self.con.execute(f"UPDATE trials SET {col} = ?", (fill[col],))
             self.con.execute("COMMIT")
         except BaseException:
             self.con.execute("ROLLBACK")
@@ -360,13 +377,14 @@ class TrialStore:
                 f"{', '.join(tables)}), not a trial store; give a new --db file"
             )
         layout = self._trials_layout()
-        if layout in ("no column model_set", "no column model_set_hash"):
+        if self._lacks_only_late(layout):
             if not self.readonly:
-                self._add_model_set_columns()
+                self._add_late_columns()
                 layout = self._trials_layout()
             else:
                 names = {r[1] for r in self.con.execute("PRAGMA table_info(trials)")}
-                layout = "current" if set(COLUMNS) - names <= {"model_set", "model_set_hash"} else layout
+                self._legacy = {c: None for c in LATE_COLUMNS if c not in names}
+                layout = "current"
         if layout.startswith("no column"):
             raise StoreError(
                 f"'{self.path}' was written by an older version ({layout}); export it with that "

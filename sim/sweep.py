@@ -271,6 +271,7 @@ def run_spec(spec: TrialSpec) -> dict:
         version=package_version(),
         error=None,
         created_utc=datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        side=None,
     )
     from .model_set import load_model_set
 
@@ -308,6 +309,7 @@ def run_spec(spec: TrialSpec) -> dict:
     d = r.to_dict()
     row.update({k: d[k] for k in RESULT_COLUMNS})
     row["success"] = int(r.success)
+    row["side"] = r.side
     row["status"] = "ok"
     if r.robot_hash != spec.robot_hash:
         raise RuntimeError(

@@ -153,6 +153,9 @@ class TrialResult:
     attempt_starts_s : tuple of float
         Opening time of those attempts, s.
     mode : {"roll", "somersault"} or None
+    side : int or None
+        Sign of the body roll (ZYX Euler, degrees) when the final upright stretch began: +1 or -1, the side the
+        robot rolled over to (None if it did not right). The physical robot's records use the same sign.
     sim_s : float
         Simulated actuation time until the trial stopped, s.
     wall_s, cpu_s : float
@@ -189,6 +192,7 @@ class TrialResult:
     trace: Trace | None = field(default=None, repr=False)
     model_set: str = "paper"
     model_set_hash: str = ""
+    side: int | None = None
 
     def to_dict(self) -> dict:
         """Plain JSON-able dict without the trace."""
@@ -539,6 +543,7 @@ def run_trial(
         trace=tr,
         model_set=model_set.name,
         model_set_hash=model_set.model_set_hash,
+        side=run.side,
     )
 
 
@@ -667,6 +672,7 @@ class _Run:
     success: bool = False
     t_right: float | None = None
     mode: str | None = None
+    side: int | None = None
     t_end: float = 0.0
     max_err: float = 0.0
     rows: list = field(default_factory=list)
@@ -698,6 +704,7 @@ def _run(world: World, cmd: _Commands, *, trace: bool) -> _Run:
             if ti - upright_since >= UPRIGHT_HOLD_S - 1e-12:
                 run.success, run.t_right, run.t_end = True, upright_since, ti
                 run.mode = "roll" if abs(u_first[1]) >= abs(u_first[0]) else "somersault"
+                run.side = 1 if pitch_roll_from_up(u_first)[1] >= 0 else -1
                 break
         else:
             upright_since = None

@@ -86,9 +86,11 @@ def test_a_sweep_stores_its_set_and_a_resumed_sweep_refuses_another(tmp_path):
         run_sweep(other, db=db, workers=1, progress=False)
 
 
-def test_a_store_made_before_model_sets_reads_as_the_paper_set(tmp_path):
+@pytest.mark.parametrize("late", [("model_set", "model_set_hash", "side"), ("side",)])
+def test_a_store_made_before_model_sets_reads_as_the_paper_set(tmp_path, late):
+    """A store made before model sets (or before the righting side was stored) gets the late columns."""
     db = tmp_path / "old.sqlite"
-    old_cols = [c for c in st.COLUMNS if c not in ("model_set", "model_set_hash")]
+    old_cols = [c for c in st.COLUMNS if c not in late]
     con = sqlite3.connect(db)
     con.execute(
         "CREATE TABLE trials ("
@@ -99,6 +101,8 @@ def test_a_store_made_before_model_sets_reads_as_the_paper_set(tmp_path):
     con.execute(f"PRAGMA application_id = {st.APPLICATION_ID}")
     con.execute(f"PRAGMA user_version = {st.STORE_VERSION}")
     row = {c: 0 for c in old_cols} | {
+        "model_set": "paper",
+        "model_set_hash": load_model_set("paper").model_set_hash,
         "robot_hash": "h",
         "status": "ok",
         "phases": "[]",
@@ -111,8 +115,11 @@ def test_a_store_made_before_model_sets_reads_as_the_paper_set(tmp_path):
     con.commit()
     con.close()
     (r,) = st.read_rows(db)  # read-only: nothing written
-    assert r["model_set"] is None
+    assert r["side"] is None and (r["model_set"] is None) == ("model_set" in late)
     with TrialStore(db) as s:  # opened for a sweep: the columns are added, the trials are the paper set's
         (r,) = s.rows()
         s.check_model_set("paper", load_model_set("paper").model_set_hash)
     assert (r["model_set"], r["model_set_hash"]) == ("paper", load_model_set("paper").model_set_hash)
+    assert r["side"] is None
+    names = [c[1] for c in sqlite3.connect(db).execute("PRAGMA table_info(trials)")]
+    assert names == list(st.COLUMNS)  # the same layout as a new store's, in order

@@ -68,6 +68,9 @@ def test_strong_setting_rights_by_rolling_on_first_attempt(each_robot):
     opened = (tr.t_s > t1 + 0.35) & (tr.t_s < r.time_to_right_s - 0.3)
     assert opened.sum() >= 10 and np.median(tr.pitch_deg[opened]) > 60.0
     assert tr.up_z[0] > 0.99 and tr.up_z[-1] < 0.0
+    # the side it rolled to: the sign of the roll where the final upright stretch begins
+    at = np.flatnonzero(tr.t_s >= r.time_to_right_s)[0]
+    assert r.side in (1, -1) and r.side == np.sign(tr.roll_deg[at])
     mass_kg = Robot.from_urdf(each_robot.urdf).pose(0.0, 0.0).mass_kg
     assert mass_kg == pytest.approx(0.26, abs=1e-9)  # both robots weigh the paper's 260 g
     assert tr.energy_j == pytest.approx(mass_kg * 9.81 * tr.com_height_m, rel=1e-9)
@@ -75,7 +78,13 @@ def test_strong_setting_rights_by_rolling_on_first_attempt(each_robot):
 
 def test_weak_setting_fails_after_several_attempts(each_robot):
     r = run_trial(70.0, 20.0, phase=0.7, cv=0.1, rng=1, robot=each_robot.urdf, dt_s=FAST_DT)
-    assert not r.success and r.time_to_right_s is None and r.attempt is None and r.mode is None
+    assert (
+        not r.success
+        and r.time_to_right_s is None
+        and r.attempt is None
+        and r.mode is None
+        and r.side is None
+    )
     assert r.sim_s == pytest.approx(10.0)
     assert len(r.phases) == len(r.attempt_starts_s) == 5
     assert r.phases[0] == pytest.approx(0.7)
