@@ -76,3 +76,86 @@ def resting_pitch_markdown(rows: Sequence, model_deg: Sequence[float] | None = N
             line += f" {model_deg[k]:.1f}° | {model_deg[k] - r.median_deg:+.1f}° |"
         lines.append(line)
     return "\n".join(lines)
+
+
+def _frac(k: int, n: int, lo: float, hi: float) -> str:
+    return f"{k}/{n} [{_pct(lo)}, {_pct(hi)}] %"
+
+
+def _ttr(med: float, sd: float) -> str:
+    if math.isnan(med):
+        return "–"
+    return f"{med:.2f}" + ("" if math.isnan(sd) else f" ± {sd:.2f}") + " s"
+
+
+def validation_markdown(v) -> str:
+    """Markdown tables of a :class:`~landscape.analysis.validation.Validation`: cells by split, the per-attempt
+    rates, the side and the totals."""
+    lines = [f"model set: {v.model_set} ({v.model_set_hash})", ""]
+    head = (
+        "| wing cmd (simulated) | leg | physical righted [Wilson 95 %] | simulated righted [Wilson 95 %] | agree |"
+        " physical time to right | simulated time to right |"
+    )
+    for split in ("fit", "held-out"):
+        cells = [c for c in v.cells if c.split == split]
+        if not cells:
+            continue
+        k, n = v.agree_counts[split]
+        lines += [f"{split} cells: {k} of {n} agree (log-likelihood {v.log_likelihood[split]:.2f})", "", head]
+        lines.append("|---|---|---|---|---|---|---|")
+        for c in cells:
+            lines.append(
+                f"| {c.theta_w_cmd_deg:g}° ({c.theta_w_sim_deg:.1f}°) | {c.theta_l_deg:g}° | "
+                f"{_frac(c.phys_k, c.phys_n, c.phys_low, c.phys_high)} | "
+                f"{_frac(c.sim_k, c.sim_n, c.sim_low, c.sim_high)} | {'yes' if c.agree else 'NO'} | "
+                f"{_ttr(c.phys_ttr_median_s, c.phys_ttr_sd_s)} | {_ttr(c.sim_ttr_median_s, c.sim_ttr_sd_s)} |"
+            )
+        lines.append("")
+    k, n = v.agree_counts["all"]
+    lines.append(f"all cells: {k} of {n} agree (log-likelihood {v.log_likelihood['all']:.2f})")
+    if v.attempts:
+        lines += [
+            "",
+            "| wing cmd | physical attempts righting [Wilson 95 %] | simulated [Wilson 95 %] | agree |",
+            "|---|---|---|---|",
+        ]
+        for a in v.attempts:
+            p, s = a.physical, a.simulated
+            lines.append(
+                f"| {a.theta_w_cmd_deg:g}° | {_frac(p.successes, p.attempts, p.ci_low, p.ci_high)} | "
+                f"{_frac(s.successes, s.attempts, s.ci_low, s.ci_high)} | {'yes' if a.agree else 'NO'} |"
+            )
+    s = v.side
+    sim = _frac(s.sim_positive, s.sim_events, s.sim_low, s.sim_high) if s.sim_events else "no righting events"
+    lines += [
+        "",
+        f"righting to + roll: physical {_frac(s.phys_positive, s.phys_events, s.phys_low, s.phys_high)}, "
+        f"simulated {sim}; inside the physical interval: {'yes' if s.sim_inside_phys else 'no'}",
+    ]
+    return "\n".join(lines)
+
+
+def time_to_right_figure(v, path: str | Path) -> Path:
+    """Median time to right ± s.d. per cell, physical beside simulated (the source paper's Fig. 4(c) analogue),
+    PNG and SVG; held-out cells hatched."""
+    from landscape.viz._mpl import plt, save
+
+    cells = list(v.cells)
+    x = list(range(len(cells)))
+    fig, ax = plt.subplots(figsize=(max(6.0, 0.6 * len(cells) + 2), 3.6), dpi=150)
+    for off, who, color in ((-0.18, "phys", "0.25"), (0.18, "sim", "tab:blue")):
+        med = [getattr(c, f"{who}_ttr_median_s") for c in cells]
+        sd = [getattr(c, f"{who}_ttr_sd_s") for c in cells]
+        sd = [0.0 if math.isnan(e) else e for e in sd]
+        label = "physical robot" if who == "phys" else f"simulation ({v.model_set})"
+        bars = ax.bar([i + off for i in x], [0.0 if math.isnan(m) else m for m in med], 0.36, yerr=sd,
+                      color=color, label=label, capsize=2)  # fmt: skip
+        for b, c in zip(bars, cells, strict=True):
+            if c.split == "held-out":
+                b.set_hatch("//")
+    ax.set_xticks(x, [f"{c.theta_w_cmd_deg:g}/{c.theta_l_deg:g}" for c in cells], fontsize=7)
+    ax.set_xlabel("wing command / leg amplitude (deg); hatched: held-out cells")
+    ax.set_ylabel("time to right (s), median ± s.d.")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    return save(fig, path, svg_too=True)

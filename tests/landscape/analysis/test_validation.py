@@ -1,0 +1,143 @@
+"""Simulated against physical (landscape/analysis/validation.py): the statistics on hand-made trials with answers
+worked out by hand, then `landscape physical validate` end to end on the built-in robot (needs ../shared's
+physical data)."""
+
+import json
+import math
+
+import pytest
+
+from landscape.analysis import validation as va
+from landscape.analysis.physical import AttemptCount, PhysicalTrial
+from landscape.cli import main
+from tests.landscape.analysis.test_physical import DATA, needs_data
+
+
+def _phys(w, leg, k, n, ttr=1.0, side=1):
+    return [
+        PhysicalTrial(f"{w}_{leg}_{i}", w, w - 1.0, leg, i, i < k, ttr if i < k else math.nan,
+                      1 if i < k else 5, side if i < k else 0, (side,) if i < k else (), 1 if i < k else 0, 10.0)
+        for i in range(n)
+    ]  # fmt: skip
+
+
+def _row(w_sim, leg, success, *, attempt=1, starts=(0.5, 2.5, 4.5, 6.5, 8.5), ttr=2.0, side=1, ms="paper"):
+    return {
+        "theta_w_deg": w_sim,
+        "theta_l_deg": leg,
+        "status": "ok",
+        "success": success,
+        "attempt": attempt if success else None,
+        "attempt_starts_s": list(starts),
+        "time_to_right_s": ttr if success else None,
+        "side": side if success else None,
+        "model_set": ms,
+        "model_set_hash": "h",
+    }
+
+
+def test_cells_agree_only_when_each_fraction_is_inside_the_others_interval():
+    # physical 5/5 (Wilson [0.566, 1]); simulated 0/3 (Wilson [0, 0.562]): neither inside the other
+    phys = _phys(75.0, 15.0, 5, 5) + _phys(60.0, 0.0, 0, 5)
+    rows = [_row(74.0, 15.0, False) for _ in range(3)] + [_row(59.0, 0.0, False) for _ in range(3)]
+    v = va.compare(phys, rows, [(60.0, 0.0), (75.0, 15.0)], {60.0: 59.0, 75.0: 74.0})
+    by = {(c.theta_w_cmd_deg, c.theta_l_deg): c for c in v.cells}
+    assert not by[(75.0, 15.0)].agree and by[(60.0, 0.0)].agree
+    assert by[(75.0, 15.0)].split == "held-out" and by[(60.0, 0.0)].split == "fit"
+    assert v.agree_counts == {"fit": (1, 1), "held-out": (0, 1), "all": (1, 2)}
+    # log-likelihood by hand: p = 0.5 / 4 for both cells
+    assert v.log_likelihood["held-out"] == pytest.approx(5 * math.log(0.125))
+    assert v.log_likelihood["fit"] == pytest.approx(5 * math.log(0.875))
+    assert v.log_likelihood["all"] == pytest.approx(v.log_likelihood["fit"] + v.log_likelihood["held-out"])
+
+
+def test_time_to_right_counts_from_the_first_opening_and_sides_are_counted():
+    phys = _phys(90.0, 30.0, 4, 5, ttr=2.0, side=1)
+    rows = [
+        _row(89.0, 30.0, True, ttr=3.5, starts=(0.5, 2.5), attempt=2, side=1),
+        _row(89.0, 30.0, True, ttr=1.5, starts=(0.5,), side=-1),
+        _row(89.0, 30.0, False),
+    ]
+    v = va.compare(phys, rows, [(90.0, 30.0)], {90.0: 89.0})
+    (c,) = v.cells
+    assert (c.sim_k, c.sim_n) == (2, 3) and c.agree  # 2/3 vs 4/5
+    assert c.sim_ttr_median_s == pytest.approx(2.0)  # (3.0 + 1.0) / 2
+    assert c.sim_ttr_sd_s == pytest.approx(math.sqrt(2.0))
+    assert c.phys_ttr_median_s == 2.0 and c.phys_ttr_sd_s == 0.0
+    s = v.side
+    assert (s.phys_positive, s.phys_events, s.sim_positive, s.sim_events) == (4, 4, 1, 2)
+    assert not s.sim_inside_phys  # 50 % is below the robot's Wilson interval for 4/4 ([0.51, 1])
+
+
+def test_per_attempt_rates_only_when_every_leg_of_a_wing_command_ran():
+    phys = _phys(60.0, 0.0, 0, 5) + _phys(60.0, 15.0, 2, 5)
+    rows = [_row(59.0, 0.0, False, starts=(0.5, 2.5, 4.5, 6.5, 8.5, 9.9))] + [
+        _row(59.0, 15.0, True, attempt=3, ttr=5.0)
+    ]
+    rec = [AttemptCount(60.0, 59.0, 12, 2, 2 / 12, 0.05, 0.45)]
+    full = va.compare(phys, rows, [(60.0, 0.0), (60.0, 15.0)], {60.0: 59.0}, rec)
+    (a,) = full.attempts
+    assert (a.simulated.successes, a.simulated.attempts) == (1, 5 + 3)  # 5 counted of 6 openings, then 3
+    part = va.compare(phys, rows, [(60.0, 15.0)], {60.0: 59.0}, rec)
+    assert part.attempts == ()  # the record pools leg 0 too, which did not run
+
+
+def test_one_model_set_at_a_time_and_both_sides_of_a_cell_needed():
+    phys = _phys(60.0, 0.0, 0, 5)
+    with pytest.raises(va.ValidationError, match="mix model sets"):
+        va.compare(
+            phys, [_row(59.0, 0.0, False), _row(59.0, 0.0, False, ms="physical")], [(60.0, 0.0)], {60.0: 59.0}
+        )
+    with pytest.raises(va.ValidationError, match="0 simulated"):
+        va.compare(phys, [], [(60.0, 0.0)], {60.0: 59.0})
+
+
+def test_cells_parse_and_unknown_cells_are_refused():
+    avail = [(60.0, 0.0), (75.0, 15.0)]
+    assert va.parse_cells(None, avail) == avail
+    with pytest.raises(va.ValidationError, match="not a recorded cell; the recorded cells are 60:0, 75:15"):
+        va.parse_cells("60:45", avail)
+    with pytest.raises(va.ValidationError, match="not WING:LEG"):
+        va.parse_cells("60-45", avail)
+
+
+def test_phases_are_random_reproducible_and_per_cell():
+    a = va.cell_phases(60.0, 0.0, 10, 0)
+    assert a == va.cell_phases(60.0, 0.0, 10, 0) and a != va.cell_phases(60.0, 15.0, 10, 0)
+    assert a != va.cell_phases(60.0, 0.0, 10, 1)
+    assert all(0.0 <= x < 1.0 for x in a) and len(set(a)) == 10
+
+
+@needs_data
+def test_validate_command_end_to_end_and_resumes(tmp_path, capsys):
+    args = [
+        "physical",
+        "validate",
+        "--data",
+        str(DATA),
+        "--cells",
+        "75:15",
+        "--trials",
+        "2",
+        "--duration",
+        "3",
+    ]
+    args += ["--out", str(tmp_path), "--no-progress", "--workers", "1"]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "2 simulated trials: 0 already in" in out and "75° (73.6°) | 15° | 5/5 [57, 100] %" in out
+    doc = json.loads((tmp_path / "validation.json").read_text())
+    assert doc["model_set"] == "paper" and len(doc["cells"]) == 1 and doc["cells"][0]["sim_n"] == 2
+    assert (tmp_path / "validation.csv").read_text().count("\n") == 2
+    assert (tmp_path / "time_to_right.png").stat().st_size > 0 and (tmp_path / "time_to_right.svg").is_file()
+    assert main(args) == 0  # rerun: every trial already stored
+    assert "2 simulated trials: 2 already in" in capsys.readouterr().out
+
+
+@needs_data
+def test_validate_command_bad_input_is_one_line(tmp_path, capsys):
+    base = ["physical", "validate", "--data", str(DATA), "--out", str(tmp_path), "--no-progress"]
+    assert main(base + ["--cells", "61:0"]) == 2
+    assert "is not a recorded cell" in capsys.readouterr().err
+    assert main(base + ["--model", "nosuchset"]) == 2
+    assert main(["physical", "validate", "--data", str(tmp_path / "nowhere"), "--out", str(tmp_path)]) == 2
