@@ -1,0 +1,191 @@
+"""Calibrate a model set against the physical robot's outcomes, with held-out cells (issue #15, section 3).
+
+A calibration is a grid search: every combination of the ``--vary`` values (dotted keys of the model-set TOML,
+e.g. ``contact.lateral_friction=0.5,0.75,1``) is written as a candidate set derived from a base set
+(:func:`candidate_set`), each candidate is simulated on the *fit* cells only (by default leg amplitudes 0° and
+30°) through :func:`landscape.analysis.validation.validate`, and scored by the log-likelihood of the physical
+outcomes under its simulated success probabilities. The best candidate is then validated on every cell, so the
+held-out cells (15° and 45°), which took no part in the choice, are reported on their own. Each candidate has its
+own trial store in the output directory: an interrupted calibration resumes where it stopped.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from geometry.errors import UsageError
+from landscape.analysis.validation import (
+    DEFAULT_CV,
+    HELD_OUT_LEGS_DEG,
+    Validation,
+    validate,
+)
+
+
+class CalibrationError(UsageError):
+    """A bad ``--vary`` specification or calibration setting."""
+
+
+def parse_vary(items: Sequence[str]) -> dict[str, list[float]]:
+    """``['contact.lateral_friction=0.5,1', ...]`` -> ``{'contact.lateral_friction': [0.5, 1.0], ...}``.
+
+    Examples
+    --------
+    >>> parse_vary(["contact.lateral_friction=0.5,1"])
+    {'contact.lateral_friction': [0.5, 1.0]}
+    """
+    out: dict[str, list[float]] = {}
+    for item in items:
+        key, sep, values = item.partition("=")
+        key = key.strip()
+        if not sep or "." not in key or not values.strip():
+            raise CalibrationError(
+                f"--vary {item!r} is not TABLE.KEY=V1,V2,...; give e.g. --vary contact.lateral_friction=0.5,1"
+            )
+        try:
+            vals = [float(v) for v in values.split(",")]
+        except ValueError:
+            raise CalibrationError(f"--vary {item!r}: the values must be numbers, e.g. 0.5,1") from None
+        if not all(map(math.isfinite, vals)):
+            raise CalibrationError(f"--vary {item!r}: the values must be finite numbers")
+        if key in out:
+            raise CalibrationError(f"--vary {key} is given twice; list all its values in one --vary")
+        out[key] = vals
+    if not out:
+        raise CalibrationError("nothing to calibrate; give at least one --vary TABLE.KEY=V1,V2,...")
+    return out
+
+
+def _read_toml(path: Path) -> dict:
+    import tomllib
+
+    return tomllib.loads(path.read_text())
+
+
+def candidate_set(base: str | Path, overrides: dict[str, float], name: str, path: str | Path):
+    """Write the base model set with ``overrides`` (dotted keys that the base already has) as ``path`` under
+    ``name`` and return it loaded (so it is validated like any set).
+
+    Raises
+    ------
+    CalibrationError
+        If a key is not in the base set.
+    ModelSetError
+        If a value is out of the set's range.
+    """
+    import tomli_w
+
+    from sim.model_set import load_model_set
+
+    ms = load_model_set(base)
+    data = _read_toml(Path(ms.source))
+    for key, value in overrides.items():
+        table, _, leaf = key.rpartition(".")
+        node = data
+        for part in table.split("."):
+            node = node.get(part) if isinstance(node, dict) else None
+        if not isinstance(node, dict) or leaf not in node:
+            raise CalibrationError(
+                f"--vary {key}: the base set '{ms.name}' ({ms.source}) has no such key; vary a key it has, "
+                "e.g. contact.lateral_friction"
+            )
+        node[leaf] = int(value) if isinstance(node[leaf], int) and float(value).is_integer() else float(value)
+    changes = ", ".join(f"{k} = {v:g}" for k, v in overrides.items())
+    data["name"] = name
+    data["description"] = f"calibration candidate: '{ms.name}' with {changes}"
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(tomli_w.dumps(data))
+    return load_model_set(path)
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One candidate's score on the fit cells."""
+
+    name: str
+    overrides: dict
+    model_set_hash: str
+    log_likelihood: float
+    agree: int
+    cells: int
+
+    CSV_COLUMNS = ("name", "overrides", "model_set_hash", "log_likelihood", "agree", "cells")
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """A calibration's candidates (best first) and the best candidate's validation on every cell."""
+
+    base: str
+    fit_cells: tuple
+    candidates: tuple[Candidate, ...]
+    best_file: str
+    validation: Validation
+
+
+def calibrate(
+    data_dir: str | Path,
+    *,
+    out_dir: str | Path,
+    vary: dict[str, list[float]],
+    base: str | Path = "physical",
+    robot: str | Path | None = None,
+    trials: int = 6,
+    validate_trials: int = 10,
+    cv: float = DEFAULT_CV,
+    seed: int = 0,
+    fit_legs_deg: Sequence[float] = (0.0, 30.0),
+    duration_s: float | None = None,
+    workers: int | None = None,
+    progress: bool = True,
+    on_candidate: Callable[[Candidate, int, int], None] | None = None,
+) -> Calibration:
+    """Grid-search ``vary`` on the fit cells, then validate the best candidate on every cell.
+
+    ``trials`` simulated trials per fit cell and candidate; ``validate_trials`` per cell for the final
+    validation. ``on_candidate(candidate, index, total)`` is called as each candidate finishes.
+    """
+    from landscape.analysis.physical import physical_trials
+
+    out_dir = Path(out_dir)
+    fit_legs = {float(x) for x in fit_legs_deg}
+    if fit_legs & set(HELD_OUT_LEGS_DEG):
+        raise CalibrationError(
+            f"--fit-legs {sorted(fit_legs)} includes a held-out leg amplitude {HELD_OUT_LEGS_DEG}; fit on the "
+            "others (default 0,30) so that the held-out cells stay unseen"
+        )
+    cells = sorted({(t.theta_w_cmd_deg, t.theta_l_deg) for t in physical_trials(data_dir)})
+    fit_cells = [c for c in cells if c[1] in fit_legs]
+    if not fit_cells:
+        raise CalibrationError(f"no recorded cell has a leg amplitude in --fit-legs {sorted(fit_legs)}")
+    keys = list(vary)
+    combos = list(itertools.product(*(vary[k] for k in keys)))
+    scored = []
+    for i, values in enumerate(combos):
+        overrides = dict(zip(keys, values, strict=True))
+        name = f"candidate{i:03d}"
+        ms = candidate_set(base, overrides, name, out_dir / "candidates" / f"{name}.toml")
+        v, _ = validate(
+            data_dir, db=out_dir / f"trials_{name}_{ms.model_set_hash}.sqlite", robot=robot,
+            model_set=ms.source, trials=trials, cv=cv, seed=seed, cells=fit_cells, duration_s=duration_s,
+            workers=workers, progress=progress,
+        )  # fmt: skip
+        k, n = v.agree_counts["all"]
+        cand = Candidate(name, overrides, ms.model_set_hash, v.log_likelihood["all"], k, n)
+        scored.append(cand)
+        if on_candidate is not None:
+            on_candidate(cand, i + 1, len(combos))
+    scored.sort(key=lambda c: -c.log_likelihood)
+    best = scored[0]
+    best_file = out_dir / "best.toml"
+    ms = candidate_set(base, best.overrides, f"{Path(str(base)).stem}-calibrated", best_file)
+    v, _ = validate(
+        data_dir, db=out_dir / f"trials_best_{ms.model_set_hash}.sqlite", robot=robot, model_set=best_file,
+        trials=validate_trials, cv=cv, seed=seed + 1, duration_s=duration_s, workers=workers, progress=progress,
+    )  # fmt: skip
+    return Calibration(str(base), tuple(fit_cells), tuple(scored), str(best_file), v)

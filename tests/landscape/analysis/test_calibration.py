@@ -1,0 +1,63 @@
+"""Calibration (landscape/analysis/calibration.py): --vary parsing, candidate sets derived from a base set, and
+`landscape physical calibrate` end to end on the built-in robot (needs ../shared's physical data)."""
+
+import json
+
+import pytest
+
+from landscape.analysis import calibration as ca
+from landscape.cli import main
+from sim.model_set import ModelSetError, load_model_set
+from tests.landscape.analysis.test_physical import DATA, needs_data
+
+
+def test_vary_parses_and_refuses_bad_items():
+    assert ca.parse_vary(["contact.lateral_friction=0.5, 1", "contact.restitution=0.1"]) == {
+        "contact.lateral_friction": [0.5, 1.0],
+        "contact.restitution": [0.1],
+    }
+    for bad, match in [
+        ("friction=0.5", "TABLE.KEY"),
+        ("contact.x=a", "numbers"),
+        ("contact.x=nan", "finite"),
+    ]:
+        with pytest.raises(ca.CalibrationError, match=match):
+            ca.parse_vary([bad])
+    with pytest.raises(ca.CalibrationError, match="twice"):
+        ca.parse_vary(["contact.restitution=0.1", "contact.restitution=0.2"])
+    with pytest.raises(ca.CalibrationError, match="nothing to calibrate"):
+        ca.parse_vary([])
+
+
+def test_a_candidate_is_the_base_set_with_the_overrides_only(tmp_path):
+    paper = load_model_set("paper")
+    ms = ca.candidate_set("paper", {"contact.lateral_friction": 0.5}, "cand", tmp_path / "c.toml")
+    assert ms.name == "cand" and ms.contact.friction == 0.5
+    assert ms.contact.restitution == paper.contact.restitution and ms.model_set_hash != paper.model_set_hash
+    with pytest.raises(ca.CalibrationError, match="has no such key"):
+        ca.candidate_set("paper", {"contact.frcition": 0.5}, "c", tmp_path / "d.toml")
+    with pytest.raises(ModelSetError):  # out of the set's range: the set's own validation refuses it
+        ca.candidate_set("paper", {"contact.lateral_friction": -1.0}, "c", tmp_path / "e.toml")
+
+
+@needs_data
+def test_calibrate_command_picks_the_likeliest_candidate_and_holds_cells_out(tmp_path, capsys):
+    args = ["physical", "calibrate", "--data", str(DATA), "--base", "paper"]
+    args += ["--vary", "contact.lateral_friction=0.5,1", "--trials", "1", "--validate-trials", "1"]
+    args += ["--duration", "2", "--out", str(tmp_path), "--no-progress", "--workers", "1"]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "[1/2] candidate000" in out and "[2/2] candidate001" in out and "held-out cells:" in out
+    doc = json.loads((tmp_path / "calibration.json").read_text())
+    lls = [c["log_likelihood"] for c in doc["candidates"]]
+    assert lls == sorted(lls, reverse=True)  # best first
+    assert all(c["cells"] == 6 for c in doc["candidates"])  # fit cells only: legs 0 and 30
+    assert {tuple(c) for c in doc["fit_cells"]} == {
+        (w, leg) for w in (60.0, 75.0, 90.0) for leg in (0.0, 30.0)
+    }
+    assert (
+        len(doc["validation"]["cells"]) == 12
+        and load_model_set(tmp_path / "best.toml").name == "paper-calibrated"
+    )
+    assert main(args[:-5] + ["--fit-legs", "0,15", "--out", str(tmp_path)]) == 2
+    assert "held-out" in capsys.readouterr().err
