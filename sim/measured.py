@@ -381,7 +381,11 @@ def measured_actuation_toml(data_dir: str | Path) -> str:
         f"leg_command_deg = {_row(leg['command_deg'])}",
     ]
     joints = dict(
-        zip(WING_SERVOS, ("wing_pitch_left", "wing_pitch_right", "wing_roll_left", "wing_roll_right"))
+        zip(
+            WING_SERVOS,
+            ("wing_pitch_left", "wing_pitch_right", "wing_roll_left", "wing_roll_right"),
+            strict=True,
+        )
     )
     for servo in WING_SERVOS:
         rec = wing["servos"][servo]
