@@ -115,7 +115,7 @@ def test_the_measured_profile_drives_the_joints():
     paper = run_trial(75.0, 0.0, phase=0.0, cv=0.0, rng=1, duration_s=1.6, trace=True)
     assert abs(paper.trace.wing_deg[hold].mean() - 75.0) < 1.5
     # the joints follow the fitted profile within the servo's lag (10 ms at up to ~600 deg/s), the paper's do not
-    assert np.abs(tr.wing_deg - ref.mean(axis=1)).max() < 7.0
+    assert np.abs(tr.wing_deg - ref.mean(axis=1)).max() < 2.0
     assert np.abs(paper.trace.wing_deg - ref.mean(axis=1)).max() > 20.0
 
 
