@@ -34,6 +34,84 @@ from .protocol import PAPER_LEG_PERIOD_S, PAPER_WING_PERIOD_S
 
 
 @dataclass(frozen=True)
+class MeasuredActuation:
+    """Piecewise-linear per-joint profiles fitted to the physical robot (:mod:`sim.measured`).
+
+    Attributes
+    ----------
+    wing_command_deg : tuple of float, shape (C,)
+        Wing commands the profiles were measured at, deg (increasing).
+    wing_knots_s, wing_knots_deg : tuple, shape (4, C, K)
+        Per wing servo (LP, RP, LR, RR: the joint map's wing joints in order) and command: knot times since the
+        opening command, s, and joint angles, deg. The first and last knots hold the closed angle.
+    leg_command_deg : tuple of float, shape (L,)
+        Leg amplitude commands, deg (increasing).
+    leg_knots_s, leg_knots_deg : tuple, shape (L, M)
+        One period of the leg angle per command, from its upward midline crossing (0 deg at both ends), s and deg.
+    """
+
+    wing_command_deg: tuple
+    wing_knots_s: tuple
+    wing_knots_deg: tuple
+    leg_command_deg: tuple
+    leg_knots_s: tuple
+    leg_knots_deg: tuple
+
+    @property
+    def leg_period_s(self) -> float:
+        return float(self.leg_knots_s[0][-1])
+
+    def check(self, theta_w_deg: float, theta_l_deg: float, leg_period_s: float) -> None:
+        """Refuse commands outside the measured ranges and a leg period other than the measured one."""
+        lo, hi = self.wing_command_deg[0], self.wing_command_deg[-1]
+        if not lo <= theta_w_deg <= hi:
+            raise UsageError(
+                f"theta_w = {theta_w_deg:g} deg is outside the measured wing commands [{lo:g}, {hi:g}] deg; "
+                "choose a wing angle inside or an idealised model set"
+            )
+        if not 0.0 <= theta_l_deg <= self.leg_command_deg[-1]:
+            raise UsageError(
+                f"theta_l = {theta_l_deg:g} deg is outside the measured leg commands [0, "
+                f"{self.leg_command_deg[-1]:g}] deg; choose a leg amplitude inside or an idealised model set"
+            )
+        if abs(leg_period_s - self.leg_period_s) > 1e-9:
+            raise UsageError(
+                f"the measured leg profile has a period of {self.leg_period_s:g} s; got leg period "
+                f"{leg_period_s:g} s: use {self.leg_period_s:g} s or an idealised model set"
+            )
+
+    def wing_knots(self, theta_w_deg: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Knot times (s) and angles (deg) of each wing servo at this command, shape (4, K) each: linear in the
+        command between the measured ones (each knot's time and angle)."""
+        c = np.asarray(self.wing_command_deg, dtype=np.float64)
+        i = int(np.clip(np.searchsorted(c, theta_w_deg, side="right") - 1, 0, len(c) - 2))
+        f = (theta_w_deg - c[i]) / (c[i + 1] - c[i])
+        ks, kd = np.asarray(self.wing_knots_s, float), np.asarray(self.wing_knots_deg, float)
+        return (1 - f) * ks[:, i] + f * ks[:, i + 1], (1 - f) * kd[:, i] + f * kd[:, i + 1]
+
+    def leg_knots(self, theta_l_deg: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Knot times (s) and angles (deg) of the leg at this amplitude command: linear in the command between
+        the measured ones, and from the smallest down to a still leg at 0."""
+        c = np.concatenate([[0.0], np.asarray(self.leg_command_deg, dtype=np.float64)])
+        ks = np.asarray(self.leg_knots_s, float)
+        kd = np.concatenate([np.zeros((1, ks.shape[1])), np.asarray(self.leg_knots_deg, float)])
+        ks = np.concatenate([ks[:1], ks])
+        i = int(np.clip(np.searchsorted(c, theta_l_deg, side="right") - 1, 0, len(c) - 2))
+        f = (theta_l_deg - c[i]) / (c[i + 1] - c[i])
+        return (1 - f) * ks[i] + f * ks[i + 1], (1 - f) * kd[i] + f * kd[i + 1]
+
+
+def _pwl_and_slope(tau, knots_s, knots_deg):
+    """A piecewise-linear profile and its slope at ``tau`` (flat outside the knots)."""
+    angle = np.interp(tau, knots_s, knots_deg)
+    seg = np.clip(np.searchsorted(knots_s, tau, side="right") - 1, 0, len(knots_s) - 2)
+    dt = knots_s[seg + 1] - knots_s[seg]
+    slope = np.where(dt > 0, (knots_deg[seg + 1] - knots_deg[seg]) / np.where(dt > 0, dt, 1.0), 0.0)
+    inside = (tau >= knots_s[0]) & (tau < knots_s[-1])
+    return angle, np.where(inside, slope, 0.0)
+
+
+@dataclass(frozen=True)
 class Actuation:
     """Actuation profile parameters (the paper's values by default).
 
@@ -61,8 +139,12 @@ class Actuation:
     wing_close_start_s: float = 1.05
     leg_period_s: float = PAPER_LEG_PERIOD_S
     leg_cross_s: float = 0.15
+    measured: MeasuredActuation | None = None
+    """Measured per-joint profiles (``profile = "measured"``); they replace the idealised timing above."""
 
     def __post_init__(self) -> None:
+        if self.measured is not None:
+            self.measured.check(self.theta_w_deg, self.theta_l_deg, self.leg_period_s)
         for name in ("theta_w_deg", "theta_l_deg"):
             v = getattr(self, name)
             if not (np.isfinite(v) and v >= 0):
@@ -91,6 +173,8 @@ class Actuation:
 
     @property
     def wing_open_s(self) -> float:
+        if self.measured is not None:
+            return float(self.measured.wing_knots(self.theta_w_deg)[0][:, 4].max())
         """Time to open fully, s."""
         return self.theta_w_deg / self.wing_open_deg_s
 
@@ -102,6 +186,8 @@ class Actuation:
     @property
     def wing_closed_s(self) -> float:
         """Time from the start of an opening until the wings are closed again, s."""
+        if self.measured is not None:
+            return float(self.measured.wing_knots(self.theta_w_deg)[0][:, -1].max())
         return self.wing_close_start_s + self.wing_peak_deg / self.wing_close_deg_s
 
     @property
@@ -179,6 +265,9 @@ def wing_profile_deg(
     >>> w.tolist()
     [300.0, 300.0, 0.0, 0.0, -250.0, 0.0, 0.0]
     """
+    if act.measured is not None:
+        a, w = wing_joint_profiles_deg(t_s, starts_s, act, n_wing=4)
+        return a.mean(axis=-1), w.mean(axis=-1)
     t = np.asarray(t_s, dtype=np.float64)
     starts = np.asarray(starts_s, dtype=np.float64)
     if len(starts) == 0:
@@ -213,6 +302,10 @@ def leg_profile_deg(t_s: ArrayLike, act: Actuation) -> tuple[NDArray[np.float64]
     [400.0, 400.0, 0.0, -400.0, 0.0, 400.0]
     """
     t = np.asarray(t_s, dtype=np.float64)
+    if act.measured is not None:
+        ks, kd = act.measured.leg_knots(act.theta_l_deg)
+        a, w = _pwl_and_slope(np.mod(t, act.leg_period_s), ks, kd)
+        return a + 0.0, w
     period, half_cross = act.leg_period_s, act.leg_cross_s / 2
     tau = np.mod(t, period)
     first = tau < period / 2
@@ -225,3 +318,35 @@ def leg_profile_deg(t_s: ArrayLike, act: Actuation) -> tuple[NDArray[np.float64]
     near_half = np.abs(tau - period / 2) < half_cross
     speed = np.where(near_zero, rate, np.where(near_half, -rate, 0.0))
     return angle, speed
+
+
+def wing_joint_profiles_deg(
+    t_s: ArrayLike, starts_s: ArrayLike, act: Actuation, *, n_wing: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Commanded angle and speed of each wing joint, shape ``t_s.shape + (n_wing,)``.
+
+    The idealised profile drives every wing joint alike (:func:`wing_profile_deg`); the measured one drives
+    each of the four joints (LP, RP, LR, RR: the joint map's wing joints in order) by its own servo's profile,
+    restarted at every attempt and at its closed angle before the first.
+
+    Raises
+    ------
+    UsageError
+        If the profile is measured and ``n_wing`` is not 4.
+    """
+    if act.measured is None:
+        a, w = wing_profile_deg(t_s, starts_s, act)
+        return np.repeat(a[..., None], n_wing, -1), np.repeat(w[..., None], n_wing, -1)
+    if n_wing != 4:
+        raise UsageError(
+            f"the measured profile drives 4 wing joints (left pitch, right pitch, left roll, right roll); "
+            f"this robot's joint map has {n_wing}: use an idealised model set"
+        )
+    t = np.asarray(t_s, dtype=np.float64)
+    starts = np.asarray(starts_s, dtype=np.float64)
+    ks, kd = act.measured.wing_knots(act.theta_w_deg)
+    padded = np.concatenate([starts, [np.inf]])  # no attempt yet: closed
+    k = np.searchsorted(starts, t, side="right") - 1
+    tau = np.where(k >= 0, t - padded[np.clip(k, 0, None)], ks[:, -1].max() + 1.0)
+    out = [_pwl_and_slope(tau, ks[j], kd[j]) for j in range(4)]
+    return np.stack([o[0] for o in out], -1), np.stack([o[1] for o in out], -1)

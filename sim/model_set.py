@@ -35,17 +35,29 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from geometry.errors import UsageError
 
-from .actuation import Actuation
-from .world import Contact
+from .actuation import Actuation, MeasuredActuation
+from .world import MAX_ROLLING_FRICTION, Contact
 
 MODELS_DIR = Path(__file__).resolve().parent / "models"
 DEFAULT_MODEL_SET = "paper"
-PROFILES = ("idealised",)
+PROFILES = ("idealised", "measured")
 _TOP = {"name", "version", "description", "actuation", "contact"}
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
-_CONTACT = {"lateral_friction", "restitution", "stiffness_n_m", "damping_n_s_m", "solver_iterations"}
+_MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg"}
+_SERVOS = ("LP", "RP", "LR", "RR")
+_CONTACT = {
+    "lateral_friction",
+    "restitution",
+    "stiffness_n_m",
+    "damping_n_s_m",
+    "solver_iterations",
+    "rolling_friction",
+    "spinning_friction",
+}
 
 
 class ModelSetError(UsageError):
@@ -83,6 +95,7 @@ class ModelSet:
     leg_cross_s: float
     contact: Contact
     model_set_hash: str
+    measured: MeasuredActuation | None = None
 
     def actuation(
         self,
@@ -103,6 +116,7 @@ class ModelSet:
             wing_close_deg_s=self.wing_close_deg_s,
             wing_close_start_s=self.wing_close_start_s,
             leg_cross_s=self.leg_cross_s,
+            measured=self.measured,
             **kw,
         )
 
@@ -191,13 +205,19 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         raise ModelSetError(f"{where}: name must be a non-empty string; got {data['name']!r}")
     if isinstance(data["version"], bool) or not isinstance(data["version"], int) or data["version"] < 0:
         raise ModelSetError(f"{where}: version must be a whole number >= 0; got {data['version']!r}")
-    act = _check_keys(data["actuation"], _ACTUATION, _ACTUATION, f"{where} [actuation]")
+    act = data["actuation"]
+    measured_profile = isinstance(act, dict) and act.get("profile") == "measured"
+    keys = _MEASURED if measured_profile else _ACTUATION
+    act = _check_keys(act, keys, keys, f"{where} [actuation]")
     if act["profile"] not in PROFILES:
         raise ModelSetError(
             f"{where} [actuation]: profile must be one of {', '.join(PROFILES)}; got {act['profile']!r}"
         )
     con = _check_keys(
-        data["contact"], _CONTACT, _CONTACT - {"stiffness_n_m", "damping_n_s_m"}, f"{where} [contact]"
+        data["contact"],
+        _CONTACT,
+        _CONTACT - {"stiffness_n_m", "damping_n_s_m", "rolling_friction", "spinning_friction"},
+        f"{where} [contact]",
     )
     soft = [k for k in ("stiffness_n_m", "damping_n_s_m") if k in con]
     if len(soft) == 1:
@@ -209,7 +229,15 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     iters = con["solver_iterations"]
     if isinstance(iters, bool) or not isinstance(iters, int) or iters < 1:
         raise ModelSetError(f"{w}: solver_iterations must be a whole number >= 1; got {iters!r}")
+    rolling = {}
+    for k in ("rolling_friction", "spinning_friction"):
+        if k in con:
+            v = _number(con, k, w, allow_zero=True)
+            if v > MAX_ROLLING_FRICTION:
+                raise ModelSetError(f"{w}: {k} must be in [0, {MAX_ROLLING_FRICTION:g}]; got {v!r}")
+            rolling[k] = v
     contact = Contact(
+        **rolling,
         friction=_number(con, "lateral_friction", w, allow_zero=True),
         restitution=_number(con, "restitution", w, allow_zero=True),
         stiffness_n_m=_number(con, "stiffness_n_m", w) if soft else None,
@@ -219,21 +247,45 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     if contact.restitution > 1:
         raise ModelSetError(f"{w}: restitution must be in [0, 1]; got {contact.restitution!r}")
     wa = f"{where} [actuation]"
-    timing = {
-        k: _number(act, k, wa)
-        for k in ("wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s")
+    if measured_profile:
+        measured = _measured(act, wa)
+        # the idealised timing fields are unused; Actuation's defaults keep them valid
+        d = Actuation(0.0, 0.0)
+        timing = {
+            k: getattr(d, k)
+            for k in ("wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s")
+        }
+        act_canon = {
+            "profile": "measured",
+            "wing_command_deg": list(measured.wing_command_deg),
+            "leg_command_deg": list(measured.leg_command_deg),
+            "wing": {
+                s: {"knots_s": measured.wing_knots_s[i], "knots_deg": measured.wing_knots_deg[i]}
+                for i, s in enumerate(_SERVOS)
+            },
+            "leg": {"knots_s": measured.leg_knots_s, "knots_deg": measured.leg_knots_deg},
+        }
+    else:
+        measured = None
+        timing = {
+            k: _number(act, k, wa)
+            for k in ("wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s")
+        }
+        act_canon = {"profile": act["profile"], **timing}
+    con_canon = {
+        "lateral_friction": contact.friction,
+        "restitution": contact.restitution,
+        "stiffness_n_m": contact.stiffness_n_m,
+        "damping_n_s_m": contact.damping_n_s_m,
+        "solver_iterations": contact.solver_iterations,
     }
+    # the new keys enter the hash only when set, so the sets of before keep their hashes
+    con_canon.update({k: v for k, v in rolling.items() if v != 0})
     canonical = {
         "name": data["name"],
         "version": data["version"],
-        "actuation": {"profile": act["profile"], **timing},
-        "contact": {
-            "lateral_friction": contact.friction,
-            "restitution": contact.restitution,
-            "stiffness_n_m": contact.stiffness_n_m,
-            "damping_n_s_m": contact.damping_n_s_m,
-            "solver_iterations": contact.solver_iterations,
-        },
+        "actuation": act_canon,
+        "contact": con_canon,
     }
     digest = hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()[:16]
     ms = ModelSet(
@@ -244,10 +296,67 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         act["profile"],
         contact=contact,
         model_set_hash=digest,
+        measured=measured,
         **timing,
     )
     try:
-        ms.actuation(0.0, 0.0)
+        if measured is None:
+            ms.actuation(0.0, 0.0)
+        else:
+            ms.actuation(measured.wing_command_deg[0], 0.0, leg_period_s=measured.leg_period_s)
     except ValueError as exc:
         raise ModelSetError(f"{wa}: {exc}") from None
     return ms
+
+
+def _knot_table(table, n_cmd: int, where: str, *, closed_ends: bool, period_s: float | None = None):
+    """Validated ``knots_s`` and ``knots_deg`` of one joint: one row per command, same length, times from 0
+    increasing, the closed angle (or 0 and the period, for the leg) at both ends."""
+    _check_keys(table, {"knots_s", "knots_deg"}, {"knots_s", "knots_deg"}, where)
+    rows = {}
+    for key in ("knots_s", "knots_deg"):
+        v = table[key]
+        ok = isinstance(v, list) and len(v) == n_cmd and all(isinstance(r, list) for r in v)
+        ok = ok and all(
+            not isinstance(x, bool) and isinstance(x, (int, float)) and math.isfinite(x) for r in v for x in r
+        )
+        if not ok:
+            raise ModelSetError(f"{where}: {key} must be {n_cmd} lists of finite numbers, one per command")
+        rows[key] = tuple(tuple(float(x) for x in r) for r in v)
+    for ks, kd in zip(rows["knots_s"], rows["knots_deg"], strict=True):
+        if len(ks) != len(kd) or len(ks) < 3 or len(ks) != len(rows["knots_s"][0]):
+            raise ModelSetError(f"{where}: every row of knots_s and knots_deg needs the same length (>= 3)")
+        if ks[0] != 0 or not (np.diff(ks) > 0).all():
+            raise ModelSetError(f"{where}: knots_s must start at 0 and increase; got {list(ks)}")
+        if kd[0] != kd[-1] or (not closed_ends and kd[0] != 0):
+            raise ModelSetError(
+                f"{where}: knots_deg must end where it starts (the closed angle{'' if closed_ends else ', 0'}); "
+                f"got {kd[0]:g} and {kd[-1]:g}"
+            )
+        if period_s is not None and ks[-1] != period_s:
+            raise ModelSetError(f"{where}: every row of knots_s must end at the same period; got {ks[-1]:g}")
+    return rows["knots_s"], rows["knots_deg"]
+
+
+def _commands(act: dict, key: str, where: str) -> tuple[float, ...]:
+    v = act[key]
+    ok = isinstance(v, list) and len(v) >= (2 if key.startswith("wing") else 1)
+    ok = ok and all(not isinstance(x, bool) and isinstance(x, (int, float)) and math.isfinite(x) for x in v)
+    if not ok or not (np.diff(v) > 0).all() or v[0] <= 0:
+        raise ModelSetError(f"{where}: {key} must be increasing angles > 0 deg (at least two for the wing)")
+    return tuple(float(x) for x in v)
+
+
+def _measured(act: dict, where: str) -> MeasuredActuation:
+    wing_cmd = _commands(act, "wing_command_deg", where)
+    leg_cmd = _commands(act, "leg_command_deg", where)
+    wing = _check_keys(act["wing"], set(_SERVOS), set(_SERVOS), f"{where[:-1]}.wing]")
+    ws, wd = zip(
+        *(_knot_table(wing[s], len(wing_cmd), f"{where[:-1]}.wing.{s}]", closed_ends=True) for s in _SERVOS),
+        strict=True,
+    )
+    leg = act["leg"]
+    lw = f"{where[:-1]}.leg]"
+    period = leg.get("knots_s", [[None]])[0][-1] if isinstance(leg, dict) else None
+    ls, ld = _knot_table(leg, len(leg_cmd), lw, closed_ends=False, period_s=period)
+    return MeasuredActuation(wing_cmd, tuple(ws), tuple(wd), leg_cmd, ls, ld)

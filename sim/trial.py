@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import logging
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -36,7 +36,7 @@ from numpy.typing import NDArray
 from geometry import JointMap, pitch_roll_from_up
 from geometry.errors import GeometryError, JointLimitError
 
-from .actuation import Actuation, attempt_phases, attempt_starts_s, leg_profile_deg, wing_profile_deg
+from .actuation import Actuation, attempt_phases, attempt_starts_s, leg_profile_deg, wing_joint_profiles_deg
 from .model import HULL_MAX_VERTICES, HULL_TOL_M, sim_model
 from .protocol import (
     DEFAULT_DT_S,
@@ -562,16 +562,7 @@ def _schedule(
     """The actuation at these angles, the wing openings' start times (noise drawn from ``gen``), and the trial
     length (cut one wing period after the last allowed attempt)."""
     base = actuation or model_set.actuation(theta_w_deg, theta_l_deg)
-    act = Actuation(
-        theta_w_deg,
-        theta_l_deg,
-        base.wing_period_s,
-        base.wing_open_deg_s,
-        base.wing_close_deg_s,
-        base.wing_close_start_s,
-        base.leg_period_s,
-        base.leg_cross_s,
-    )
+    act = replace(base, theta_w_deg=theta_w_deg, theta_l_deg=theta_l_deg)
     starts = attempt_starts_s(act, phase=phase, cv=cv, rng=gen, duration_s=duration_s)
     if attempts is not None:
         if int(attempts) != attempts or attempts < 1:
@@ -622,15 +613,12 @@ def _servo_commands(
     )  # held command: the profile mid-period (exact on ramps)
 
     def joint_profiles(t):
-        wing, wing_v = wing_profile_deg(t, starts, act)
+        # each wing joint its own profile (the same for all under the idealised profile)
+        wing, wing_v = wing_joint_profiles_deg(t, starts, act, n_wing=n_wing)
         leg, leg_v = leg_profile_deg(t, act)
-        q = np.deg2rad(
-            np.concatenate([np.repeat(wing[:, None], n_wing, 1), np.repeat(leg[:, None], n_leg, 1)], 1)
-        )
-        v = np.deg2rad(
-            np.concatenate([np.repeat(wing_v[:, None], n_wing, 1), np.repeat(leg_v[:, None], n_leg, 1)], 1)
-        )
-        return wing, leg, q, v
+        q = np.deg2rad(np.concatenate([wing, np.repeat(leg[:, None], n_leg, 1)], 1))
+        v = np.deg2rad(np.concatenate([wing_v, np.repeat(leg_v[:, None], n_leg, 1)], 1))
+        return (wing[:, 0] if act.measured is None else wing.mean(axis=1)), leg, q, v
 
     _, _, target, speed = joint_profiles(t_hold)
     wing_deg, leg_deg, target_end, _ = joint_profiles(t_end_k)

@@ -64,6 +64,9 @@ pb = _quiet_import_pybullet()
 log = logging.getLogger(__name__)
 
 G_M_S2 = 9.81
+MAX_ROLLING_FRICTION = 0.1
+"""Largest rolling or spinning friction accepted (pybullet's coefficients; 0.1 is already far above rubber
+on a hard floor, about 0.01)."""
 
 
 class SimulationDiverged(RuntimeError):
@@ -86,6 +89,10 @@ class Contact:
     solver_iterations : int
         pybullet ``numSolverIterations`` (its default is 50). 20 passes the same convergence criterion as the
         time step at less cost per step (``benchmarks/sim_convergence.py``; docs/sim.md).
+    rolling_friction, spinning_friction : float
+        pybullet ``rollingFriction`` and ``spinningFriction`` of every robot link (and the ground: pybullet
+        combines them as products, as for mu), dimensionless torque per normal force, in
+        [0, ``MAX_ROLLING_FRICTION``]; 0 (the default) leaves them unset, pybullet's behaviour before.
     """
 
     friction: float = 1.0
@@ -93,6 +100,17 @@ class Contact:
     stiffness_n_m: float | None = 1e4
     damping_n_s_m: float | None = 100.0
     solver_iterations: int = 20
+    rolling_friction: float = 0.0
+    spinning_friction: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("rolling_friction", "spinning_friction"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and 0.0 <= v <= MAX_ROLLING_FRICTION):
+                raise ValueError(
+                    f"{name} must be a number in [0, {MAX_ROLLING_FRICTION:g}] (torque per normal force; 0: "
+                    f"off); got {v!r}"
+                )
 
     @classmethod
     def rigid(cls, **kw) -> Contact:
@@ -225,12 +243,19 @@ class World:
             if c.stiffness_n_m is None
             else {"contactStiffness": c.stiffness_n_m, "contactDamping": c.damping_n_s_m}
         )
+        # rolling/spinning friction only when set: the default calls pybullet exactly as before
+        rolling = {
+            k: v
+            for k, v in (("rollingFriction", c.rolling_friction), ("spinningFriction", c.spinning_friction))
+            if v > 0
+        }
         pb.changeDynamics(
             self.ground,
             -1,
             lateralFriction=c.friction,
             restitution=1.0,
             contactProcessingThreshold=0.0,
+            **({k: 1.0 for k in rolling}),
             physicsClientId=cid,
         )
         for k in self.links:
@@ -244,6 +269,7 @@ class World:
                 angularDamping=0.0,
                 jointDamping=0.0,
                 **soft,
+                **rolling,
                 physicsClientId=cid,
             )
         # free the non-driven joints of pybullet's default velocity motors

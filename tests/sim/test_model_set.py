@@ -55,7 +55,12 @@ def test_the_hash_follows_the_values_not_the_comments(tmp_path):
         (("wing_close_deg_s = 250.0", "wing_close_deg_s = -1.0"), "wing_close_deg_s must be > 0"),
         (("restitution = 0.1", "restitution = 1.5"), "restitution must be in"),
         (("damping_n_s_m = 100.0\n", ""), "give both stiffness_n_m and damping_n_s_m"),
-        (('profile = "idealised"', 'profile = "measured"'), "profile must be one of"),
+        (('profile = "idealised"', 'profile = "tabulated"'), "profile must be one of"),
+        (('profile = "idealised"', 'profile = "measured"'), "unknown key 'leg_cross_s'"),
+        (
+            ("solver_iterations = 20", "solver_iterations = 20\nrolling_friction = -0.1"),
+            "rolling_friction must be",
+        ),
         (("[contact]", "[contact"), "not valid TOML"),
     ],
 )

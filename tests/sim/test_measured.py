@@ -1,0 +1,149 @@
+"""Measured actuation (sim/measured.py, the measured profile of sim/actuation.py and the physical set)."""
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from sim.actuation import leg_profile_deg, wing_joint_profiles_deg
+from sim.model_set import ModelSetError, load_model_set
+from sim.trial import run_trial
+from sim.world import Contact
+
+SHARED = Path(os.environ.get("LANDSCAPE_SHARED", Path(__file__).resolve().parents[2] / ".." / "shared"))
+DATA = SHARED / "ref" / "physical_robot"
+needs_data = pytest.mark.skipif(not (DATA / "motor_pulse_v2.mat").is_file(), reason="no physical robot data")
+PHYSICAL_TEXT = (Path(__file__).resolve().parents[2] / "sim" / "models" / "physical.toml").read_text()
+
+
+def test_measured_knots_drive_each_wing_joint_its_own_way():
+    act = load_model_set("physical").actuation(75.0, 30.0)
+    ks, kd = act.measured.wing_knots(75.0)
+    # at a knot each joint is at that knot's angle, one attempt later the same again
+    for j in range(4):
+        a, _ = wing_joint_profiles_deg(ks[j, 2:6] + 0.3, [0.3, 2.3], act, n_wing=4)
+        np.testing.assert_allclose(a[:, j], kd[j, 2:6], atol=1e-9)
+        b, _ = wing_joint_profiles_deg(ks[j, 2:6] + 2.3, [0.3, 2.3], act, n_wing=4)
+        np.testing.assert_allclose(b[:, j], kd[j, 2:6], atol=1e-9)
+    a, _ = wing_joint_profiles_deg([0.6], [0.3], act, n_wing=4)
+    assert np.ptp(a) > 1.0  # left and right differ
+    # between commands each knot is linear in the command
+    lo, hi = act.measured.wing_knots(60.0), act.measured.wing_knots(90.0)
+    mid = load_model_set("physical").actuation(67.5, 0.0).measured.wing_knots(67.5)
+    np.testing.assert_allclose(mid[1], (act.measured.wing_knots(60.0)[1] + kd) / 2, atol=1e-12)
+    assert lo[1][:, 4].mean() < kd[:, 4].mean() < hi[1][:, 4].mean()
+    # the wings are closed until the first attempt and after the last knot
+    a, w = wing_joint_profiles_deg([0.0, 0.29, 0.3 + ks[:, -1].max() + 0.01], [0.3], act, n_wing=4)
+    np.testing.assert_allclose(a, np.repeat(kd[None, :, 0], 3, 0), atol=1e-12)
+    assert not w.any()
+
+
+def test_measured_speed_is_the_slope_and_the_leg_is_periodic():
+    act = load_model_set("physical").actuation(90.0, 45.0)
+    t = np.linspace(0.0, 4.0, 40001)
+    a, w = wing_joint_profiles_deg(t, [0.1, 2.1], act, n_wing=4)
+    fd = np.diff(a, axis=0) / np.diff(t)[:, None]
+    assert (np.isclose(fd, w[:-1], atol=1e-6).mean()) > 0.995  # off only at the kinks
+    la, lw = leg_profile_deg(t, act)
+    np.testing.assert_allclose(leg_profile_deg(t + 0.8, act)[0], la, atol=1e-9)
+    assert la[0] == 0.0 and lw[0] > 0  # upward midline crossing at t = 0, as the idealised leg
+    ks, kd = act.measured.leg_knots(22.5)
+    np.testing.assert_allclose(kd, (act.measured.leg_knots(15.0)[1] + act.measured.leg_knots(30.0)[1]) / 2)
+    np.testing.assert_allclose(act.measured.leg_knots(7.5)[1], act.measured.leg_knots(15.0)[1] / 2)
+
+
+@pytest.mark.parametrize(
+    "tw,tl,match",
+    [(59.0, 30.0, r"outside the measured wing commands \[60, 90\]"), (75.0, 46.0, r"leg commands \[0, 45\]")],
+)
+def test_commands_outside_the_measured_range_are_refused(tw, tl, match):
+    with pytest.raises(ValueError, match=match):
+        load_model_set("physical").actuation(tw, tl)
+
+
+@pytest.mark.parametrize(
+    "edit,match",
+    [
+        (("wing_command_deg = [60, 75, 90]", "wing_command_deg = [60, 90, 75]"), "must be increasing"),
+        (("[actuation.wing.RR]", "[actuation.wing.XX]"), "unknown key 'XX'"),
+        (("knots_s = [[0, 0.0649", "knots_s = [[0.01, 0.0649"), "must start at 0"),
+        (('profile = "measured"', 'profile = "measured"\nwing_open_deg_s = 270.0'), "unknown key"),
+    ],
+)
+def test_a_bad_measured_set_is_refused(tmp_path, edit, match):
+    f = tmp_path / "bad.toml"
+    assert edit[0] in PHYSICAL_TEXT
+    f.write_text(PHYSICAL_TEXT.replace(*edit, 1))
+    with pytest.raises(ModelSetError, match=match):
+        load_model_set(f)
+
+
+def test_the_hash_covers_the_knots_and_the_contact_keys(tmp_path):
+    base = load_model_set("physical").model_set_hash
+    f = tmp_path / "a.toml"
+    f.write_text(PHYSICAL_TEXT.replace("-1.49, 14.77", "-1.49, 14.78", 1))
+    assert load_model_set(f).model_set_hash != base
+    f.write_text(
+        PHYSICAL_TEXT.replace("solver_iterations = 20", "solver_iterations = 20\nrolling_friction = 0.01")
+    )
+    assert load_model_set(f).contact.rolling_friction == 0.01 and load_model_set(f).model_set_hash != base
+    f.write_text(
+        PHYSICAL_TEXT.replace("solver_iterations = 20", "solver_iterations = 20\nrolling_friction = 0.0")
+    )
+    assert load_model_set(f).model_set_hash == base  # 0 is the default: the same model
+    f.write_text(
+        PHYSICAL_TEXT.replace("solver_iterations = 20", "solver_iterations = 20\nspinning_friction = 0.5")
+    )
+    with pytest.raises(ModelSetError, match=r"spinning_friction must be in \[0, 0.1\]"):
+        load_model_set(f)
+    with pytest.raises(ValueError, match="rolling_friction must be a number in"):
+        Contact(rolling_friction=-0.1)
+
+
+def test_the_measured_profile_drives_the_joints():
+    ms = load_model_set("physical")
+    r = run_trial(75.0, 0.0, phase=0.0, cv=0.0, rng=1, duration_s=1.6, trace=True, model_set=ms)
+    assert r.model_set == "physical" and r.model_set_hash == ms.model_set_hash
+    tr = r.trace
+    act = ms.actuation(75.0, 0.0)
+    ref, _ = wing_joint_profiles_deg(tr.t_s, [0.0], act, n_wing=4)
+    np.testing.assert_allclose(tr.wing_cmd_deg, ref.mean(axis=1), atol=0.6)  # the command: the fitted profile
+    hold = (tr.t_s > 0.5) & (tr.t_s < 1.0)
+    # the joints reach the measured plateau (mean of the four servos), not the command 75 or paper's profile
+    assert abs(tr.wing_deg[hold].mean() - ref[hold].mean()) < 1.5
+    paper = run_trial(75.0, 0.0, phase=0.0, cv=0.0, rng=1, duration_s=1.6, trace=True)
+    assert abs(paper.trace.wing_deg[hold].mean() - 75.0) < 1.5
+    # the joints follow the fitted profile within the servo's lag (10 ms at up to ~600 deg/s), the paper's do not
+    assert np.abs(tr.wing_deg - ref.mean(axis=1)).max() < 2.0
+    assert np.abs(paper.trace.wing_deg - ref.mean(axis=1)).max() > 20.0
+
+
+@needs_data
+def test_the_shipped_knots_reproduce_the_traces_and_regenerate():
+    from sim.measured import (
+        _loadmat,
+        _wing_samples,
+        fit_leg_profiles,
+        fit_wing_profiles,
+        measured_actuation_toml,
+    )
+
+    ms = load_model_set("physical")
+    pulse = _loadmat(DATA / "motor_pulse_v2.mat")["pulse"]
+    bound = {60.0: 3.0, 75.0: 3.0, 90.0: 7.5}  # at 90 deg the first cycle lags the periodic one by ~40 ms
+    for j, servo in enumerate(("LP", "RP", "LR", "RR")):
+        for c, cmd in enumerate(ms.measured.wing_command_deg):
+            ks, kd = ms.measured.wing_knots_s[j][c], ms.measured.wing_knots_deg[j][c]
+            _, _, parts = _wing_samples(pulse, int(cmd), servo)
+            for tau, y in parts.values():
+                assert np.abs(np.interp(tau, ks, kd) - y).max() < bound[cmd], (servo, cmd)
+    wing = fit_wing_profiles(DATA / "motor_pulse_v2.mat")
+    s = wing["summary"]
+    assert [round(x["plateau_deg"], 0) for x in s] == [57.0, 73.0, 80.0]
+    assert 260 < s[0]["open_deg_s"] < 280 and 260 < s[1]["open_deg_s"] < 280
+    assert all(400 < x["close_deg_s"] < 460 for x in s)
+    leg = fit_leg_profiles(DATA / "vib_pulse_v2.mat")
+    assert max(leg["max_error_deg"]) < 2.5
+    text = measured_actuation_toml(DATA)
+    assert text in PHYSICAL_TEXT  # the shipped block is what the function generates
