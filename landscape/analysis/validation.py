@@ -97,6 +97,15 @@ def cell_phases(theta_w_cmd_deg: float, theta_l_deg: float, trials: int, seed: i
     return [round(float(x), 6) % 1.0 for x in rng.random(int(trials))]
 
 
+def simulates_commands(model_set: str | Path) -> bool:
+    """Whether a model set's wing angle is the servo *command* (a measured actuation profile, which carries the
+    measured plateau of each servo itself) rather than the wing angle reached (an idealised profile, simulated
+    at the measured plateau)."""
+    from sim.model_set import load_model_set
+
+    return load_model_set(model_set).profile == "measured"
+
+
 def validation_specs(
     cells: Sequence[tuple[float, float]],
     plateaus_deg: dict[float, float],
@@ -110,7 +119,8 @@ def validation_specs(
     dt_s: float | None = None,
     joint_map=None,
 ):
-    """The simulated trials of the cells: at each cell's measured plateau, ``trials`` random phases.
+    """The simulated trials of the cells: ``trials`` random phases each, at the cell's measured plateau (or at its
+    command for a set with a measured actuation profile, :func:`simulates_commands`).
 
     Returns a list of :class:`sim.sweep.TrialSpec` for :func:`sim.sweep.run_sweep`.
     """
@@ -122,9 +132,10 @@ def validation_specs(
     if not cells:
         raise ValidationError("no cells to simulate; give --cells WING:LEG,... from the recorded cells")
     specs = []
+    commanded = simulates_commands(model_set)
     for w, leg in cells:
         specs += sweep_specs(
-            [plateaus_deg.get(w, w)],
+            [w if commanded else plateaus_deg.get(w, w)],
             [leg],
             [cv],
             phase=cell_phases(w, leg, trials, seed),
@@ -298,10 +309,13 @@ def compare(
     cells: Sequence[tuple[float, float]],
     plateaus_deg: dict[float, float],
     recorded_attempts: Sequence[AttemptCount] = (),
+    *,
+    commanded: bool = False,
 ) -> Validation:
     """Simulated trial rows (one model set) against the physical trials, at ``cells``.
 
-    A row belongs to a cell when its wing angle is the cell's plateau and its leg amplitude the cell's.
+    A row belongs to a cell when its leg amplitude is the cell's and its wing angle the cell's plateau (or, with
+    ``commanded``, the cell's wing command: a measured actuation profile).
     ``recorded_attempts`` (the lab's per-attempt record) gives the per-attempt comparison at the wing commands
     of ``cells``; without it that comparison is empty.
     """
@@ -315,7 +329,7 @@ def compare(
     sim_att: dict[float, list[int]] = {}
     sim_sides = []
     for w, leg in cells:
-        ws = plateaus_deg.get(w, w)
+        ws = w if commanded else plateaus_deg.get(w, w)
         pt = [t for t in phys if t.theta_w_cmd_deg == w and t.theta_l_deg == leg]
         st = [r for r in rows if abs(r["theta_w_deg"] - ws) < 1e-9 and abs(r["theta_l_deg"] - leg) < 1e-9]
         st = [r for r in st if r.get("status") == "ok"]
@@ -418,4 +432,4 @@ def validate(
     keys = {s.key() for s in specs}
     rows = [r for r in read_rows(db) if tuple(r[c] for c in KEY_COLUMNS) in keys]
     recorded = [a for a in recorded_attempt_counts(data_dir) if a.theta_w_cmd_deg in WING_COMMANDS_DEG]
-    return compare(phys, rows, chosen, plateaus, recorded), summary
+    return compare(phys, rows, chosen, plateaus, recorded, commanded=simulates_commands(model_set)), summary

@@ -93,7 +93,7 @@ def validation_markdown(v) -> str:
     rates, the side and the totals."""
     lines = [f"model set: {v.model_set} ({v.model_set_hash})", ""]
     head = (
-        "| wing cmd (simulated) | leg | physical righted [Wilson 95 %] | simulated righted [Wilson 95 %] | agree |"
+        "| wing cmd (simulated at) | leg | physical righted [Wilson 95 %] | simulated righted [Wilson 95 %] | agree |"
         " physical time to right | simulated time to right |"
     )
     for split in ("fit", "held-out"):
