@@ -433,3 +433,38 @@ def validate(
     rows = [r for r in read_rows(db) if tuple(r[c] for c in KEY_COLUMNS) in keys]
     recorded = [a for a in recorded_attempt_counts(data_dir) if a.theta_w_cmd_deg in WING_COMMANDS_DEG]
     return compare(phys, rows, chosen, plateaus, recorded, commanded=simulates_commands(model_set)), summary
+
+
+def validation_from_json(doc: dict) -> Validation:
+    """A :class:`Validation` back from the ``validation.json`` that ``landscape physical validate`` writes (its
+    extra keys, e.g. ``robot`` and ``trials``, are ignored).
+
+    Raises
+    ------
+    ValidationError
+        If ``doc`` is not such a file's content.
+    """
+
+    def nan(d: dict) -> dict:  # the JSON writer stores nan (no time to right, no interval) as null
+        return {k: (math.nan if v is None else v) for k, v in d.items()}
+
+    try:
+        return Validation(
+            doc["model_set"],
+            doc["model_set_hash"],
+            tuple(CellComparison(**nan(c)) for c in doc["cells"]),
+            tuple(
+                AttemptComparison(a["theta_w_cmd_deg"], AttemptCount(**nan(a["physical"])),
+                                  AttemptCount(**nan(a["simulated"])),
+                                  a["agree"])
+                for a in doc["attempts"]
+            ),
+            SideComparison(**nan(doc["side"])),
+            {k: tuple(v) for k, v in doc["agree_counts"].items()},
+            dict(doc["log_likelihood"]),
+        )  # fmt: skip
+    except (KeyError, TypeError) as exc:
+        raise ValidationError(
+            f"not a validation.json of `landscape physical validate` ({type(exc).__name__}: {exc}); "
+            "give the --out directory of that command"
+        ) from None

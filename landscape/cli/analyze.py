@@ -242,15 +242,26 @@ def barrier_cmd(db, out, step, phase, robot):
     "robot's recorded attempts at each wing angle over the landscape at its measured wing plateau, and its "
     "trials' outcomes per setting [default: no physical section].",
 )
+@click.option(
+    "--validation",
+    "validations",
+    multiple=True,
+    type=click.Path(exists=True, path_type=Path),
+    help="An output directory (or validation.json) of `landscape physical validate` or `calibrate`: add the "
+    "simulation-against-physical section (repeat for several model sets; with --physical, also the resting "
+    "pitch table) [default: no validation section].",
+)
 @TRIALS_ROBOT
-def report_cmd(db, out, check, physical_dir, robot):
+def report_cmd(db, out, check, physical_dir, validations, robot):
     """One self-contained HTML page with every analysis, its figures (PNG, SVG) and tables (CSV); with
-    --physical, the physical robot's attempts too."""
+    --physical, the physical robot's attempts too; with --validation, the simulation against the physical robot."""
     from landscape.viz.report import check_page
     from landscape.viz.sections import build_report
 
     out = _out(out)
-    page, sections = build_report(db, out, robot=_robot_file(robot), physical_dir=physical_dir)
+    page, sections = build_report(
+        db, out, robot=_robot_file(robot), physical_dir=physical_dir, validations=list(validations)
+    )
     missing = [s.title for s in sections if s.missing]
     click.echo(
         f"wrote {page} ({len(sections) - len(missing)}/{len(sections)} analyses"

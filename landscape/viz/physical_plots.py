@@ -137,7 +137,7 @@ def validation_markdown(v) -> str:
 
 def time_to_right_figure(v, path: str | Path) -> Path:
     """Median time to right ± s.d. per cell, physical beside simulated (the source paper's Fig. 4(c) analogue),
-    PNG and SVG; held-out cells hatched."""
+    PNG and SVG; held-out cells hatched. ``v``: a :class:`~landscape.analysis.validation.Validation`."""
     from landscape.viz._mpl import plt, save
 
     cells = list(v.cells)

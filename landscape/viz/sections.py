@@ -908,6 +908,121 @@ def section_physical(
     )
 
 
+def section_validation(
+    out: Path, *, validations: list[str | Path], data_dir: str | Path | None = None
+) -> Section:
+    """The simulation against the physical robot: per model set (a ``landscape physical validate`` or
+    ``calibrate`` output directory, or its ``validation.json``), success per cell with the fit and held-out
+    cells apart, per-attempt rates, righting side and the time-to-right figure; with ``data_dir``, the resting
+    pitch while the wings are held open, robot beside each set's robot model.
+
+    Raises
+    ------
+    ValidationError
+        If a file is not a ``validation.json``.
+    """
+    import json
+
+    from landscape.analysis import physical as ph
+    from landscape.analysis.validation import validation_from_json
+    from landscape.viz.physical_plots import time_to_right_figure
+
+    title = "The simulation against the physical robot"
+    docs = []
+    for v in validations:
+        f = Path(v) / "validation.json" if Path(v).is_dir() else Path(v)
+        if not f.is_file():
+            from landscape.analysis.validation import ValidationError
+
+            raise ValidationError(
+                f"--validation: {f} not found; give the --out directory of `landscape physical validate`"
+            )
+        docs.append(json.loads(f.read_text()))
+    paras, figures, tables = [], [], []
+    paras.append(
+        "Simulated trials at each physical cell (random first-attempt phases, the set's own actuation) beside the "
+        "physical robot's recorded trials. A cell agrees when each success fraction lies inside the other's "
+        "Wilson 95 % interval; cells with leg amplitude 15° or 45° are held out of any calibration and counted "
+        "apart."
+    )
+    for k, doc in enumerate(docs):
+        v = validation_from_json(doc)
+        tag = f"{v.model_set} ({v.model_set_hash})"
+        fit, held, every = v.agree_counts["fit"], v.agree_counts["held-out"], v.agree_counts["all"]
+        s = v.side
+        side = f"{s.sim_positive}/{s.sim_events}" if s.sim_events else "no righting events"
+        paras.append(
+            f"Model set {tag}, robot {Path(str(doc.get('robot', '?'))).name}, {doc.get('trials', '?')} trials a cell, "
+            f"Cv {doc.get('cv', '?')}: {every[0]} of {every[1]} cells agree ({fit[0]} of {fit[1]} fit cells, "
+            f"{held[0]} of {held[1]} held-out cells); log-likelihood of the physical outcomes "
+            f"{v.log_likelihood['all']:.1f}. Per-attempt rates agreeing: "
+            f"{sum(a.agree for a in v.attempts)} of {len(v.attempts)} wing commands. Righting to + roll: "
+            f"simulated {side}, physical {s.phys_positive}/{s.phys_events}."
+        )
+        d = out / "validation" / f"{k}_{v.model_set}"
+        cells = _write_csv(d / "cells.csv", [{c: getattr(x, c) for c in x.CSV_COLUMNS} for x in v.cells])
+        att = _write_csv(
+            d / "attempts.csv",
+            [
+                {
+                    "theta_w_cmd_deg": a.theta_w_cmd_deg,
+                    "physical": f"{a.physical.successes}/{a.physical.attempts}",
+                    "physical_low": a.physical.ci_low,
+                    "physical_high": a.physical.ci_high,
+                    "simulated": f"{a.simulated.successes}/{a.simulated.attempts}",
+                    "simulated_low": a.simulated.ci_low,
+                    "simulated_high": a.simulated.ci_high,
+                    "agree": a.agree,
+                }
+                for a in v.attempts
+            ],
+        )
+        tables += [
+            Table(f"{tag}: success per cell, physical and simulated (Wilson 95 %)", cells),
+            Table(f"{tag}: per-attempt success rate per wing command", att),
+        ]
+        png = time_to_right_figure(v, d / "time_to_right.png")
+        figures.append(
+            Figure(
+                png,
+                f"Time to right, physical and simulated ({tag}); hatched: held-out cells",
+                png.with_suffix(".svg"),
+            )
+        )
+    if data_dir is not None:
+        from geometry.robots import load_robot
+
+        rows = ph.resting_pitch_table(data_dir)
+        out_rows = []
+        robots = {str(doc.get("robot")) for doc in docs if doc.get("robot")}
+        models = {}
+        for r in sorted(robots):
+            rb = load_robot(r)
+            plateaus = [x.theta_w_measured_deg for x in rows]
+            models[rb.name] = ph.model_plateau_pitch_deg(rb, plateaus)
+        for i, x in enumerate(rows):
+            row = {
+                "wing_command_deg": x.theta_w_cmd_deg,
+                "measured_plateau_deg": x.theta_w_measured_deg,
+                "robot_median_pitch_deg": x.median_deg,
+                "robot_q25_deg": x.q25_deg,
+                "robot_q75_deg": x.q75_deg,
+                "n": x.n,
+            }
+            for name, vals in models.items():
+                row[f"model_{name}_deg"] = vals[i]
+                row[f"model_{name}_minus_robot_deg"] = vals[i] - x.median_deg
+            out_rows.append(row)
+        tables.append(
+            Table(
+                "Resting pitch while the wings are held open (leg still): robot and model, relative to their rest "
+                "before the first opening",
+                _write_csv(out / "validation" / "resting_pitch.csv", out_rows),
+            )
+        )
+    return Section("validation", title, tuple(paras), tuple(figures), tuple(tables))
+
+
 #: the report's sections in page order; a new analysis is one ``section_*`` function and one entry here
 SECTIONS = {
     "probability": section_probability,
@@ -922,10 +1037,16 @@ _ROBOT_SECTIONS = {"barrier vs outcome", "trajectories"}
 
 
 def build_report(
-    db: Path, out: Path, *, robot: str | Path | None = None, physical_dir: str | Path | None = None
+    db: Path,
+    out: Path,
+    *,
+    robot: str | Path | None = None,
+    physical_dir: str | Path | None = None,
+    validations: list[str | Path] = (),
 ) -> tuple[Path, list[Section]]:
     """Every section of :data:`SECTIONS` on the trials of ``db``, and one self-contained HTML page in ``out``;
-    with ``physical_dir`` (the lab's data directory), also :func:`section_physical`.
+    with ``physical_dir`` (the lab's data directory), also :func:`section_physical`; with ``validations``
+    (``landscape physical validate`` outputs), also :func:`section_validation`.
 
     Returns
     -------
@@ -949,6 +1070,10 @@ def build_report(
         t0 = time.perf_counter()
         sections.append(section_physical(rows, out, db, data_dir=physical_dir, robot=robot))
         timings["physical robot"] = time.perf_counter() - t0
+    if validations:
+        t0 = time.perf_counter()
+        sections.append(section_validation(out, validations=list(validations), data_dir=physical_dir))
+        timings["validation"] = time.perf_counter() - t0
     ok = [r for r in rows if r["status"] == "ok"]
     inputs = {
         "database": str(Path(db).resolve()),

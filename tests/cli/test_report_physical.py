@@ -54,3 +54,31 @@ def test_report_with_physical_adds_the_attempts_and_the_cells(capsys, db, tmp_pa
         cells = list(csv.DictReader(f))
     assert len(cells) == len(ph.physical_cells(ph.physical_trials(PHYSICAL)))
     assert "physical_cells.csv" in html and str(PHYSICAL.resolve()) in html
+
+
+@pytest.mark.shared
+@pytest.mark.skipif(
+    not (PHYSICAL / "robot_attempts.mat").is_file(), reason=f"{PHYSICAL} is absent (set LANDSCAPE_SHARED)"
+)
+def test_report_with_validation_adds_the_simulated_against_physical_section(capsys, db, tmp_path):
+    val = tmp_path / "val"
+    code, _, err = run(capsys, "physical", "validate", "--data", PHYSICAL, "--cells", "75:15,90:30", "--trials",
+                       "2", "--duration", "2", "--out", val, "--no-progress", "--workers", "1")  # fmt: skip
+    assert code == 0, err
+    out = tmp_path / "r"
+    code, stdout, err = run(
+        capsys, "report", "--db", db, "--out", out, "--validation", val, "--physical", PHYSICAL
+    )
+    assert code == 0, err
+    html = (out / "index.html").read_text()
+    assert "The simulation against the physical robot" in html and "Model set paper (" in html
+    assert "of 1 fit cells" in html and "of 1 held-out cells" in html
+    assert (out / "validation" / "0_paper" / "time_to_right.svg").is_file()
+    with open(out / "validation" / "resting_pitch.csv", newline="") as f:
+        rest = list(csv.DictReader(f))
+    assert [float(r["wing_command_deg"]) for r in rest] == [60.0, 75.0, 90.0]
+    assert "model_builtin_robot_deg" in rest[0]
+    code, _, err = run(
+        capsys, "report", "--db", db, "--out", out, "--validation", tmp_path
+    )  # no validation.json
+    assert code == 2 and "not found" in err and len(err.strip().splitlines()) == 1
