@@ -91,6 +91,31 @@ def kinematics_cmd(data, robot, joints, no_model):
     )
 
 
+@physical.command("actuation")
+@DATA_OPT
+@click.option(
+    "--out",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Also write the block to this file [default: print only].",
+)
+def actuation_cmd(data, out):
+    """The measured actuation profile: piecewise-linear knots fitted to each wing servo's and the leg's recorded
+    traces (motor_pulse_v2.mat, vib_pulse_v2.mat), printed as the [actuation] block of a model set (the block
+    sim/models/physical.toml ships), with each fit's largest error as comments."""
+    from sim.measured import measured_actuation_toml
+
+    if out is not None:
+        from landscape.cli.options import writable_file
+
+        writable_file(out, "--out")
+    text = measured_actuation_toml(data)
+    click.echo(text, nl=not text.endswith("\n"))
+    if out is not None:
+        Path(out).write_text(text)
+        click.echo(f"wrote {out}")
+
+
 @physical.command("validate")
 @DATA_OPT
 @robot_option(

@@ -141,3 +141,14 @@ def test_validate_command_bad_input_is_one_line(tmp_path, capsys):
     assert "is not a recorded cell" in capsys.readouterr().err
     assert main(base + ["--model", "nosuchset"]) == 2
     assert main(["physical", "validate", "--data", str(tmp_path / "nowhere"), "--out", str(tmp_path)]) == 2
+
+
+@needs_data
+def test_actuation_command_prints_the_shipped_block(tmp_path, capsys):
+    from sim.measured import measured_actuation_toml
+
+    assert main(["physical", "actuation", "--data", str(DATA), "--out", str(tmp_path / "a.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "[actuation.wing.LP]" in out and (tmp_path / "a.toml").read_text() == measured_actuation_toml(DATA)
+    assert main(["physical", "actuation", "--data", str(tmp_path)]) == 2
+    assert "motor_pulse_v2.mat' not found" in capsys.readouterr().err
