@@ -1,0 +1,106 @@
+"""Which physical cause closes the gap between simulation and the physical robot? (issue #15, section 3: ablation)
+
+Starts from the source paper's model set and switches on one cause at a time, each taken from a fuller set
+(default: the shipped ``physical`` set, or a calibrated one with ``--from FILE``):
+
+- ``actuation``: the ``[actuation]`` table (the measured per-servo profiles, left/right asymmetry included);
+- ``contact``: the ``[contact]`` table (friction, stiffness, damping);
+- ``geometry``, ``compliance``: those tables, when the fuller set has them;
+- ``all``: the fuller set itself.
+
+Each variant runs through ``landscape physical validate``'s library function on every cell (same phases and
+seeds for every variant), and the table gives the cells agreeing (fit, held-out, all), the log-likelihood of the
+physical outcomes, the per-attempt rates agreeing and the simulated side fraction. Every variant keeps its own
+trial store in ``--out``, so a rerun resumes.
+
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical_ablation.py [--from FILE] [--trials 10] [--out DIR]
+      [--data ../shared/ref/physical_robot] [--robot ../shared/ref/lab_robot/lab_robot.urdf]
+
+Last run: see the README's "The physical robot" section (the command above, its output pasted).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import tomli_w
+import tomllib
+
+from landscape.analysis.validation import validate
+from sim.model_set import load_model_set
+
+ROOT = Path(__file__).resolve().parents[1]
+CAUSES = ("actuation", "contact", "geometry", "compliance")
+
+
+def variant(base_file: Path, full_file: Path, tables: tuple[str, ...], name: str, out: Path) -> Path:
+    """The base set with ``tables`` taken from the fuller set, written to ``out/NAME.toml``."""
+    base = tomllib.loads(base_file.read_text())
+    full = tomllib.loads(full_file.read_text())
+    for t in tables:
+        if t in full:
+            base[t] = full[t]
+        else:
+            base.pop(t, None)
+    base["name"] = name
+    base["description"] = (
+        f"ablation: {base_file.stem} with {', '.join(tables) or 'nothing'} from {full_file.name}"
+    )
+    path = out / f"{name}.toml"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(tomli_w.dumps(base))
+    return path
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--from", dest="full", default="physical", help="The fuller set the causes come from.")
+    ap.add_argument("--trials", type=int, default=10)
+    ap.add_argument("--data", default=str(ROOT.parent / "shared/ref/physical_robot"))
+    ap.add_argument("--robot", default=str(ROOT.parent / "shared/ref/lab_robot/lab_robot.urdf"))
+    ap.add_argument("--out", default="ablation")
+    ap.add_argument("--workers", type=int, default=None)
+    args = ap.parse_args(argv)
+    out = Path(args.out)
+    paper = Path(load_model_set("paper").source)
+    full = Path(load_model_set(args.full).source)
+    have = [c for c in CAUSES if c in tomllib.loads(full.read_text())]
+    variants = [("paper", paper)]
+    variants += [(f"paper+{c}", variant(paper, full, (c,), f"paper+{c}", out / "sets")) for c in have]
+    variants.append((f"all ({load_model_set(full).name})", full))
+    rows = []
+    for label, path in variants:
+        ms = load_model_set(path)
+        v, _ = validate(
+            args.data, db=out / f"trials_{ms.name}_{ms.model_set_hash}.sqlite", robot=args.robot,
+            model_set=path, trials=args.trials, workers=args.workers, progress=False,
+        )  # fmt: skip
+        s = v.side
+        rows.append(
+            (
+                label,
+                "{}/{}".format(*v.agree_counts["fit"]),
+                "{}/{}".format(*v.agree_counts["held-out"]),
+                "{}/{}".format(*v.agree_counts["all"]),
+                f"{v.log_likelihood['all']:.1f}",
+                f"{sum(a.agree for a in v.attempts)}/{len(v.attempts)}",
+                f"{s.sim_positive}/{s.sim_events}" if s.sim_events else "–",
+            )
+        )
+        print(f"done: {label}", file=sys.stderr)
+    head = ("model set", "fit cells agree", "held-out agree", "all agree", "log-lik.", "attempt rates agree",
+            "righting to + roll")  # fmt: skip
+    print(
+        f"robot {Path(args.robot).name}, {args.trials} trials a cell, Cv 0.05; physical robot: 43/46 to + roll"
+    )
+    print("| " + " | ".join(head) + " |")
+    print("|" + "---|" * len(head))
+    for r in rows:
+        print("| " + " | ".join(r) + " |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
