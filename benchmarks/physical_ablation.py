@@ -26,7 +26,11 @@ import sys
 from pathlib import Path
 
 import tomli_w
-import tomllib
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    import tomli as tomllib  # type: ignore[no-redef]
 
 from landscape.analysis.validation import validate
 from sim.model_set import load_model_set

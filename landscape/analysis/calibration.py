@@ -61,7 +61,10 @@ def parse_vary(items: Sequence[str]) -> dict[str, list[float]]:
 
 
 def _read_toml(path: Path) -> dict:
-    import tomllib
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        import tomli as tomllib  # type: ignore[no-redef]
 
     return tomllib.loads(path.read_text())
 
