@@ -25,12 +25,21 @@ class Hull:
         set every vertex is joined to every other, which keeps hill climbing exact.
     simplices : ndarray of shape (F, 3) of int64
         Triangles of the hull surface (indices into ``vertices_m``); empty for a degenerate set.
+    equations : ndarray of shape (F, 4) or None
+        Qhull's plane of each triangle (outward unit normal, offset: ``n.x + offset <= 0`` inside), m; None
+        for a degenerate set.
+    neighbors : ndarray of shape (F, 3) of int64 or None
+        Qhull's neighbouring triangle opposite each vertex of each triangle; None for a degenerate set.
+        With ``equations`` they let the exact barrier method reuse this triangulation instead of running
+        Qhull again on the hull vertices (landscape/barriers/exact.py).
     """
 
     vertices_m: NDArray[np.float64]
     neighbor_ptr: NDArray[np.int64]
     neighbor_idx: NDArray[np.int64]
     simplices: NDArray[np.int64]
+    equations: NDArray[np.float64] | None = None
+    neighbors: NDArray[np.int64] | None = None
 
 
 def _csr(n: int, edges: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
@@ -100,7 +109,9 @@ def convex_hull(points_m: ArrayLike) -> Hull:
     simp = remap[np.asarray(qh.simplices, dtype=np.int64)]
     edges = np.concatenate([simp[:, [0, 1]], simp[:, [1, 2]], simp[:, [2, 0]]])
     ptr, idx = _csr(len(keep), edges)
-    return Hull(pts[keep], ptr, idx, simp)
+    eq = np.ascontiguousarray(qh.equations, dtype=np.float64)
+    nb = np.ascontiguousarray(qh.neighbors, dtype=np.int64)
+    return Hull(pts[keep], ptr, idx, simp, eq, nb)
 
 
 def depth_inside_m(hull: Hull, point_m: ArrayLike) -> float:
