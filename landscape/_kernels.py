@@ -204,6 +204,22 @@ def descend(energy, i, j):
         i, j = bi, bj
 
 
+@numba.njit(cache=True)
+def tree_path(parent, cell):
+    """The cells from the root of a search tree (``parent`` -1) to ``cell``, root first."""
+    m = 1
+    c = cell
+    while parent[c] >= 0:
+        c = parent[c]
+        m += 1
+    out = np.empty(m, dtype=np.int64)
+    c = cell
+    for k in range(m - 1, -1, -1):
+        out[k] = c
+        c = parent[c]
+    return out
+
+
 # ---------------------------------------------------------------------------- the grid computed only where searched
 @numba.njit(cache=True)
 def _lazy_at(energy, known, vert, d, ptr, idx, cos_a, sin_a, scale, i, j, v):

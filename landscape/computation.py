@@ -112,13 +112,14 @@ class _SectorGrid:
         self.cos, self.sin = cos_sin(np.deg2rad(angles))
         self.d, self.ptr, self.idx = _support_inputs(pose)
         self.scale = pose.mass_kg * g_m_s2  # energy_landscape's factor, in its order
+        # energy and vert are read only where known (uninitialised elsewhere: no page is touched in vain)
         if ls is None:
-            self.energy = np.full((n, n), np.nan)
+            self.energy = np.empty((n, n))
             self.known = np.zeros((n, n), dtype=np.bool_)
         else:
             self.energy = np.ascontiguousarray(ls.energy_j, dtype=np.float64)
             self.known = np.ones((n, n), dtype=np.bool_)
-        self.vert = np.zeros(n * n, dtype=np.int64)
+        self.vert = np.empty(n * n, dtype=np.int64)
 
     def _args(self):
         return (
@@ -140,7 +141,7 @@ class _SectorGrid:
         return int(i), int(j)
 
     def landscape(self) -> Landscape:
-        """The grid as a Landscape (energies NaN where never computed)."""
+        """The grid as a Landscape (its energies are valid only where ``known``)."""
         return Landscape(self.step_deg, self.angles_deg, self.energy, self.mass_kg, self.g_m_s2)
 
     def sector_exit(self, cell: tuple[int, int], kind: str, connectivity: int) -> Exit | None:
