@@ -127,6 +127,9 @@ def depth_inside_m(hull: Hull, point_m: ArrayLike) -> float:
     """
     if not len(hull.simplices):
         return -np.inf
+    p = np.asarray(point_m, dtype=np.float64)
+    if hull.equations is not None:  # Qhull's outward unit normals and offsets
+        return float(np.min(-(hull.equations[:, :3] @ p + hull.equations[:, 3])))
     v = hull.vertices_m
     p0, p1, p2 = (v[hull.simplices[:, k]] for k in range(3))
     n = np.cross(p1 - p0, p2 - p0)
@@ -134,4 +137,4 @@ def depth_inside_m(hull: Hull, point_m: ArrayLike) -> float:
     # orient every face normal outward: away from the vertex centroid, which is inside
     flip = np.einsum("ij,ij->i", n, p0 - v.mean(axis=0)) < 0
     n[flip] *= -1.0
-    return float(np.min(np.einsum("ij,ij->i", n, p0 - np.asarray(point_m, dtype=np.float64))))
+    return float(np.min(np.einsum("ij,ij->i", n, p0 - p)))
