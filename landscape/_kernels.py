@@ -1103,6 +1103,43 @@ def cell_step(d, k, u):
 
 
 @numba.njit(cache=True)
+def roll_in_cells(d, u, tol, max_steps):
+    """Quasi-static rolling while one hull vertex alone is lowest: :func:`cell_step` after cell_step.
+
+    At each step ``hv = d @ u``; while exactly one vertex lies within ``tol`` of the top, step inside its cell.
+    Returns (u, top, first, second, n_active, steps): the up-direction reached, the top vertex, the first two
+    active vertices in index order, how many are active (1 with ``steps < max_steps``: balanced on ``top``,
+    cell_step did not move) and the steps taken. landscape.barriers.exact's ``_descend_from`` is the caller.
+    """
+    k_v = d.shape[0]
+    hv = np.empty(k_v)
+    for step in range(max_steps):
+        top = 0
+        for j in range(k_v):
+            hv[j] = d[j, 0] * u[0] + d[j, 1] * u[1] + d[j, 2] * u[2]
+            if hv[j] > hv[top]:
+                top = j
+        lim = hv[top] - tol
+        n_act = 0
+        first = -1
+        second = -1
+        for j in range(k_v):
+            if hv[j] >= lim:
+                if n_act == 0:
+                    first = j
+                elif n_act == 1:
+                    second = j
+                n_act += 1
+        if n_act != 1:
+            return u, top, first, second, n_act, step
+        out, moved = cell_step(d, top, u)
+        if not moved:
+            return u, top, first, second, 1, step
+        u = out
+    return u, -1, -1, -1, 0, max_steps
+
+
+@numba.njit(cache=True)
 def merge_coplanar(pts, tri, eq, nb, tol_m, angle_tol):
     """Merged faces of a triangulated convex hull: a triangle joins its neighbour's face when their unit normals
     (``eq[:, :3]``) differ by at most ``angle_tol`` and the neighbour's far vertex lies within ``tol_m`` of the

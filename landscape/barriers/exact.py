@@ -657,16 +657,20 @@ def _descend_from(ex: ExactLandscape, u: NDArray[np.float64]) -> int:
     """The minimum face reached by quasi-static rolling (steepest descent of h) from up-direction u."""
     g = ex._g
     u = np.asarray(u, dtype=np.float64)
-    u = u / np.linalg.norm(u)
-    for _ in range(4 * (len(ex.face_up) + len(ex.vertices_m)) + 8):
-        hv = g.d @ u
-        top = int(np.argmax(hv))
-        act = np.flatnonzero(hv >= hv[top] - ex.tol_m)
-        if len(act) == 1:
+    u = np.ascontiguousarray(u / np.linalg.norm(u))
+    budget = 4 * (len(ex.face_up) + len(ex.vertices_m)) + 8
+    while budget > 0:
+        # the steps inside single vertices' cells, compiled: u, the top vertex, the active ones (within tol)
+        u, top, a0, a1, n_act, steps = _kernels.roll_in_cells(g.d, u, float(ex.tol_m), budget)
+        budget -= steps + 1
+        if n_act == 0:
+            break
+        top = int(top)
+        if n_act == 1:  # balanced on the vertex: fall onto its lowest face
             u = _cell_step(ex, top, u)
             continue
-        if len(act) == 2:
-            key = int(act.min()) * len(g.d) + int(act.max())
+        if n_act == 2:
+            key = int(a0) * len(g.d) + int(a1)
             i = int(np.searchsorted(g.pair_arc[0], key))
             arc = int(g.pair_arc[1][i]) if i < len(g.pair_arc[0]) and g.pair_arc[0][i] == key else None
             if arc is not None:
