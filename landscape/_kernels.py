@@ -292,13 +292,21 @@ def lazy_sector_flood(
             return level, c, parent
         v = vert[c]
         for di in range(-1, 2):
+            ni = ci + di
+            if ni < 0:
+                ni += n
+            elif ni >= n:
+                ni -= n
             for dj in range(-1, 2):
                 if di == 0 and dj == 0:
                     continue
                 if connectivity == 4 and di != 0 and dj != 0:
                     continue
-                ni = (ci + di) % n
-                nj = (cj + dj) % n
+                nj = cj + dj
+                if nj < 0:
+                    nj += n
+                elif nj >= n:
+                    nj -= n
                 nc = ni * n + nj
                 if seen[nc] or nc == start:
                     continue
