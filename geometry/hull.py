@@ -30,8 +30,8 @@ class Hull:
         for a degenerate set.
     neighbors : ndarray of shape (F, 3) of int64 or None
         Qhull's neighbouring triangle opposite each vertex of each triangle; None for a degenerate set.
-        With ``equations`` they let the exact barrier method reuse this triangulation instead of running
-        Qhull again on the hull vertices (landscape/barriers/exact.py).
+        (The exact barrier method still runs Qhull on ``vertices_m`` itself: Qhull triangulates coplanar
+        faces in input order, and its face numbering breaks ties between symmetric saddles.)
     """
 
     vertices_m: NDArray[np.float64]

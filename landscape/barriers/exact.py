@@ -217,23 +217,15 @@ class _Graph:
 
 
 # --------------------------------------------------------------------------------------------- construction
-def _faces(pts: NDArray[np.float64], tol_m: float, hull=None):
-    """Merged faces of the hull: (triangle planes, triangles, triangle neighbours, triangle -> face).
-
-    ``hull`` (a :class:`geometry.hull.Hull` whose vertices are ``pts``) gives Qhull's triangulation already
-    computed when the pose's hull was built, which saves running Qhull a second time on its vertices.
-    """
-    if hull is not None and hull.equations is not None and len(hull.simplices):
-        tri, eq, nb = hull.simplices, hull.equations, hull.neighbors
-    else:
-        try:
-            qh = ConvexHull(pts)
-        except (QhullError, ValueError):
-            raise ExactMethodError(NOT_A_SOLID.format(n=len(pts), tol=tol_m)) from None
-        tri, eq, nb = qh.simplices, qh.equations, qh.neighbors
-    tri = np.ascontiguousarray(tri, dtype=np.int64)
-    eq = np.ascontiguousarray(eq, dtype=np.float64)
-    nb = np.ascontiguousarray(nb, dtype=np.int64)
+def _faces(pts: NDArray[np.float64], tol_m: float):
+    """Merged faces of the hull: (outward normals, triangle -> face, triangles, triangle neighbours)."""
+    try:
+        qh = ConvexHull(pts)
+    except (QhullError, ValueError):
+        raise ExactMethodError(NOT_A_SOLID.format(n=len(pts), tol=tol_m)) from None
+    tri = np.ascontiguousarray(qh.simplices, dtype=np.int64)
+    eq = np.ascontiguousarray(qh.equations, dtype=np.float64)
+    nb = np.ascontiguousarray(qh.neighbors, dtype=np.int64)
     tri_face = _kernels.merge_coplanar(
         np.ascontiguousarray(pts, dtype=np.float64), tri, eq, nb, float(tol_m), ANGLE_TOL_RAD
     )
@@ -305,14 +297,13 @@ def exact_landscape(pose: Pose, *, g_m_s2: float = G_M_S2) -> ExactLandscape:
         np.asarray(pose.com_m, dtype=np.float64),
         float(pose.mass_kg),
         float(g_m_s2),
-        pose.hull,
     )
 
 
-def _merged_faces(pts: NDArray[np.float64], com: NDArray[np.float64], tol_m: float, hull=None):
+def _merged_faces(pts: NDArray[np.float64], com: NDArray[np.float64], tol_m: float):
     """The hull's merged faces: triangles, neighbours, face of each triangle, outward normals, and the CoM
     checked inside (:data:`COM_OUTSIDE`)."""
-    eq, tri, nb, tri_face = _faces(pts, tol_m, hull)
+    eq, tri, nb, tri_face = _faces(pts, tol_m)
     n_f = int(tri_face.max()) + 1
     # outward normal of each merged face: area-weighted mean of its triangles' normals
     cross = np.cross(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
@@ -452,12 +443,12 @@ def _critical_points(
 
 
 def _build(
-    pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g_m_s2: float, hull=None
+    pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g_m_s2: float
 ) -> ExactLandscape:
     diam = float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0)))
     tol_m = LENGTH_RTOL * max(diam, np.finfo(float).tiny)
     k_v = len(pts)
-    tri, nb, tri_face, n_f, normal = _merged_faces(pts, com, tol_m, hull)
+    tri, nb, tri_face, n_f, normal = _merged_faces(pts, com, tol_m)
     d = com[None, :] - pts
     face_up = -normal
     # faces' vertices and the faces at each vertex
