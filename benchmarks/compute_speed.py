@@ -11,12 +11,12 @@ is kept:
 - barrier map: ``barrier_map(lab, theta_w -10..90 at 0.5, theta_l [0], method="exact")``, in process, one round
   (since issue #12's map work its poses are spread over worker processes, ``workers=None``: one per CPU);
 - barrier map in one process: the same with ``workers=1`` (the baseline has no workers: its plain call);
-- barrier map without sector exits: the default call with ``sector_exits=False`` (no per-pose landscape grid;
-  minima, righting and escape only), this tree only;
+- barrier map without sector exits: the default call with ``sector_exits=False`` (minima, righting and escape
+  only; with them, since the lazy sector floods, no pose computes a whole landscape grid either), this tree only;
 - ``landscape compute --theta-w 74`` and ``landscape --help``: whole processes (``python -m landscape``).
 
-Correctness columns: the start minimum's energy, the righting barrier and the map's righting barriers of the
-two trees, which must agree to 1e-6 J.
+Correctness columns: the start minimum's energy, the righting barrier, and the map's start energies, righting
+barriers and pitch-wise and roll-wise barriers of the two trees, which must agree to 1e-9 J.
 
 Run:  PYTHONPATH=. /work/main/.venv/bin/python benchmarks/compute_speed.py [--baseline 3ba33fb] [--repeat 5]
       [--no-map] [--lab PATH]
@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import subprocess
 import sys
@@ -109,6 +110,8 @@ def measure(lab: str, repeat: int, do_map: bool) -> dict:
         out["map"] = time.perf_counter() - t0
         out["map_righting_j"] = [None if not np.isfinite(x) else float(x) for x in m.righting_j.ravel()]
         out["map_start_j"] = [x.minimum.energy_j for x in m.computations]
+        for k in ("pitch_wise", "roll_wise"):
+            out[f"map_{k}_j"] = [_barrier_j(getattr(x.barrier, k)) for x in m.computations]
         t0 = time.perf_counter()
         try:
             m1 = barrier_map(robot, ws, [0.0], method="exact", workers=1)
@@ -128,6 +131,10 @@ def measure(lab: str, repeat: int, do_map: bool) -> dict:
         except TypeError:  # a tree from before the option
             pass
     return out
+
+
+def _barrier_j(x) -> float | None:
+    return None if x is None or not math.isfinite(x.barrier_j) else float(x.barrier_j)
 
 
 def _process_time(tree: Path, args: list[str], env: dict, repeat: int) -> float:
@@ -201,6 +208,13 @@ def table(old: dict, new: dict, rev: str) -> str:
             f"barrier map ({len(old['map_start_j'])} poses)  max |dE start| = {d_s:.2e} J   "
             f"max |dB righting| = {d_b:.2e} J"
         )
+        d_x = [
+            max(_diff(a, b) for a, b in zip(old[k], new[k], strict=True))
+            for k in ("map_pitch_wise_j", "map_roll_wise_j")
+            if k in old and k in new
+        ]
+        if d_x:
+            rows.append(f"  pitch-wise and roll-wise barriers  max |dB| = {max(d_x):.2e} J")
     return "\n".join(rows)
 
 
