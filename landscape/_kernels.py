@@ -1148,6 +1148,108 @@ def roll_in_cells(d, u, tol, max_steps):
 
 
 @numba.njit(cache=True)
+def arcs(pts, tri, nb, tri_face, n_f):
+    """The face-edge graph's arcs: landscape.barriers.exact's ``_arcs_reference`` compiled (the same numbers).
+
+    Returns (arc_faces (A, 2), arc_a (A,), arc_b (A,), pair keys (P,), pair arcs (P,)).
+    """
+    n_t = tri.shape[0]
+    k_v = pts.shape[0]
+    # boundary edges between different faces, each once (fa < fb), in triangle order
+    m = 0
+    for i in range(n_t):
+        for o in range(3):
+            if tri_face[i] < tri_face[nb[i, o]]:
+                m += 1
+    e0 = np.empty(m, dtype=np.int64)
+    e1 = np.empty(m, dtype=np.int64)
+    pair = np.empty(m, dtype=np.int64)
+    m = 0
+    for i in range(n_t):
+        for o in range(3):
+            fa = tri_face[i]
+            fb = tri_face[nb[i, o]]
+            if fa < fb:
+                e0[m] = tri[i, (o + 1) % 3]
+                e1[m] = tri[i, (o + 2) % 3]
+                pair[m] = fa * n_f + fb
+                m += 1
+    order = np.argsort(pair, kind="mergesort")
+    inv = np.empty(m, dtype=np.int64)
+    n_a = 0
+    for q in range(m):
+        if q == 0 or pair[order[q]] != pair[order[q - 1]]:
+            n_a += 1
+        inv[order[q]] = n_a - 1
+    arc_faces = np.empty((n_a, 2), dtype=np.int64)
+    first = np.full(n_a, -1, dtype=np.int64)
+    for e in range(m):
+        a = inv[e]
+        if first[a] < 0:
+            first[a] = e
+            arc_faces[a, 0] = pair[e] // n_f
+            arc_faces[a, 1] = pair[e] % n_f
+    # the full segment of collinear sub-edges: the extreme vertices along the first sub-edge's direction
+    dirs = np.empty((n_a, 3))
+    for a in range(n_a):
+        e = first[a]
+        x0 = pts[e1[e], 0] - pts[e0[e], 0]
+        x1 = pts[e1[e], 1] - pts[e0[e], 1]
+        x2 = pts[e1[e], 2] - pts[e0[e], 2]
+        nrm = np.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+        dirs[a, 0] = x0 / nrm
+        dirs[a, 1] = x1 / nrm
+        dirs[a, 2] = x2 / nrm
+    lo_val = np.full(n_a, np.inf)
+    hi_val = np.full(n_a, -np.inf)
+    proj = np.empty((m, 2))
+    for e in range(m):
+        a = inv[e]
+        for j in range(2):
+            v = e0[e] if j == 0 else e1[e]
+            proj[e, j] = dirs[a, 0] * pts[v, 0] + dirs[a, 1] * pts[v, 1] + dirs[a, 2] * pts[v, 2]
+        lo = min(proj[e, 0], proj[e, 1])
+        hi = max(proj[e, 0], proj[e, 1])
+        if lo < lo_val[a]:
+            lo_val[a] = lo
+        if hi > hi_val[a]:
+            hi_val[a] = hi
+    arc_a = np.zeros(n_a, dtype=np.int64)
+    arc_b = np.zeros(n_a, dtype=np.int64)
+    for e in range(m):  # the last vertex at the extreme wins, as NumPy's fancy assignment leaves it
+        a = inv[e]
+        for j in range(2):
+            v = e0[e] if j == 0 else e1[e]
+            if proj[e, j] == lo_val[a]:
+                arc_a[a] = v
+            if proj[e, j] == hi_val[a]:
+                arc_b[a] = v
+    # (vertex pair -> arc): sub-edges first, then each arc's full segment; the first occurrence of each pair
+    keys = np.empty(m + n_a, dtype=np.int64)
+    val = np.empty(m + n_a, dtype=np.int64)
+    for e in range(m):
+        keys[e] = min(e0[e], e1[e]) * k_v + max(e0[e], e1[e])
+        val[e] = inv[e]
+    for a in range(n_a):
+        keys[m + a] = min(arc_a[a], arc_b[a]) * k_v + max(arc_a[a], arc_b[a])
+        val[m + a] = a
+    korder = np.argsort(keys, kind="mergesort")
+    n_k = 0
+    for q in range(m + n_a):
+        if q == 0 or keys[korder[q]] != keys[korder[q - 1]]:
+            n_k += 1
+    out_k = np.empty(n_k, dtype=np.int64)
+    out_v = np.empty(n_k, dtype=np.int64)
+    n_k = 0
+    for q in range(m + n_a):
+        if q == 0 or keys[korder[q]] != keys[korder[q - 1]]:
+            out_k[n_k] = keys[korder[q]]
+            out_v[n_k] = val[korder[q]]
+            n_k += 1
+    return arc_faces, arc_a, arc_b, out_k, out_v
+
+
+@numba.njit(cache=True)
 def merge_coplanar(pts, tri, eq, nb, tol_m, angle_tol):
     """Merged faces of a triangulated convex hull: a triangle joins its neighbour's face when their unit normals
     (``eq[:, :3]``) differ by at most ``angle_tol`` and the neighbour's far vertex lies within ``tol_m`` of the

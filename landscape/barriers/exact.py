@@ -320,7 +320,20 @@ def _merged_faces(pts: NDArray[np.float64], com: NDArray[np.float64], tol_m: flo
 
 def _arcs(pts: NDArray[np.float64], tri, nb, tri_face, n_f: int):
     """Boundary edges between different faces (each once), grouped by face pair into arcs; each arc's full
-    segment of collinear sub-edges (its extreme vertices), and the (vertex pair -> arc) lookup."""
+    segment of collinear sub-edges (its extreme vertices), and the (vertex pair -> arc) lookup.
+    Compiled (``_kernels.arcs``); :func:`_arcs_reference` is the NumPy reference."""
+    arc_faces, arc_a, arc_b, keys, arc_of = _kernels.arcs(
+        np.ascontiguousarray(pts, dtype=np.float64),
+        np.ascontiguousarray(tri, dtype=np.int64),
+        np.ascontiguousarray(nb, dtype=np.int64),
+        np.ascontiguousarray(tri_face, dtype=np.int64),
+        int(n_f),
+    )
+    return arc_faces, arc_a, arc_b, (keys, arc_of)
+
+
+def _arcs_reference(pts: NDArray[np.float64], tri, nb, tri_face, n_f: int):
+    """:func:`_arcs` in NumPy (the reference the compiled one is tested against)."""
     k_v = len(pts)
     t_i = np.repeat(np.arange(len(tri)), 3)
     t_j = nb.ravel()
