@@ -46,11 +46,22 @@ def _csr(n: int, edges: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[n
     """Symmetric CSR adjacency of n vertices from undirected edges (duplicates merged, neighbours sorted)."""
     edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
     # each directed pair (a, b) as the one integer a * n + b: a 1-D unique sorts them as (a, b) rows would
-    key = np.unique(np.concatenate([edges[:, 0] * n + edges[:, 1], edges[:, 1] * n + edges[:, 0]]))
+    key = _sorted_unique(np.concatenate([edges[:, 0] * n + edges[:, 1], edges[:, 1] * n + edges[:, 0]]))
     counts = np.bincount(key // n, minlength=n)
     ptr = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(counts, out=ptr[1:])
     return ptr, (key % n).astype(np.int64)
+
+
+def _sorted_unique(x: NDArray[np.int64]) -> NDArray[np.int64]:
+    """``np.unique`` of integers by one sort (NumPy 2's hashing ``np.unique`` is slower on these sizes)."""
+    x = np.sort(x)
+    if len(x) < 2:
+        return x
+    keep = np.empty(len(x), dtype=bool)
+    keep[0] = True
+    np.not_equal(x[1:], x[:-1], out=keep[1:])
+    return x[keep]
 
 
 def _unique_rows(pts: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -103,7 +114,7 @@ def convex_hull(points_m: ArrayLike) -> Hull:
         ii, jj = np.triu_indices(n, 1)
         ptr, idx = _csr(n, np.stack([ii, jj], axis=1).astype(np.int64))
         return Hull(pts, ptr, idx, np.zeros((0, 3), dtype=np.int64))
-    keep = np.asarray(qh.vertices, dtype=np.int64)
+    keep = _sorted_unique(np.asarray(qh.simplices, dtype=np.int64).ravel())  # = qh.vertices
     remap = np.full(len(pts), -1, dtype=np.int64)
     remap[keep] = np.arange(len(keep))
     simp = remap[np.asarray(qh.simplices, dtype=np.int64)]

@@ -306,7 +306,11 @@ def _merged_faces(pts: NDArray[np.float64], com: NDArray[np.float64], tol_m: flo
     eq, tri, nb, tri_face = _faces(pts, tol_m)
     n_f = int(tri_face.max()) + 1
     # outward normal of each merged face: area-weighted mean of its triangles' normals
-    cross = np.cross(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
+    a, b = pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]]
+    cross = np.empty_like(a)  # np.cross(a, b) with its arithmetic, without its axis handling
+    cross[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
+    cross[:, 1] = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
+    cross[:, 2] = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
     area = 0.5 * np.linalg.norm(cross, axis=1)
     normal = np.zeros((n_f, 3))
     np.add.at(normal, tri_face, eq[:, :3] * (area[:, None] + 1e-300))
