@@ -11,39 +11,50 @@ is kept:
 - barrier map: ``barrier_map(lab, theta_w -10..90 at 0.5, theta_l [0], method="exact")``, in process, one round
   (since issue #12's map work its poses are spread over worker processes, ``workers=None``: one per CPU);
 - barrier map in one process: the same with ``workers=1`` (the baseline has no workers: its plain call);
-- barrier map without sector exits: the default call with ``sector_exits=False`` (no per-pose landscape grid;
-  minima, righting and escape only), this tree only;
+- barrier map without sector exits: the default call with ``sector_exits=False`` (minima, righting and escape
+  only; with them, since the lazy sector floods, no pose computes a whole landscape grid either), this tree only;
 - ``landscape compute --theta-w 74`` and ``landscape --help``: whole processes (``python -m landscape``).
 
-Correctness columns: the start minimum's energy, the righting barrier and the map's righting barriers of the
-two trees, which must agree to 1e-6 J.
+Correctness columns: the start minimum's energy, the righting barrier, and the map's start energies, righting
+barriers and pitch-wise and roll-wise barriers of the two trees, which must agree to 1e-9 J.
 
 Run:  PYTHONPATH=. /work/main/.venv/bin/python benchmarks/compute_speed.py [--baseline 3ba33fb] [--repeat 5]
       [--no-map] [--lab PATH]
 
-Last run (issue #12's map work: compiled exact searches and face graph, worker processes; ``--repeat 3`` on the
-shared 2-CPU machine while other jobs kept its load near 2, so the two map workers got about one CPU between
-them; on an idle machine they share the map's ~5.5 s of work between two CPUs)::
+Last run (issue #12's remaining targets: sector exits by lazy floods that compute only the grid cells they
+reach, so a map's poses build no whole landscape grid; compiled face-edge arcs and rolling; ``--repeat 3`` on
+the shared 2-CPU machine while other engineers' jobs kept its load between 2.5 and 3.4, so every time here is
+inflated and the two map workers got less than one CPU between them; in this session the map in one process
+took 4.94 s before these changes at load 0.4, and 3.4 to 3.9 s after them at load 2.5 to 3.4)::
 
-    python 3.11.7, 2 CPUs, load 2.09; best of 3 (map: one round); baseline 3ba33fb
+    python 3.11.7, 2 CPUs, load 3.38; best of 3 (map: one round); baseline 3ba33fb
     quantity                                       target    3ba33fb  this tree   ratio  met
-    start state, lab θw 74 θl 30                 10.00 ms  118.13 ms    7.26 ms   16.26  yes
-    compute, lab θw 74 θl 30 (exact)             40.00 ms  159.32 ms   47.41 ms    3.36  NO
-    barrier map, lab θw -10..90/0.5 (exact)       2.000 s   14.002 s    5.351 s    2.62  NO
-      the same map in one process                 2.000 s   15.239 s    5.574 s    2.73  NO
-      the same map, sector_exits=False            2.000 s          —    1.972 s          yes
-    landscape compute --theta-w 74 (process)     600.00 ms    1.817 s    1.195 s    1.52  NO
-    landscape --help (process)                   300.00 ms   86.60 ms   89.63 ms    0.97  yes
+    start state, lab θw 74 θl 30                 10.00 ms  109.26 ms    7.11 ms   15.38  yes
+    compute, lab θw 74 θl 30 (exact)             40.00 ms  151.35 ms   25.25 ms    5.99  yes
+    barrier map, lab θw -10..90/0.5 (exact)       2.000 s   10.269 s    4.120 s    2.49  NO
+      the same map in one process                 2.000 s   10.323 s    3.662 s    2.82  NO
+      the same map, sector_exits=False            2.000 s          —    3.474 s          NO
+    landscape compute --theta-w 74 (process)     600.00 ms    1.722 s    1.284 s    1.34  NO
+    landscape --help (process)                   300.00 ms   84.06 ms   89.98 ms    0.93  yes
 
     start minimum energy   |dE| = 0.00e+00 J
     righting barrier       |dB| = 0.00e+00 J
     barrier map (201 poses)  max |dE start| = 0.00e+00 J   max |dB righting| = 0.00e+00 J
+      pitch-wise and roll-wise barriers  max |dB| = 0.00e+00 J
+
+Where a map pose's time goes now (one process, lab robot, ~17 ms a pose): Qhull twice, ~6 ms (the pose's hull of
+every part's hull vertices, then the exact method's own hull of those vertices, whose triangle order numbers the
+faces that break ties between symmetric saddles, so it cannot reuse the first); the rest of the exact landscape
+and its searches, ~7 ms of NumPy and Python; the sector floods, ~2-3 ms; posing, ~1 ms. The previous run, before
+these changes (load 2.09): compute 47.41 ms, map 5.351 s, in one process 5.574 s, without sector exits 1.972 s
+(that row ran over two worker processes; this run's row, at load 3.4, also did).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import subprocess
 import sys
@@ -109,6 +120,8 @@ def measure(lab: str, repeat: int, do_map: bool) -> dict:
         out["map"] = time.perf_counter() - t0
         out["map_righting_j"] = [None if not np.isfinite(x) else float(x) for x in m.righting_j.ravel()]
         out["map_start_j"] = [x.minimum.energy_j for x in m.computations]
+        for k in ("pitch_wise", "roll_wise"):
+            out[f"map_{k}_j"] = [_barrier_j(getattr(x.barrier, k)) for x in m.computations]
         t0 = time.perf_counter()
         try:
             m1 = barrier_map(robot, ws, [0.0], method="exact", workers=1)
@@ -128,6 +141,10 @@ def measure(lab: str, repeat: int, do_map: bool) -> dict:
         except TypeError:  # a tree from before the option
             pass
     return out
+
+
+def _barrier_j(x) -> float | None:
+    return None if x is None or not math.isfinite(x.barrier_j) else float(x.barrier_j)
 
 
 def _process_time(tree: Path, args: list[str], env: dict, repeat: int) -> float:
@@ -201,6 +218,13 @@ def table(old: dict, new: dict, rev: str) -> str:
             f"barrier map ({len(old['map_start_j'])} poses)  max |dE start| = {d_s:.2e} J   "
             f"max |dB righting| = {d_b:.2e} J"
         )
+        d_x = [
+            max(_diff(a, b) for a, b in zip(old[k], new[k], strict=True))
+            for k in ("map_pitch_wise_j", "map_roll_wise_j")
+            if k in old and k in new
+        ]
+        if d_x:
+            rows.append(f"  pitch-wise and roll-wise barriers  max |dB| = {max(d_x):.2e} J")
     return "\n".join(rows)
 
 

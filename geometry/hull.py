@@ -25,23 +25,43 @@ class Hull:
         set every vertex is joined to every other, which keeps hill climbing exact.
     simplices : ndarray of shape (F, 3) of int64
         Triangles of the hull surface (indices into ``vertices_m``); empty for a degenerate set.
+    equations : ndarray of shape (F, 4) or None
+        Qhull's plane of each triangle (outward unit normal, offset: ``n.x + offset <= 0`` inside), m; None
+        for a degenerate set.
+    neighbors : ndarray of shape (F, 3) of int64 or None
+        Qhull's neighbouring triangle opposite each vertex of each triangle; None for a degenerate set.
+        (The exact barrier method still runs Qhull on ``vertices_m`` itself: Qhull triangulates coplanar
+        faces in input order, and its face numbering breaks ties between symmetric saddles.)
     """
 
     vertices_m: NDArray[np.float64]
     neighbor_ptr: NDArray[np.int64]
     neighbor_idx: NDArray[np.int64]
     simplices: NDArray[np.int64]
+    equations: NDArray[np.float64] | None = None
+    neighbors: NDArray[np.int64] | None = None
 
 
 def _csr(n: int, edges: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
     """Symmetric CSR adjacency of n vertices from undirected edges (duplicates merged, neighbours sorted)."""
     edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
     # each directed pair (a, b) as the one integer a * n + b: a 1-D unique sorts them as (a, b) rows would
-    key = np.unique(np.concatenate([edges[:, 0] * n + edges[:, 1], edges[:, 1] * n + edges[:, 0]]))
+    key = _sorted_unique(np.concatenate([edges[:, 0] * n + edges[:, 1], edges[:, 1] * n + edges[:, 0]]))
     counts = np.bincount(key // n, minlength=n)
     ptr = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(counts, out=ptr[1:])
     return ptr, (key % n).astype(np.int64)
+
+
+def _sorted_unique(x: NDArray[np.int64]) -> NDArray[np.int64]:
+    """``np.unique`` of integers by one sort (NumPy 2's hashing ``np.unique`` is slower on these sizes)."""
+    x = np.sort(x)
+    if len(x) < 2:
+        return x
+    keep = np.empty(len(x), dtype=bool)
+    keep[0] = True
+    np.not_equal(x[1:], x[:-1], out=keep[1:])
+    return x[keep]
 
 
 def _unique_rows(pts: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -94,13 +114,15 @@ def convex_hull(points_m: ArrayLike) -> Hull:
         ii, jj = np.triu_indices(n, 1)
         ptr, idx = _csr(n, np.stack([ii, jj], axis=1).astype(np.int64))
         return Hull(pts, ptr, idx, np.zeros((0, 3), dtype=np.int64))
-    keep = np.asarray(qh.vertices, dtype=np.int64)
+    keep = _sorted_unique(np.asarray(qh.simplices, dtype=np.int64).ravel())  # = qh.vertices
     remap = np.full(len(pts), -1, dtype=np.int64)
     remap[keep] = np.arange(len(keep))
     simp = remap[np.asarray(qh.simplices, dtype=np.int64)]
     edges = np.concatenate([simp[:, [0, 1]], simp[:, [1, 2]], simp[:, [2, 0]]])
     ptr, idx = _csr(len(keep), edges)
-    return Hull(pts[keep], ptr, idx, simp)
+    eq = np.ascontiguousarray(qh.equations, dtype=np.float64)
+    nb = np.ascontiguousarray(qh.neighbors, dtype=np.int64)
+    return Hull(pts[keep], ptr, idx, simp, eq, nb)
 
 
 def depth_inside_m(hull: Hull, point_m: ArrayLike) -> float:
@@ -116,6 +138,9 @@ def depth_inside_m(hull: Hull, point_m: ArrayLike) -> float:
     """
     if not len(hull.simplices):
         return -np.inf
+    p = np.asarray(point_m, dtype=np.float64)
+    if hull.equations is not None:  # Qhull's outward unit normals and offsets
+        return float(np.min(-(hull.equations[:, :3] @ p + hull.equations[:, 3])))
     v = hull.vertices_m
     p0, p1, p2 = (v[hull.simplices[:, k]] for k in range(3))
     n = np.cross(p1 - p0, p2 - p0)
@@ -123,4 +148,4 @@ def depth_inside_m(hull: Hull, point_m: ArrayLike) -> float:
     # orient every face normal outward: away from the vertex centroid, which is inside
     flip = np.einsum("ij,ij->i", n, p0 - v.mean(axis=0)) < 0
     n[flip] *= -1.0
-    return float(np.min(np.einsum("ij,ij->i", n, p0 - np.asarray(point_m, dtype=np.float64))))
+    return float(np.min(np.einsum("ij,ij->i", n, p0 - p)))

@@ -204,6 +204,129 @@ def descend(energy, i, j):
         i, j = bi, bj
 
 
+@numba.njit(cache=True)
+def tree_path(parent, cell):
+    """The cells from the root of a search tree (``parent`` -1) to ``cell``, root first."""
+    m = 1
+    c = cell
+    while parent[c] >= 0:
+        c = parent[c]
+        m += 1
+    out = np.empty(m, dtype=np.int64)
+    c = cell
+    for k in range(m - 1, -1, -1):
+        out[k] = c
+        c = parent[c]
+    return out
+
+
+# ---------------------------------------------------------------------------- the grid computed only where searched
+@numba.njit(cache=True)
+def _lazy_at(energy, known, vert, d, ptr, idx, cos_a, sin_a, scale, i, j, v):
+    """Energy of torus cell (i, j), computed on first use as :func:`support_grid` computes it (hill climbing
+    on the hull graph warm-started at vertex ``v``, times ``scale`` = m g) and kept in ``energy``/``known``;
+    ``vert`` keeps the vertex that attains it (the warm start of its neighbours)."""
+    n = energy.shape[0]
+    c = i * n + j
+    if not known[i, j]:
+        val, w = _climb(d, ptr, idx, -sin_a[i], cos_a[i] * sin_a[j], cos_a[i] * cos_a[j], v)
+        energy[i, j] = scale * val
+        known[i, j] = True
+        vert[c] = w
+    return energy[i, j]
+
+
+@numba.njit(cache=True)
+def lazy_descend(energy, known, vert, d, ptr, idx, cos_a, sin_a, scale, i, j):
+    """:func:`descend` on a grid whose energies are computed on first use (:func:`_lazy_at`)."""
+    n = energy.shape[0]
+    _lazy_at(energy, known, vert, d, ptr, idx, cos_a, sin_a, scale, i, j, 0)
+    while True:
+        bi, bj = i, j
+        v = vert[i * n + j]
+        best = energy[i, j]
+        for di in range(-1, 2):
+            for dj in range(-1, 2):
+                ni = (i + di) % n
+                nj = (j + dj) % n
+                e = _lazy_at(energy, known, vert, d, ptr, idx, cos_a, sin_a, scale, ni, nj, v)
+                if e < best:
+                    best = e
+                    bi, bj = ni, nj
+        if bi == i and bj == j:
+            return i, j
+        i, j = bi, bj
+
+
+@numba.njit(cache=True)
+def lazy_sector_flood(
+    energy, known, vert, d, ptr, idx, cos_a, sin_a, scale, i0, j0, dist_p, dist_r, pitch_sector, connectivity
+):
+    """:func:`flood` from cell (i0, j0) to the upright set (``cos p cos r < 0``) with the path kept in a sector,
+    on a grid whose energies are computed on first use (:func:`_lazy_at`): only the cells the flood reaches.
+
+    ``dist_p[i]``, ``dist_r[j]``: |wrapped pitch and roll difference| of row i and column j from the start,
+    degrees. The sector keeps cells with ``dist_r <= dist_p`` (``pitch_sector``) or ``dist_p <= dist_r``, and
+    always the start. Returns (level, cell, parent): the flood level at the first upright cell popped and that
+    cell (inf, -1 if none); ``parent`` is the search tree, valid on the cells reached (-1 at the start).
+    """
+    n = energy.shape[0]
+    total = n * n
+    parent = np.empty(total, dtype=np.int64)
+    seen = np.zeros(total, dtype=np.bool_)
+    he = np.empty(total)
+    hi = np.empty(total, dtype=np.int64)
+    start = i0 * n + j0
+    e_start = _lazy_at(energy, known, vert, d, ptr, idx, cos_a, sin_a, scale, i0, j0, 0)
+    parent[start] = -1
+    size = _push(he, hi, 0, e_start, start)
+    seen[start] = True
+    level = e_start
+    while size > 0:
+        e, c, size = _pop(he, hi, size)
+        if e > level:
+            level = e
+        ci = c // n
+        cj = c - ci * n
+        if cos_a[ci] * cos_a[cj] < 0:
+            return level, c, parent
+        v = vert[c]
+        for di in range(-1, 2):
+            ni = ci + di
+            if ni < 0:
+                ni += n
+            elif ni >= n:
+                ni -= n
+            for dj in range(-1, 2):
+                if di == 0 and dj == 0:
+                    continue
+                if connectivity == 4 and di != 0 and dj != 0:
+                    continue
+                nj = cj + dj
+                if nj < 0:
+                    nj += n
+                elif nj >= n:
+                    nj -= n
+                nc = ni * n + nj
+                if seen[nc] or nc == start:
+                    continue
+                if pitch_sector:
+                    if dist_r[nj] > dist_p[ni]:
+                        continue
+                elif dist_p[ni] > dist_r[nj]:
+                    continue
+                seen[nc] = True
+                parent[nc] = c
+                size = _push(
+                    he,
+                    hi,
+                    size,
+                    _lazy_at(energy, known, vert, d, ptr, idx, cos_a, sin_a, scale, ni, nj, v),
+                    nc,
+                )
+    return np.inf, -1, parent
+
+
 # ---------------------------------------------------------------------------- the same searches on any graph (CSR)
 @numba.njit(cache=True)
 def flood_graph(energy, ptr, idx, start, target, blocked, is_min, same_as_start, tol, stop_at_escape):
@@ -985,6 +1108,145 @@ def cell_step(d, k, u):
     out[1] /= m
     out[2] /= m
     return out, True
+
+
+@numba.njit(cache=True)
+def roll_in_cells(d, u, tol, max_steps):
+    """Quasi-static rolling while one hull vertex alone is lowest: :func:`cell_step` after cell_step.
+
+    At each step ``hv = d @ u``; while exactly one vertex lies within ``tol`` of the top, step inside its cell.
+    Returns (u, top, first, second, n_active, steps): the up-direction reached, the top vertex, the first two
+    active vertices in index order, how many are active (1 with ``steps < max_steps``: balanced on ``top``,
+    cell_step did not move) and the steps taken. landscape.barriers.exact's ``_descend_from`` is the caller.
+    """
+    k_v = d.shape[0]
+    hv = np.empty(k_v)
+    for step in range(max_steps):
+        top = 0
+        for j in range(k_v):
+            hv[j] = d[j, 0] * u[0] + d[j, 1] * u[1] + d[j, 2] * u[2]
+            if hv[j] > hv[top]:
+                top = j
+        lim = hv[top] - tol
+        n_act = 0
+        first = -1
+        second = -1
+        for j in range(k_v):
+            if hv[j] >= lim:
+                if n_act == 0:
+                    first = j
+                elif n_act == 1:
+                    second = j
+                n_act += 1
+        if n_act != 1:
+            return u, top, first, second, n_act, step
+        out, moved = cell_step(d, top, u)
+        if not moved:
+            return u, top, first, second, 1, step
+        u = out
+    return u, -1, -1, -1, 0, max_steps
+
+
+@numba.njit(cache=True)
+def arcs(pts, tri, nb, tri_face, n_f):
+    """The face-edge graph's arcs: landscape.barriers.exact's ``_arcs_reference`` compiled (the same numbers).
+
+    Returns (arc_faces (A, 2), arc_a (A,), arc_b (A,), pair keys (P,), pair arcs (P,)).
+    """
+    n_t = tri.shape[0]
+    k_v = pts.shape[0]
+    # boundary edges between different faces, each once (fa < fb), in triangle order
+    m = 0
+    for i in range(n_t):
+        for o in range(3):
+            if tri_face[i] < tri_face[nb[i, o]]:
+                m += 1
+    e0 = np.empty(m, dtype=np.int64)
+    e1 = np.empty(m, dtype=np.int64)
+    pair = np.empty(m, dtype=np.int64)
+    m = 0
+    for i in range(n_t):
+        for o in range(3):
+            fa = tri_face[i]
+            fb = tri_face[nb[i, o]]
+            if fa < fb:
+                e0[m] = tri[i, (o + 1) % 3]
+                e1[m] = tri[i, (o + 2) % 3]
+                pair[m] = fa * n_f + fb
+                m += 1
+    order = np.argsort(pair, kind="mergesort")
+    inv = np.empty(m, dtype=np.int64)
+    n_a = 0
+    for q in range(m):
+        if q == 0 or pair[order[q]] != pair[order[q - 1]]:
+            n_a += 1
+        inv[order[q]] = n_a - 1
+    arc_faces = np.empty((n_a, 2), dtype=np.int64)
+    first = np.full(n_a, -1, dtype=np.int64)
+    for e in range(m):
+        a = inv[e]
+        if first[a] < 0:
+            first[a] = e
+            arc_faces[a, 0] = pair[e] // n_f
+            arc_faces[a, 1] = pair[e] % n_f
+    # the full segment of collinear sub-edges: the extreme vertices along the first sub-edge's direction
+    dirs = np.empty((n_a, 3))
+    for a in range(n_a):
+        e = first[a]
+        x0 = pts[e1[e], 0] - pts[e0[e], 0]
+        x1 = pts[e1[e], 1] - pts[e0[e], 1]
+        x2 = pts[e1[e], 2] - pts[e0[e], 2]
+        nrm = np.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+        dirs[a, 0] = x0 / nrm
+        dirs[a, 1] = x1 / nrm
+        dirs[a, 2] = x2 / nrm
+    lo_val = np.full(n_a, np.inf)
+    hi_val = np.full(n_a, -np.inf)
+    proj = np.empty((m, 2))
+    for e in range(m):
+        a = inv[e]
+        for j in range(2):
+            v = e0[e] if j == 0 else e1[e]
+            proj[e, j] = dirs[a, 0] * pts[v, 0] + dirs[a, 1] * pts[v, 1] + dirs[a, 2] * pts[v, 2]
+        lo = min(proj[e, 0], proj[e, 1])
+        hi = max(proj[e, 0], proj[e, 1])
+        if lo < lo_val[a]:
+            lo_val[a] = lo
+        if hi > hi_val[a]:
+            hi_val[a] = hi
+    arc_a = np.zeros(n_a, dtype=np.int64)
+    arc_b = np.zeros(n_a, dtype=np.int64)
+    for e in range(m):  # the last vertex at the extreme wins, as NumPy's fancy assignment leaves it
+        a = inv[e]
+        for j in range(2):
+            v = e0[e] if j == 0 else e1[e]
+            if proj[e, j] == lo_val[a]:
+                arc_a[a] = v
+            if proj[e, j] == hi_val[a]:
+                arc_b[a] = v
+    # (vertex pair -> arc): sub-edges first, then each arc's full segment; the first occurrence of each pair
+    keys = np.empty(m + n_a, dtype=np.int64)
+    val = np.empty(m + n_a, dtype=np.int64)
+    for e in range(m):
+        keys[e] = min(e0[e], e1[e]) * k_v + max(e0[e], e1[e])
+        val[e] = inv[e]
+    for a in range(n_a):
+        keys[m + a] = min(arc_a[a], arc_b[a]) * k_v + max(arc_a[a], arc_b[a])
+        val[m + a] = a
+    korder = np.argsort(keys, kind="mergesort")
+    n_k = 0
+    for q in range(m + n_a):
+        if q == 0 or keys[korder[q]] != keys[korder[q - 1]]:
+            n_k += 1
+    out_k = np.empty(n_k, dtype=np.int64)
+    out_v = np.empty(n_k, dtype=np.int64)
+    n_k = 0
+    for q in range(m + n_a):
+        if q == 0 or keys[korder[q]] != keys[korder[q - 1]]:
+            out_k[n_k] = keys[korder[q]]
+            out_v[n_k] = val[korder[q]]
+            n_k += 1
+    return arc_faces, arc_a, arc_b, out_k, out_v
 
 
 @numba.njit(cache=True)

@@ -17,8 +17,8 @@ from .barriers import DEFAULT_METHOD, Barrier, Exit
 from .barriers import method as barrier_method
 from .barriers.grid import _exit as _grid_exit
 from .barriers.grid import grid_barrier
-from .energy import G_M_S2, Landscape, energy_landscape
-from .grid import cells_per_turn, wrap_deg
+from .energy import G_M_S2, Landscape, _support_inputs, energy_landscape
+from .grid import cells_per_turn, nearest_cell, torus_angles_deg, wrap_deg
 from .minima import (
     Minimum,
     _follow_minimum_grid,
@@ -89,49 +89,98 @@ def warm_up() -> None:
     cube = Pose(None, None, 1.0, np.zeros(3), corners, {}, ())  # a unit cube, built without trimesh
     ls = energy_landscape(cube, step_deg=90.0)
     grid_barrier(ls, grid_minimum(ls, 0.0, 0.0))
+    grid = _SectorGrid(cube, 90.0, G_M_S2)
+    grid.sector_exit(grid.minimum_cell(0.0, 0.0), "pitch", 8)
     _WARM.append(True)
 
 
-def _grid_sector_exit(ls: Landscape, cell: tuple[int, int], kind: str, connectivity: int):
-    """The pitch-wise or roll-wise exit of :func:`~landscape.barriers.grid.grid_barrier` alone: one flood with the
-    path kept in the sector, to the upright set (the other exits' floods and the grid minima are not needed)."""
-    n = len(ls.angles_deg)
-    i0, j0 = cell[0] % n, cell[1] % n
-    s = i0 * n + j0
-    e = np.ascontiguousarray(ls.energy_j)
-    c = cos_sin(np.deg2rad(ls.angles_deg))[0]
-    upright = (c[:, None] * c[None, :]) < 0  # u_z = cos p cos r, as up_vector computes it
-    if upright[i0, j0]:
-        a0 = ls.angles_deg
-        return Exit(0.0, *canonical_pitch_roll_deg(a0[i0], a0[j0]), "roll", np.array([[a0[i0], a0[j0]]]))
-    d = np.abs(wrap_deg(ls.angles_deg - ls.angles_deg[i0]))[:, None]
-    dr = np.abs(wrap_deg(ls.angles_deg - ls.angles_deg[j0]))[None, :]
-    outside = np.ascontiguousarray((dr > d if kind == "pitch" else d > dr).ravel())
-    outside[s] = False
-    none = np.zeros(n * n, dtype=np.bool_)
-    target = np.ascontiguousarray(upright.ravel().astype(np.int8))
-    levels, cells, parent = _kernels.flood(e, s, target, outside, none, none, 0.0, connectivity, False)
-    return _grid_exit(ls, levels[0], int(cells[0]), parent, float(e[i0, j0]), kind)
+class _SectorGrid:
+    """A pose's pitch-roll grid for the sector searches: the landscape's energies where it was computed,
+    else each cell's energy computed on first use, exactly as :func:`~landscape.energy.energy_landscape`
+    computes it (the same hill climb, times m g), so that a barrier map's poses need no whole grid: a sector
+    flood reaches a few percent to a tenth of the torus."""
+
+    def __init__(self, pose: Pose, step_deg: float, g_m_s2: float, ls: Landscape | None = None) -> None:
+        angles = torus_angles_deg(step_deg)
+        n = len(angles)
+        self.step_deg, self.angles_deg, self.mass_kg, self.g_m_s2 = (
+            float(step_deg),
+            angles,
+            pose.mass_kg,
+            g_m_s2,
+        )
+        self.cos, self.sin = cos_sin(np.deg2rad(angles))
+        self.d, self.ptr, self.idx = _support_inputs(pose)
+        self.scale = pose.mass_kg * g_m_s2  # energy_landscape's factor, in its order
+        # energy and vert are read only where known (uninitialised elsewhere: no page is touched in vain)
+        if ls is None:
+            self.energy = np.empty((n, n))
+            self.known = np.zeros((n, n), dtype=np.bool_)
+        else:
+            self.energy = np.ascontiguousarray(ls.energy_j, dtype=np.float64)
+            self.known = np.ones((n, n), dtype=np.bool_)
+        self.vert = np.empty(n * n, dtype=np.int64)
+
+    def _args(self):
+        return (
+            self.energy,
+            self.known,
+            self.vert,
+            self.d,
+            self.ptr,
+            self.idx,
+            self.cos,
+            self.sin,
+            self.scale,
+        )
+
+    def minimum_cell(self, pitch_deg: float, roll_deg: float) -> tuple[int, int]:
+        """:func:`~landscape.minima.grid_minimum` on this grid."""
+        i, j = nearest_cell(pitch_deg, roll_deg, self.step_deg)
+        i, j = _kernels.lazy_descend(*self._args(), i, j)
+        return int(i), int(j)
+
+    def landscape(self) -> Landscape:
+        """The grid as a Landscape (its energies are valid only where ``known``)."""
+        return Landscape(self.step_deg, self.angles_deg, self.energy, self.mass_kg, self.g_m_s2)
+
+    def sector_exit(self, cell: tuple[int, int], kind: str, connectivity: int) -> Exit | None:
+        """The pitch-wise or roll-wise exit of :func:`~landscape.barriers.grid.grid_barrier` alone: one flood
+        with the path kept in the sector, to the upright set (the other exits' floods are not needed)."""
+        n = len(self.angles_deg)
+        i0, j0 = cell[0] % n, cell[1] % n
+        a0 = self.angles_deg
+        if self.cos[i0] * self.cos[j0] < 0:  # already upright (u_z = cos p cos r, as up_vector computes it)
+            return Exit(0.0, *canonical_pitch_roll_deg(a0[i0], a0[j0]), "roll", np.array([[a0[i0], a0[j0]]]))
+        dist_p = np.ascontiguousarray(np.abs(wrap_deg(a0 - a0[i0])))
+        dist_r = np.ascontiguousarray(np.abs(wrap_deg(a0 - a0[j0])))
+        level, c, parent = _kernels.lazy_sector_flood(
+            *self._args(), i0, j0, dist_p, dist_r, kind == "pitch", connectivity
+        )
+        return _grid_exit(self.landscape(), level, int(c), parent, float(self.energy[i0, j0]), kind)
 
 
-def _with_sectors(barrier: Barrier, minimum: Minimum, ls: Landscape, connectivity: int) -> Barrier:
+def _with_sectors(barrier: Barrier, minimum: Minimum, grid: _SectorGrid, connectivity: int) -> Barrier:
     """Fill the pitch-wise and roll-wise exits of a non-grid method.
 
     Sector-restricted barriers live on the torus (a path over the pole changes sheet), so neither the exact
     face-edge graph (landscape/barriers/exact.py gives only an upper bound) nor the icosphere has them. Where the method's
     righting path stays inside a sector, it is that sector's barrier; otherwise the grid's sector search gives
     it: the grid's bottleneck level minus the method's start energy. Only the sectors the righting path leaves
-    are searched (each by one flood, :func:`_grid_sector_exit`, as :func:`grid_barrier` would find it).
+    are searched (each by one flood, :meth:`_SectorGrid.sector_exit`, as :func:`grid_barrier` would find it),
+    and on a grid without energies (a barrier map's pose) only the cells those floods reach are computed.
     """
-    cell = grid_minimum(ls, minimum.pitch_deg, minimum.roll_deg)
-    shift = ls.at(*cell) - minimum.energy_j
     r = barrier.righting
+    need = [not (r is not None and _in_sector(r.path_deg, kind)) for kind in ("pitch", "roll")]
+    if any(need):
+        cell = grid.minimum_cell(minimum.pitch_deg, minimum.roll_deg)
+        shift = float(grid.energy[cell]) - minimum.energy_j
     sectors = []
-    for kind in ("pitch", "roll"):
-        if r is not None and _in_sector(r.path_deg, kind):
+    for kind, search in zip(("pitch", "roll"), need, strict=True):
+        if not search:
             sectors.append(replace(r, direction=kind))
             continue
-        x = _grid_sector_exit(ls, cell, kind, connectivity)
+        x = grid.sector_exit(cell, kind, connectivity)
         sectors.append(None if x is None else replace(x, barrier_j=x.barrier_j + shift))
     return replace(barrier, pitch_wise=sectors[0], roll_wise=sectors[1])
 
@@ -227,6 +276,7 @@ def compute(
     start_deg: tuple[float, float] | None = None,
     memory_budget_bytes: float = MEMORY_BUDGET_BYTES,
     landscape_grid: bool = True,
+    sector_exits: bool | None = None,
 ) -> Computation:
     """Landscape, start minimum and barriers of a robot at (theta_w, theta_l).
 
@@ -259,6 +309,11 @@ def compute(
         ("exact", "sphere"), skips it and the grid's sector searches: ``landscape`` is then None and the
         pitch-wise and roll-wise exits None; the start minimum and the righting and escape exits are unchanged
         (a barrier map that reports only those, :func:`barrier_map` with ``sector_exits=False``).
+    sector_exits : bool, optional
+        For a method that does not find the pitch-wise and roll-wise exits itself ("exact", "sphere"): search
+        them on the grid. Default: as ``landscape_grid``. True with ``landscape_grid=False`` computes the grid's
+        energies only on the cells the sector searches reach (the same exits, without the whole grid: what
+        :func:`barrier_map` does at each pose).
 
     Raises
     ------
@@ -298,8 +353,9 @@ def compute(
     minimum, barrier = solver.solve(
         pose, ls, start_deg, step_deg=step_deg, connectivity=connectivity, g_m_s2=g_m_s2
     )
-    if not solver.SECTORS and landscape_grid:
-        barrier = _with_sectors(barrier, minimum, ls, connectivity)
+    if not solver.SECTORS and (landscape_grid if sector_exits is None else sector_exits):
+        grid = _SectorGrid(pose, step_deg, g_m_s2, ls)
+        barrier = _with_sectors(barrier, minimum, grid, connectivity)
     timing["barrier"] = time.perf_counter() - t0
     return Computation(
         pose.theta_w_deg,
@@ -390,6 +446,7 @@ def _map_pose(task: dict, w: float, leg: float, start: tuple[float, float]) -> C
         method=task["method"],
         memory_budget_bytes=task["memory_budget_bytes"],
         landscape_grid=task["grid"],
+        sector_exits=task["sectors"],
     )
     return replace(c, landscape=None, pose=None)
 
@@ -466,9 +523,11 @@ def barrier_map(
         Default: :func:`map_workers` chooses (several only on a multi-core machine, from a process's main and
         only thread, for at least :data:`MAP_POSES_PER_WORKER` poses per worker); 1 computes in this process.
     sector_exits : bool
-        Also find the pitch-wise and roll-wise exits (the default). False skips them for a method that does not
-        find them itself ("exact", "sphere"), and with them each pose's landscape grid (``compute``'s
-        ``landscape_grid=False``): those two exits are then None; minima, righting and escape are unchanged.
+        Also find the pitch-wise and roll-wise exits (the default). A method that does not find them itself
+        ("exact", "sphere") then searches them on the grid, computing its energies only on the cells those
+        searches reach (``compute``'s ``landscape_grid=False, sector_exits=True``; no pose keeps a landscape
+        grid either way). False skips them: those two exits are then None; minima, righting and escape are
+        unchanged.
 
     Raises
     ------
@@ -487,14 +546,19 @@ def barrier_map(
     for w in ws:
         for leg in ls_:
             robot.joint_values_rad(w, leg)
-    grid = bool(sector_exits) or barrier_method(method).SECTORS
+    grid = barrier_method(method).SECTORS  # only the grid method needs each pose's whole grid
     check_memory(step_deg, memory_budget_bytes)
     n_workers = map_workers(len(ws) * len(ls_), workers)
     starts = sweep_starts(robot, ws, ls_)
     tasks = [(w, leg, starts[(w, leg)]) for w in ws for leg in ls_]
     warm_up()  # load the kernels once, before any fork, so the workers inherit them
     task = dict(
-        robot=robot, step_deg=step_deg, method=method, memory_budget_bytes=memory_budget_bytes, grid=grid
+        robot=robot,
+        step_deg=step_deg,
+        method=method,
+        memory_budget_bytes=memory_budget_bytes,
+        grid=grid,
+        sectors=bool(sector_exits),
     )
     if n_workers == 1:
         out = _collect((_map_pose(task, *t) for t in tasks), progress)

@@ -306,7 +306,11 @@ def _merged_faces(pts: NDArray[np.float64], com: NDArray[np.float64], tol_m: flo
     eq, tri, nb, tri_face = _faces(pts, tol_m)
     n_f = int(tri_face.max()) + 1
     # outward normal of each merged face: area-weighted mean of its triangles' normals
-    cross = np.cross(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
+    a, b = pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]]
+    cross = np.empty_like(a)  # np.cross(a, b) with its arithmetic, without its axis handling
+    cross[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
+    cross[:, 1] = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
+    cross[:, 2] = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
     area = 0.5 * np.linalg.norm(cross, axis=1)
     normal = np.zeros((n_f, 3))
     np.add.at(normal, tri_face, eq[:, :3] * (area[:, None] + 1e-300))
@@ -320,7 +324,20 @@ def _merged_faces(pts: NDArray[np.float64], com: NDArray[np.float64], tol_m: flo
 
 def _arcs(pts: NDArray[np.float64], tri, nb, tri_face, n_f: int):
     """Boundary edges between different faces (each once), grouped by face pair into arcs; each arc's full
-    segment of collinear sub-edges (its extreme vertices), and the (vertex pair -> arc) lookup."""
+    segment of collinear sub-edges (its extreme vertices), and the (vertex pair -> arc) lookup.
+    Compiled (``_kernels.arcs``); :func:`_arcs_reference` is the NumPy reference."""
+    arc_faces, arc_a, arc_b, keys, arc_of = _kernels.arcs(
+        np.ascontiguousarray(pts, dtype=np.float64),
+        np.ascontiguousarray(tri, dtype=np.int64),
+        np.ascontiguousarray(nb, dtype=np.int64),
+        np.ascontiguousarray(tri_face, dtype=np.int64),
+        int(n_f),
+    )
+    return arc_faces, arc_a, arc_b, (keys, arc_of)
+
+
+def _arcs_reference(pts: NDArray[np.float64], tri, nb, tri_face, n_f: int):
+    """:func:`_arcs` in NumPy (the reference the compiled one is tested against)."""
     k_v = len(pts)
     t_i = np.repeat(np.arange(len(tri)), 3)
     t_j = nb.ravel()
@@ -648,16 +665,20 @@ def _descend_from(ex: ExactLandscape, u: NDArray[np.float64]) -> int:
     """The minimum face reached by quasi-static rolling (steepest descent of h) from up-direction u."""
     g = ex._g
     u = np.asarray(u, dtype=np.float64)
-    u = u / np.linalg.norm(u)
-    for _ in range(4 * (len(ex.face_up) + len(ex.vertices_m)) + 8):
-        hv = g.d @ u
-        top = int(np.argmax(hv))
-        act = np.flatnonzero(hv >= hv[top] - ex.tol_m)
-        if len(act) == 1:
+    u = np.ascontiguousarray(u / np.linalg.norm(u))
+    budget = 4 * (len(ex.face_up) + len(ex.vertices_m)) + 8
+    while budget > 0:
+        # the steps inside single vertices' cells, compiled: u, the top vertex, the active ones (within tol)
+        u, top, a0, a1, n_act, steps = _kernels.roll_in_cells(g.d, u, float(ex.tol_m), budget)
+        budget -= steps + 1
+        if n_act == 0:
+            break
+        top = int(top)
+        if n_act == 1:  # balanced on the vertex: fall onto its lowest face
             u = _cell_step(ex, top, u)
             continue
-        if len(act) == 2:
-            key = int(act.min()) * len(g.d) + int(act.max())
+        if n_act == 2:
+            key = int(a0) * len(g.d) + int(a1)
             i = int(np.searchsorted(g.pair_arc[0], key))
             arc = int(g.pair_arc[1][i]) if i < len(g.pair_arc[0]) and g.pair_arc[0][i] == key else None
             if arc is not None:

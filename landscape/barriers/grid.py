@@ -31,10 +31,7 @@ from landscape.grid import wrap_deg
 
 
 def _path(parent: NDArray[np.int64], cell: int, n: int, angles: NDArray[np.float64]) -> NDArray[np.float64]:
-    cells = [cell]
-    while parent[cells[-1]] >= 0:
-        cells.append(int(parent[cells[-1]]))
-    cells = np.array(cells[::-1])
+    cells = _kernels.tree_path(parent, cell)
     ij = np.stack([cells // n, cells % n], axis=1)
     # unwrap so the path is continuous in degrees
     step = angles[1] - angles[0]
@@ -57,14 +54,8 @@ def _exit(
         return None
     n = len(landscape.angles_deg)
     path = _path(parent, cell, n, landscape.angles_deg)
-    e_path = np.array(
-        [
-            landscape.energy_j[
-                int(round((p + 180) / landscape.step_deg)) % n, int(round((r + 180) / landscape.step_deg)) % n
-            ]
-            for p, r in path
-        ]
-    )
+    ij = np.round((path + 180) / landscape.step_deg).astype(np.int64) % n  # round half to even, as round()
+    e_path = landscape.energy_j[ij[:, 0], ij[:, 1]]
     k = int(np.argmax(e_path))
     sp, sr = canonical_pitch_roll_deg(*path[k])
     direction = kind or _direction(path[0], path[k])

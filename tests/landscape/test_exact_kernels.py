@@ -183,3 +183,40 @@ def test_merge_coplanar_kernel_equals_scipy_components(builtin_landscapes):
         np.testing.assert_array_equal(got, exact._merge_coplanar_reference(pts, tri, eq, nb, tol))
         assert len(tri) == len(qh.simplices)
     assert exact._faces(np.asarray(box, dtype=np.float64), 1e-9)[3].max() + 1 == 6
+
+
+def test_arcs_kernel_equals_numpy(builtin_landscapes, lab_or_builtin_poses):
+    """The compiled face-edge arcs equal the NumPy construction: faces, extreme vertices and the pair lookup."""
+    box = trimesh.creation.box(extents=(4.0, 2.0, 1.0)).vertices
+    grid = np.array([(x, y, z) for x in range(3) for y in range(3) for z in range(2)], dtype=float)
+    blob = np.random.default_rng(3).normal(size=(80, 3))
+    clouds = [box, grid, blob, *(ex.vertices_m for ex in builtin_landscapes), *lab_or_builtin_poses]
+    for pts in clouds:
+        pts = np.asarray(pts, dtype=np.float64)
+        tol = 1e-9 * float(np.ptp(pts, axis=0).max())
+        _, tri, nb, tri_face = exact._faces(pts, tol)
+        n_f = int(tri_face.max()) + 1
+        got = exact._arcs(pts, tri, nb, tri_face, n_f)
+        want = exact._arcs_reference(pts, tri, nb, tri_face, n_f)
+        for g, w in zip(got[:3], want[:3], strict=True):
+            np.testing.assert_array_equal(g, w)
+        np.testing.assert_array_equal(got[3][0], want[3][0])
+        np.testing.assert_array_equal(got[3][1], want[3][1])
+    # the box's 12 edges join its 6 faces; the 3 x 3 x 2 grid's collinear sub-edges merge into whole edges
+    assert len(exact._arcs(*_box_args(box))[0]) == 12
+    assert len(exact._arcs(*_box_args(grid))[0]) == 12
+
+
+def _box_args(pts):
+    pts = np.asarray(pts, dtype=np.float64)
+    _, tri, nb, tri_face = exact._faces(pts, 1e-9)
+    return pts, tri, nb, tri_face, int(tri_face.max()) + 1
+
+
+@pytest.fixture(scope="module")
+def lab_or_builtin_poses():
+    """Hull vertices of the lab robot at a few poses (the built-in robot's when the lab files are absent)."""
+    from tests.conftest import HAVE_LAB, LAB_URDF
+
+    robot = Robot.from_urdf(LAB_URDF) if HAVE_LAB else load_robot(None)
+    return [robot.pose(w, leg).hull.vertices_m for w, leg in ((-10.0, 0.0), (40.0, 0.0), (74.0, 30.0))]
