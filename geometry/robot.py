@@ -997,6 +997,34 @@ class Robot:
             theta_w_deg = theta_l_deg = None
         else:
             T = self.link_transforms(self.joint_values_rad(float(theta_w_deg), float(theta_l_deg)))
+        return self._pose_from(T, theta_w_deg, theta_l_deg)
+
+    def pose_joints(self, joint_values_deg: dict[str, float]) -> Pose:
+        """The rigid body with each named joint at its own angle (degrees; unnamed joints at 0), e.g. the four
+        wing servos at their measured plateaus. ``theta_w_deg``/``theta_l_deg`` of the pose are None.
+
+        Raises
+        ------
+        UnknownJointError
+            If a name is not one of the robot's movable joints.
+        JointLimitError
+            If an angle is not finite or outside its joint's limits.
+        """
+        movable = {j.name for j in self.joints if j.actuated}
+        values = {}
+        for name, val in joint_values_deg.items():
+            if name not in movable:
+                raise UnknownJointError(
+                    f"joint {name!r} is not a movable joint of {self.name}; its movable joints are "
+                    f"{', '.join(sorted(movable)) or 'none'}"
+                )
+            lo, hi = self.joint_limits_deg(name)
+            if not np.isfinite(val) or not lo - 1e-9 <= val <= hi + 1e-9:
+                raise JointLimitError(JOINT_OUT_OF_RANGE.format(what=name, got=val, joint=name, lo=lo, hi=hi))
+            values[name] = float(np.deg2rad(val))
+        return self._pose_from(self.link_transforms(values), None, None)
+
+    def _pose_from(self, T: dict, theta_w_deg, theta_l_deg) -> Pose:
         masses = [
             MassProperties(
                 p.mass.mass_kg,

@@ -105,3 +105,24 @@ def test_mesh_robot_bad_input(tmp_path):
     v[3, 1] = np.nan
     with pytest.raises(GeometryError, match="not finite"):
         Robot.from_trimesh(trimesh.Trimesh(v, nan_box.faces, process=False))
+
+
+def test_pose_joints_sets_each_joint_on_its_own():
+    """Equal angles on every wing joint give pose(theta_w, theta_l) exactly; one wing joint moved alone moves only
+    that wing's points (the body and the other wing stay); bad names and angles are refused."""
+    from geometry.robots import load_robot
+
+    rb = load_robot()
+    wing, leg = rb.joint_map.wing, rb.joint_map.leg
+    a = rb.pose(74.0, 30.0)
+    b = rb.pose_joints({**{n: 74.0 for n in wing}, **{n: 30.0 for n in leg}})
+    assert np.array_equal(a.hull_points_m, b.hull_points_m) and np.array_equal(a.com_m, b.com_m)
+    assert b.theta_w_deg is None
+    base = rb.pose_joints({n: 60.0 for n in wing})
+    one = rb.pose_joints({**{n: 60.0 for n in wing}, wing[0]: 70.0})
+    moved = np.linalg.norm(one.hull_points_m - base.hull_points_m, axis=1) > 1e-12
+    assert 0 < moved.sum() < len(moved) and not np.array_equal(one.com_m, base.com_m)
+    with pytest.raises(UnknownJointError, match="not a movable joint"):
+        rb.pose_joints({"nosuchjoint": 1.0})
+    with pytest.raises(JointLimitError, match="outside joint"):
+        rb.pose_joints({wing[0]: float("nan")})
