@@ -13,7 +13,9 @@ is kept:
 - barrier map in one process: the same with ``workers=1`` (the baseline has no workers: its plain call);
 - barrier map without sector exits: the default call with ``sector_exits=False`` (minima, righting and escape
   only; with them, since the lazy sector floods, no pose computes a whole landscape grid either), this tree only;
-- ``landscape compute --theta-w 74`` and ``landscape --help``: whole processes (``python -m landscape``).
+- ``landscape compute --theta-w 74`` and ``landscape --help``: whole processes (``python -m landscape``);
+- the floor under the first: a bare interpreter importing numpy, scipy.spatial (qhull) and numba, which
+  ``compute`` needs (before numba loads a single cached kernel).
 
 Correctness columns: the start minimum's energy, the righting barrier, and the map's start energies, righting
 barriers and pitch-wise and roll-wise barriers of the two trees, which must agree to 1e-9 J.
@@ -76,6 +78,7 @@ TARGETS_S = {
     "map_lean": 2.0,
     "cli_compute": 0.6,
     "cli_help": 0.3,
+    "import_floor": 0.6,
 }
 LABELS = {
     "start": "start state, lab θw 74 θl 30",
@@ -85,6 +88,7 @@ LABELS = {
     "map_lean": "  the same map, sector_exits=False",
     "cli_compute": "landscape compute --theta-w 74 (process)",
     "cli_help": "landscape --help (process)",
+    "import_floor": "  floor: import numpy, scipy.spatial, numba",
 }
 
 
@@ -177,7 +181,21 @@ def run_tree(tree: Path, lab: Path, repeat: int, do_map: bool, cache: Path) -> d
     out = json.loads(res.stdout.strip().splitlines()[-1])
     out["cli_compute"] = _process_time(tree, ["compute", "--theta-w", "74"], env, repeat)
     out["cli_help"] = _process_time(tree, ["--help"], env, repeat)
+    out["import_floor"] = _import_time(["numpy", "scipy.spatial", "numba"], env, repeat)
     return out
+
+
+def _import_time(modules: list[str], env: dict, repeat: int) -> float:
+    """Best wall time of a bare interpreter importing ``modules`` (the libraries ``compute`` needs): the floor
+    under any ``landscape compute`` process."""
+    cmd = [sys.executable, "-c", "import " + ", ".join(modules)]
+    subprocess.run(cmd, env=env, check=True, capture_output=True)
+    best = float("inf")
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        subprocess.run(cmd, env=env, check=True, capture_output=True)
+        best = min(best, time.perf_counter() - t0)
+    return best
 
 
 def export(rev: str, dest: Path) -> Path:

@@ -49,6 +49,9 @@ def test_readme_has_the_python_twins():
         "robot export",
         "physical table",
         "physical kinematics",
+        "physical actuation",
+        "physical validate",
+        "physical calibrate",
         "serve",
     ):
         assert f"# landscape {cmd}" in text or f"; landscape {cmd}" in text, f"no Python twin for {cmd}"
@@ -101,7 +104,13 @@ def _examples() -> list[tuple[str, list[str]]]:
 
 
 def _slow(cmd: str) -> bool:
-    return "results.sqlite" in cmd or (" sweep" in cmd and "--trials" not in cmd) or " report" in cmd
+    return (
+        "results.sqlite" in cmd
+        or (" sweep" in cmd and "--trials" not in cmd)
+        or " report" in cmd
+        or " physical validate" in cmd
+        or " physical calibrate" in cmd
+    )
 
 
 EXAMPLES = _examples()
