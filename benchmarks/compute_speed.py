@@ -24,20 +24,19 @@ Run:  PYTHONPATH=. /work/main/.venv/bin/python benchmarks/compute_speed.py [--ba
       [--no-map] [--lab PATH]
 
 Last run (issue #12's remaining targets: sector exits by lazy floods that compute only the grid cells they
-reach, so a map's poses build no whole landscape grid; compiled face-edge arcs and rolling; ``--repeat 3`` on
-the shared 2-CPU machine while other engineers' jobs kept its load between 2.5 and 3.4, so every time here is
-inflated and the two map workers got less than one CPU between them; in this session the map in one process
-took 4.94 s before these changes at load 0.4, and 3.4 to 3.9 s after them at load 2.5 to 3.4)::
+reach, so a map's poses build no whole landscape grid; compiled face-edge arcs and rolling; the import floor;
+``--repeat 3`` at load 1.1)::
 
-    python 3.11.7, 2 CPUs, load 3.38; best of 3 (map: one round); baseline 3ba33fb
+    python 3.11.7, 2 CPUs, load 1.11; best of 3 (map: one round); baseline 3ba33fb
     quantity                                       target    3ba33fb  this tree   ratio  met
-    start state, lab θw 74 θl 30                 10.00 ms  109.26 ms    7.11 ms   15.38  yes
-    compute, lab θw 74 θl 30 (exact)             40.00 ms  151.35 ms   25.25 ms    5.99  yes
-    barrier map, lab θw -10..90/0.5 (exact)       2.000 s   10.269 s    4.120 s    2.49  NO
-      the same map in one process                 2.000 s   10.323 s    3.662 s    2.82  NO
-      the same map, sector_exits=False            2.000 s          —    3.474 s          NO
-    landscape compute --theta-w 74 (process)     600.00 ms    1.722 s    1.284 s    1.34  NO
-    landscape --help (process)                   300.00 ms   84.06 ms   89.98 ms    0.93  yes
+    start state, lab θw 74 θl 30                 10.00 ms  111.08 ms    7.20 ms   15.43  yes
+    compute, lab θw 74 θl 30 (exact)             40.00 ms  151.67 ms   25.73 ms    5.89  yes
+    barrier map, lab θw -10..90/0.5 (exact)       2.000 s   10.429 s    2.146 s    4.86  NO
+      the same map in one process                 2.000 s   10.244 s    3.844 s    2.66  NO
+      the same map, sector_exits=False            2.000 s          —    1.717 s          yes
+    landscape compute --theta-w 74 (process)     600.00 ms    1.759 s    1.201 s    1.46  NO
+    landscape --help (process)                   300.00 ms   85.78 ms   80.96 ms    1.06  yes
+      floor: import numpy, scipy.spatial, numba  600.00 ms  634.52 ms  616.75 ms    1.03  NO
 
     start minimum energy   |dE| = 0.00e+00 J
     righting barrier       |dB| = 0.00e+00 J
@@ -47,9 +46,8 @@ took 4.94 s before these changes at load 0.4, and 3.4 to 3.9 s after them at loa
 Where a map pose's time goes now (one process, lab robot, ~17 ms a pose): Qhull twice, ~6 ms (the pose's hull of
 every part's hull vertices, then the exact method's own hull of those vertices, whose triangle order numbers the
 faces that break ties between symmetric saddles, so it cannot reuse the first); the rest of the exact landscape
-and its searches, ~7 ms of NumPy and Python; the sector floods, ~2-3 ms; posing, ~1 ms. The previous run, before
-these changes (load 2.09): compute 47.41 ms, map 5.351 s, in one process 5.574 s, without sector exits 1.972 s
-(that row ran over two worker processes; this run's row, at load 3.4, also did).
+and its searches, ~7 ms of NumPy and Python; the sector floods, ~2-3 ms; posing, ~1 ms. An earlier run of the
+same code at load 3.4: compute 25.25 ms, map 4.120 s, in one process 3.662 s.
 """
 
 from __future__ import annotations
