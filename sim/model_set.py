@@ -40,12 +40,14 @@ import numpy as np
 from geometry.errors import UsageError
 
 from .actuation import Actuation, MeasuredActuation
+from .compliance import Compliance, ComplianceError
 from .world import MAX_ROLLING_FRICTION, Contact
 
 MODELS_DIR = Path(__file__).resolve().parent / "models"
 DEFAULT_MODEL_SET = "paper"
 PROFILES = ("idealised", "measured")
-_TOP = {"name", "version", "description", "actuation", "contact"}
+_TOP = {"name", "version", "description", "actuation", "contact", "compliance"}
+_COMPLIANCE = {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad"}
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
 _MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg"}
 _SERVOS = ("LP", "RP", "LR", "RR")
@@ -82,6 +84,11 @@ class ModelSet:
     contact : Contact
     model_set_hash : str
         16 hex digits of the SHA-256 of the parsed content.
+    measured : MeasuredActuation or None
+        The per-joint knots of a ``profile = "measured"`` set.
+    compliance : Compliance or None
+        Compliant wing roots, from an optional ``[compliance]`` table (``wing_stiffness_n_m_rad``, optional
+        ``wing_damping_n_m_s_rad``; :mod:`sim.compliance`); None: rigid wings.
     """
 
     name: str
@@ -96,6 +103,7 @@ class ModelSet:
     contact: Contact
     model_set_hash: str
     measured: MeasuredActuation | None = None
+    compliance: Compliance | None = None
 
     def actuation(
         self,
@@ -200,7 +208,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise ModelSetError(f"model set '{path}' is not valid TOML: {exc}") from None
     where = f"model set '{path}'"
-    _check_keys(data, _TOP, _TOP - {"description"}, where)
+    _check_keys(data, _TOP, _TOP - {"description", "compliance"}, where)
     if not isinstance(data["name"], str) or not data["name"].strip():
         raise ModelSetError(f"{where}: name must be a non-empty string; got {data['name']!r}")
     if isinstance(data["version"], bool) or not isinstance(data["version"], int) or data["version"] < 0:
@@ -287,6 +295,23 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         "actuation": act_canon,
         "contact": con_canon,
     }
+    compliance = None
+    if "compliance" in data:
+        wc = f"{where} [compliance]"
+        comp = _check_keys(data["compliance"], _COMPLIANCE, {"wing_stiffness_n_m_rad"}, wc)
+        try:
+            compliance = Compliance(
+                _number(comp, "wing_stiffness_n_m_rad", wc),
+                _number(comp, "wing_damping_n_m_s_rad", wc, allow_zero=True)
+                if "wing_damping_n_m_s_rad" in comp
+                else 0.0,
+            )
+        except ComplianceError as exc:
+            raise ModelSetError(f"{wc}: {exc}") from None
+        canonical["compliance"] = {
+            "wing_stiffness_n_m_rad": compliance.wing_stiffness_n_m_rad,
+            "wing_damping_n_m_s_rad": compliance.wing_damping_n_m_s_rad,
+        }
     digest = hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()[:16]
     ms = ModelSet(
         data["name"],
@@ -297,6 +322,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         contact=contact,
         model_set_hash=digest,
         measured=measured,
+        compliance=compliance,
         **timing,
     )
     try:

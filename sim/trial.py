@@ -417,6 +417,7 @@ def run_trial(
     attempts: int | None = None,
     model_set=None,
     numerics: Numerics = Numerics(),
+    compliance=None,
 ) -> TrialResult:
     """Run one self-righting trial in a fresh pybullet DIRECT client.
 
@@ -450,6 +451,8 @@ def run_trial(
         :class:`Contact`). Its name and hash are kept in the result.
     numerics : Numerics
         Hulls, servo period and sub-stepping (defaults: the converged configuration).
+    compliance : sim.compliance.Compliance, optional
+        Compliant wing roots (default: the model set's; None in the shipped sets: rigid wings).
 
     Returns
     -------
@@ -465,6 +468,11 @@ def run_trial(
         If the physics blows up.
     """
     wall0, cpu0 = time.perf_counter(), time.process_time()
+    if model_set is None:
+        from .model_set import load_model_set
+
+        model_set = load_model_set()
+    comp = compliance if compliance is not None else model_set.compliance
     model = sim_model(
         robot,
         tol_m=numerics.hull_tol_m,
@@ -486,10 +494,6 @@ def run_trial(
         n_joints=len(model.joint_map.wing) + len(model.joint_map.leg),
     )
     seed, gen = resolve_seed(rng)
-    if model_set is None:
-        from .model_set import load_model_set
-
-        model_set = load_model_set()
     act, starts, duration_s = _schedule(
         model_set,
         actuation,
@@ -511,7 +515,12 @@ def run_trial(
         n_leg=len(model.joint_map.leg),
     )
     substeps = cmd.sub if numerics.engine_substeps else 1
-    with World(model, dt_s=dt_s, substeps=substeps, contact=contact or model_set.contact) as world:
+    world = World(model, dt_s=dt_s, substeps=substeps, contact=contact or model_set.contact, compliance=comp)
+    with world:
+        if comp is not None:
+            from .compliance import check_stability
+
+            check_stability(comp, world.wing_inertia_kg_m2(), cmd.ctrl_s)
         _settle(world, model, cmd)
         run = _run(world, cmd, trace=trace)
     started = starts[starts <= run.t_end]

@@ -161,6 +161,9 @@ class World:
     substeps : int
         Physics steps per ``stepSimulation`` call (pybullet sub-stepping); :meth:`advance` moves in multiples.
     contact : Contact
+    compliance : sim.compliance.Compliance, optional
+        Drive the wing joints through a spring and damper towards their commands instead of the stiff servo
+        (:mod:`sim.compliance`).
 
     Examples
     --------
@@ -169,8 +172,17 @@ class World:
     ...     w.advance(1)
     """
 
-    def __init__(self, model: SimModel, *, dt_s: float, substeps: int = 1, contact: Contact | None = None):
+    def __init__(
+        self,
+        model: SimModel,
+        *,
+        dt_s: float,
+        substeps: int = 1,
+        contact: Contact | None = None,
+        compliance=None,
+    ):
         self.model = model
+        self.compliance = compliance
         self.dt_s = float(dt_s)
         self.substeps = int(substeps)
         self.contact = contact or Contact()
@@ -223,6 +235,8 @@ class World:
         self.wing_joints = [names[n] for n in jm.wing]
         self.leg_joints = [names[n] for n in jm.leg]
         self.driven = self.wing_joints + self.leg_joints
+        self._soft = list(range(len(jm.wing))) if self.compliance is not None else []
+        self._stiff = [k for k in range(len(self.driven)) if k not in self._soft]
         self.max_force_n_m = np.array(
             [pb.getJointInfo(self.body, j, physicsClientId=cid)[10] for j in self.driven]
         )
@@ -272,9 +286,10 @@ class World:
                 **rolling,
                 physicsClientId=cid,
             )
-        # free the non-driven joints of pybullet's default velocity motors
+        # free the non-driven joints (and the spring-driven ones) of pybullet's default velocity motors
+        soft = {self.driven[k] for k in self._soft}
         for j in range(self.n_joints):
-            if j not in self.driven:
+            if j not in self.driven or j in soft:
                 pb.setJointMotorControl2(self.body, j, pb.VELOCITY_CONTROL, force=0.0, physicsClientId=cid)
 
     # ------------------------------------------------------------------ state
@@ -296,19 +311,25 @@ class World:
         pb.resetBaseVelocity(self.body, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], physicsClientId=cid)
 
     def drive(self, target_rad, speed_rad_s, *, kp: float, kd: float) -> None:
-        """Position control of the driven joints (wing joints then leg joints) within their effort limits."""
+        """Position control of the driven joints (wing joints then leg joints) within their effort limits; with
+        a compliance, the wing joints get the torque ``k (target - q) + c (speed - dq/dt)`` instead, held
+        until the next call and capped at their effort limits."""
+        if self._soft:
+            self._drive_soft(target_rad, speed_rad_s)
+            target_rad = [target_rad[k] for k in self._stiff]
+            speed_rad_s = [speed_rad_s[k] for k in self._stiff]
         gains = self._gains.get((kp, kd))
         if gains is None:
-            n = len(self.driven)
+            n = len(self._stiff)
             # pybullet caps the motor impulse per substep at force * fixedTimeStep (the whole substepped step)
             gains = self._gains[(kp, kd)] = (
                 [kp] * n,
                 [kd] * n,
-                (self.max_force_n_m / self.substeps).tolist(),
+                (self.max_force_n_m[self._stiff] / self.substeps).tolist(),
             )
         pb.setJointMotorControlArray(
             self.body,
-            self.driven,
+            [self.driven[k] for k in self._stiff],
             pb.POSITION_CONTROL,
             targetPositions=target_rad,
             targetVelocities=speed_rad_s,
@@ -317,6 +338,31 @@ class World:
             velocityGains=gains[1],
             physicsClientId=self.cid,
         )
+
+    def _drive_soft(self, target_rad, speed_rad_s) -> None:
+        k, c = self.compliance.wing_stiffness_n_m_rad, self.compliance.wing_damping_n_m_s_rad
+        joints = [self.driven[i] for i in self._soft]
+        states = pb.getJointStates(self.body, joints, physicsClientId=self.cid)
+        tau = [
+            float(np.clip(k * (target_rad[i] - q) + c * (speed_rad_s[i] - v), -lim, lim))
+            for i, (q, v, *_), lim in zip(self._soft, states, self.max_force_n_m[self._soft], strict=True)
+        ]
+        pb.setJointMotorControlArray(
+            self.body, joints, pb.TORQUE_CONTROL, forces=tau, physicsClientId=self.cid
+        )
+
+    def wing_inertia_kg_m2(self) -> float:
+        """The smallest moment of inertia of a wing joint's child link about the joint's axis, kg m² (a lower
+        bound on what the joint moves; nan without a compliance)."""
+        cid, out = self.cid, []
+        for j in (self.driven[k] for k in self._soft):
+            mass, _, diag, pos, orn = pb.getDynamicsInfo(self.body, j, physicsClientId=cid)[:5]
+            axis = np.asarray(pb.getJointInfo(self.body, j, physicsClientId=cid)[13], dtype=np.float64)
+            axis = axis / np.linalg.norm(axis)
+            rot = np.array(pb.getMatrixFromQuaternion(orn, physicsClientId=cid)).reshape(3, 3)
+            r = np.asarray(pos, dtype=np.float64)  # the link's CoM in its link (joint) frame
+            out.append(float(axis @ rot @ np.diag(diag) @ rot.T @ axis + mass * (r @ r - (r @ axis) ** 2)))
+        return min(out) if out else math.nan
 
     def advance(self, n_steps: int) -> None:
         """Advance ``n_steps`` physics steps of ``dt_s`` (a multiple of ``substeps``)."""

@@ -1,0 +1,86 @@
+"""Compliant wings: the joint that carries each wing yields like a spring and damper (issue #15, section 2).
+
+The source paper suspected that the thin wings and their mounts deform under the body's weight and make the
+physical robot easier to right. With a :class:`Compliance`, the wing joints (the pitch and the roll servo of each
+wing) are driven not by the stiff position servo but by the torque ``k (target - q) + c (speed - dq/dt)`` towards the same commanded profile (:meth:`sim.world.World.drive`),
+capped at the servo's effort limit: the wing gives about its hinge line under load by ``load / k`` and springs
+back. The torque is computed once per servo command period and held through pybullet's sub-steps, an explicit
+update that stays accurate while ``sqrt(k / I) * period`` and ``c * period / I`` stay below ``MAX_OMEGA_PERIOD``
+(``I``: the moment of inertia of the joint's child link about its axis, a lower bound on what it moves), which :func:`check_stability` enforces. Without a
+compliance the model is exactly the rigid one.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from geometry.errors import UsageError
+
+MAX_OMEGA_PERIOD = 0.5
+"""Largest ``sqrt(k / I) * period`` (and ``c * period / I``) allowed: the held explicit torque stays accurate."""
+
+
+class ComplianceError(UsageError):
+    """A compliance value out of range or a stiffness too high for the servo command period."""
+
+
+@dataclass(frozen=True)
+class Compliance:
+    """Spring and damper of every wing joint (servo and mount together).
+
+    Attributes
+    ----------
+    wing_stiffness_n_m_rad : float
+        Rotational stiffness, N·m/rad (> 0).
+    wing_damping_n_m_s_rad : float
+        Rotational damping, N·m·s/rad (>= 0).
+    """
+
+    wing_stiffness_n_m_rad: float
+    wing_damping_n_m_s_rad: float = 0.0
+
+    def __post_init__(self):
+        k, c = self.wing_stiffness_n_m_rad, self.wing_damping_n_m_s_rad
+        for name, v in (("wing_stiffness_n_m_rad", k), ("wing_damping_n_m_s_rad", c)):
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise ComplianceError(f"{name} must be a finite number; got {v!r}")
+        if k <= 0:
+            raise ComplianceError(
+                f"wing_stiffness_n_m_rad must be > 0 (omit [compliance] for rigid wings); got {k!r}"
+            )
+        if c < 0:
+            raise ComplianceError(f"wing_damping_n_m_s_rad must be >= 0; got {c!r}")
+
+
+def check_stability(comp: Compliance, inertia_kg_m2: float, period_s: float) -> None:
+    """Refuse a spring or damper the held explicit update cannot follow at ``period_s``.
+
+    Raises
+    ------
+    ComplianceError
+        If ``sqrt(k / I) * period`` or ``c * period / I`` exceeds :data:`MAX_OMEGA_PERIOD`.
+
+    Examples
+    --------
+    >>> check_stability(Compliance(1.0, 0.01), 4.7e-5, 1e-3)
+    >>> check_stability(Compliance(1000.0), 4.7e-5, 1e-3)
+    Traceback (most recent call last):
+    ...
+    sim.compliance.ComplianceError: wing_stiffness_n_m_rad 1000 is too stiff for the 1 ms servo period: sqrt(k/I)*period = 4.61 > 0.5 with the wing's I = 4.7e-05 kg m^2; give k <= 11.8 N m/rad
+    """
+    k, c = comp.wing_stiffness_n_m_rad, comp.wing_damping_n_m_s_rad
+    wt = math.sqrt(k / inertia_kg_m2) * period_s
+    if wt > MAX_OMEGA_PERIOD:
+        k_max = (MAX_OMEGA_PERIOD / period_s) ** 2 * inertia_kg_m2
+        raise ComplianceError(
+            f"wing_stiffness_n_m_rad {k:g} is too stiff for the {period_s * 1e3:g} ms servo period: "
+            f"sqrt(k/I)*period = {wt:.3g} > {MAX_OMEGA_PERIOD:g} with the wing's I = {inertia_kg_m2:.2g} kg m^2; "
+            f"give k <= {k_max:.3g} N m/rad"
+        )
+    if c * period_s / inertia_kg_m2 > MAX_OMEGA_PERIOD:
+        c_max = MAX_OMEGA_PERIOD * inertia_kg_m2 / period_s
+        raise ComplianceError(
+            f"wing_damping_n_m_s_rad {c:g} is too high for the {period_s * 1e3:g} ms servo period with the "
+            f"wing's I = {inertia_kg_m2:.2g} kg m^2; give c <= {c_max:.3g} N m s/rad"
+        )

@@ -1,0 +1,76 @@
+"""Compliant wings (sim/compliance.py): values and stability refused in one line, the model-set table, and the
+physics: the wings give under load by about load / k, so a softer spring deflects more and a stiff one behaves
+like the rigid servo."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from sim.compliance import Compliance, ComplianceError, check_stability
+from sim.model_set import ModelSetError, load_model_set
+from sim.trial import run_trial
+
+
+@pytest.mark.parametrize(
+    "k, c, match",
+    [(0.0, 0.0, "must be > 0"), (1.0, -1.0, ">= 0"), (float("nan"), 0.0, "finite"), (True, 0.0, "finite")],
+)
+def test_bad_values_are_refused(k, c, match):
+    with pytest.raises(ComplianceError, match=match):
+        Compliance(k, c)
+
+
+def test_stability_bound():
+    check_stability(Compliance(1.0, 0.01), 4.7e-5, 1e-3)  # sqrt(k/I) T = 0.15
+    with pytest.raises(ComplianceError, match=r"give k <= 11\.8"):
+        check_stability(Compliance(1000.0), 4.7e-5, 1e-3)
+    with pytest.raises(ComplianceError, match="wing_damping"):
+        check_stability(Compliance(1.0, 0.1), 4.7e-5, 1e-3)  # c T / I = 2.1
+
+
+def _with_table(tmp_path, table: str):
+    text = Path(load_model_set("paper").source).read_text() + "\n[compliance]\n" + table
+    f = tmp_path / "c.toml"
+    f.write_text(text)
+    return f
+
+
+def test_model_set_table(tmp_path):
+    ms = load_model_set(
+        _with_table(tmp_path, "wing_stiffness_n_m_rad = 0.9\nwing_damping_n_m_s_rad = 0.005\n")
+    )
+    assert ms.compliance == Compliance(0.9, 0.005)
+    assert (
+        ms.model_set_hash != load_model_set("paper").model_set_hash
+        and load_model_set("paper").compliance is None
+    )
+    with pytest.raises(ModelSetError, match="unknown key"):
+        load_model_set(_with_table(tmp_path, "wing_stifness_n_m_rad = 1.0\n"))
+    with pytest.raises(ModelSetError, match="wing_stiffness_n_m_rad"):
+        load_model_set(_with_table(tmp_path, "wing_stiffness_n_m_rad = -1.0\n"))
+
+
+def _hold(comp, duration=2.0):
+    """Median body pitch and wing-command minus measured wing angle 0.5-0.95 s after the first opening."""
+    r = run_trial(75.0, 0.0, phase=0.5, cv=0.0, rng=1, duration_s=duration, trace=True, compliance=comp)
+    tr, s0 = r.trace, r.attempt_starts_s[0]
+    m = (tr.t_s > s0 + 0.5) & (tr.t_s < s0 + 0.95)
+    return float(np.median(tr.pitch_deg[m])), float(np.median(tr.wing_cmd_deg[m] - tr.wing_deg[m])), r
+
+
+def test_softer_wings_give_more_and_stiff_ones_act_rigid():
+    rigid_pitch, rigid_sag, _ = _hold(None)
+    sags = {k: _hold(Compliance(k, 0.005))[1] for k in (0.3, 0.9, 3.0)}
+    assert abs(rigid_sag) < 0.1
+    assert sags[0.3] > sags[0.9] > sags[3.0] > 0  # the load closes the wings, more on a softer spring
+    # about load / k: the sag times k stays within a factor of 3 over a tenfold change of k
+    loads = [k * s for k, s in sags.items()]
+    assert max(loads) / min(loads) < 3.0
+    stiff_pitch, _, _ = _hold(Compliance(3.0, 0.005))
+    assert abs(stiff_pitch - rigid_pitch) < 1.0
+
+
+def test_too_stiff_a_spring_is_refused_before_the_trial():
+    with pytest.raises(ComplianceError, match="too stiff"):
+        run_trial(75.0, 0.0, phase=0.5, cv=0.0, rng=1, duration_s=0.5, compliance=Compliance(1e4))
