@@ -12,6 +12,19 @@ from typing import NamedTuple
 
 import pytest
 
+try:
+    from hypothesis import settings as _hypothesis_settings
+except ModuleNotFoundError:  # the test extra is not installed
+    _hypothesis_settings = None
+
+if _hypothesis_settings is not None:
+    # The suite (and CI) draws the same property-test examples every run, so a red run can be rerun and is never
+    # a new random draw; `HYPOTHESIS_PROFILE=explore pytest` draws new random examples every run (pin what it
+    # finds with @example, as tests/landscape/barriers/test_exact.py does).
+    _hypothesis_settings.register_profile("ci", derandomize=True, database=None)
+    _hypothesis_settings.register_profile("explore", derandomize=False)
+    _hypothesis_settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
 REPO = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("LANDSCAPE_SHARED") or REPO.parent / "shared")
 LAB_URDF = SHARED / "ref" / "lab_robot" / "lab_robot.urdf"
