@@ -1,0 +1,282 @@
+"""The first wing opening, recorded and simulated: where the body holds, and how it gets there (issue #15).
+
+Every quantity is taken from one pitch-roll time series and the start of a wing opening (the first rise of the
+wing command), so the physical robot's recordings and the simulation's traces are measured by the same code:
+
+- *rest*: the median pitch in the ``REST_WINDOW_S`` before the opening;
+- *hold*: the median pitch ``HOLD_WINDOW_S`` (0.5-0.95 s) after it, while the wings are held open;
+- *overshoot*: the largest pitch in ``TRANSIENT_WINDOW_S`` (0.2-0.6 s) minus the hold: how far the body is
+  thrown past where it comes to rest;
+- *rise*: the time from the opening's start until the pitch first passes halfway from the rest to the hold;
+- *tilt*: the signed lateral tilt ``asin(u_y) = asin(cos p sin r)`` of largest magnitude in
+  ``TRANSIENT_WINDOW_S``, degrees (``u``: world-up in the body frame, ``geometry/frames.py``). Unlike the Euler
+  roll it stays a tilt near pitch 90 deg, where the roll angle is ill-defined; positive towards positive roll.
+
+The recorded pitch is the IMU's, whose mounting on the body is not known; the simulated pitch is the body
+frame's. :func:`hold_pitch_frames` therefore compares the recorded hold with the model's in two ways: relative
+to the rest before the first opening (issue #15's table, which assumes the model rests where the robot rests
+with its wings closed), and in the IMU's own frame with its mounting offset fitted as one constant (each
+command's residual also with the offset fitted on the other commands only).
+"""
+
+from __future__ import annotations
+
+import math
+from collections import defaultdict
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from landscape.analysis.physical import (
+    HOLD_WINDOW_S,
+    REST_WINDOW_S,
+    PhysicalDataError,
+    measured_plateaus_deg,
+    read_recording,
+    trial_files,
+)
+
+TRANSIENT_WINDOW_S = (0.2, 0.6)
+"""Window after an opening's start in which the overshoot and the tilt are read, s."""
+SIM_OPENING_S = 1.0
+"""Simulated time after the opening's start: the hold window and the transient lie inside it, s."""
+
+
+@dataclass(frozen=True)
+class OpeningResponse:
+    """How the body moves in one wing opening (definitions in the module docstring).
+
+    Attributes
+    ----------
+    rest_pitch_deg, hold_pitch_deg : float
+        Median pitch before the opening and while the wings are held open, degrees (the series' own frame).
+    overshoot_deg : float
+        Largest pitch in the transient window minus the hold, degrees.
+    rise_s : float
+        Time to pass halfway from the rest to the hold, s.
+    tilt_deg : float
+        Signed lateral tilt of largest magnitude in the transient window, degrees.
+    """
+
+    rest_pitch_deg: float
+    hold_pitch_deg: float
+    overshoot_deg: float
+    rise_s: float
+    tilt_deg: float
+
+
+def lateral_tilt_deg(pitch_deg: ArrayLike, roll_deg: ArrayLike) -> NDArray[np.float64]:
+    """Signed lateral tilt ``asin(cos p sin r)`` of world-up in the body frame, degrees.
+
+    Examples
+    --------
+    >>> lateral_tilt_deg([0.0, 60.0, 89.0], [30.0, 30.0, 30.0]).round(2)
+    array([30.  , 14.48,  0.5 ])
+    """
+    p = np.deg2rad(np.asarray(pitch_deg, dtype=np.float64))
+    r = np.deg2rad(np.asarray(roll_deg, dtype=np.float64))
+    return np.rad2deg(np.arcsin(np.clip(np.cos(p) * np.sin(r), -1.0, 1.0)))
+
+
+def opening_response(
+    t_s: ArrayLike, pitch_deg: ArrayLike, roll_deg: ArrayLike, start_s: float
+) -> OpeningResponse:
+    """Rest, hold, overshoot, rise and tilt of the opening that starts at ``start_s`` (module docstring); nan
+    where a window holds no sample.
+
+    Examples
+    --------
+    >>> t = np.linspace(-0.5, 1.0, 151)
+    >>> pitch = np.where(t < 0, 0.0, 60.0 * np.clip(t / 0.3, 0.0, 1.0)) + 10.0 * ((t > 0.3) & (t < 0.4))
+    >>> r = opening_response(t, pitch, np.zeros_like(t), 0.0)
+    >>> r.hold_pitch_deg, r.overshoot_deg, round(r.rise_s, 2), r.tilt_deg
+    (60.0, 10.0, 0.15, 0.0)
+    """
+    t = np.asarray(t_s, dtype=np.float64) - float(start_s)
+    p = np.asarray(pitch_deg, dtype=np.float64)
+    r = np.asarray(roll_deg, dtype=np.float64)
+
+    def median(lo: float, hi: float) -> float:
+        sel = (t >= lo) & (t <= hi)
+        return float(np.median(p[sel])) if sel.any() else math.nan
+
+    rest = median(-REST_WINDOW_S, -1e-12)
+    hold = median(*HOLD_WINDOW_S)
+    win = (t >= TRANSIENT_WINDOW_S[0]) & (t <= TRANSIENT_WINDOW_S[1])
+    overshoot = float(p[win].max()) - hold if win.any() else math.nan
+    tilt = math.nan
+    if win.any():
+        tl = lateral_tilt_deg(p[win], r[win])
+        tilt = float(tl[np.argmax(np.abs(tl))])
+    rise = math.nan
+    if np.isfinite(rest) and np.isfinite(hold):
+        half = rest + 0.5 * (hold - rest)
+        after = (t >= 0) & ((p >= half) if hold >= rest else (p <= half))
+        if after.any():
+            rise = float(t[np.flatnonzero(after)[0]])
+    return OpeningResponse(rest, hold, overshoot, rise, tilt)
+
+
+@dataclass(frozen=True)
+class RecordedOpening:
+    """The first opening of one recorded trial."""
+
+    name: str
+    theta_w_cmd_deg: float
+    theta_l_deg: float
+    trial: int
+    response: OpeningResponse
+
+
+def recorded_first_openings(data_dir: str | Path) -> list[RecordedOpening]:
+    """:func:`opening_response` of every recorded trial's first opening, in file order.
+
+    Raises
+    ------
+    PhysicalDataError
+        If the directory or a file is not in the lab's format.
+    """
+    out = []
+    for f in trial_files(data_dir):
+        rec = read_recording(f)
+        resp = opening_response(rec.t_s, rec.pitch_deg, rec.roll_deg, float(rec.openings_s[0]))
+        out.append(RecordedOpening(rec.name, rec.theta_w_cmd_deg, rec.theta_l_deg, rec.trial, resp))
+    return out
+
+
+def simulated_opening(
+    theta_w_deg: float,
+    theta_l_deg: float,
+    *,
+    phase: float,
+    seed: int,
+    robot: str | Path | None = None,
+    model_set="paper",
+    cv: float = 0.0,
+) -> OpeningResponse:
+    """:func:`opening_response` of a simulated first opening (one attempt, ``SIM_OPENING_S`` after it starts;
+    ``theta_w_deg`` is what the set simulates: the command for a measured profile, the wing angle otherwise)."""
+    from sim.model_set import load_model_set
+    from sim.trial import run_trial
+
+    ms = load_model_set(model_set)
+    start = phase * ms.actuation(theta_w_deg, theta_l_deg).leg_period_s  # the first opening: sim.actuation
+    res = run_trial(
+        theta_w_deg, theta_l_deg, phase=phase, cv=cv, rng=seed, robot=robot, model_set=ms, trace=True,
+        attempts=1, duration_s=start + SIM_OPENING_S,
+    )  # fmt: skip
+    tr = res.trace
+    return opening_response(tr.t_s, tr.pitch_deg, tr.roll_deg, res.attempt_starts_s[0])
+
+
+@dataclass(frozen=True)
+class HoldFrame:
+    """The hold pitch of first openings with the leg still, per wing command, in two frames.
+
+    Attributes
+    ----------
+    theta_w_cmd_deg : float
+    n : int
+        First openings with the leg still.
+    recorded_deg, recorded_sd_deg : float
+        Median and standard deviation of the recorded hold pitch in the IMU frame, degrees.
+    relative_deg, relative_sd_deg : float
+        The same minus each trial's rest before the opening (issue #15's reference), degrees.
+    rest_sd_deg : float
+        Standard deviation of that rest between trials, degrees.
+    model_deg, model_rest_deg : float
+        The model's metastable pitch at the command and its rest with the wings closed, body frame, degrees.
+    offset_deg : float
+        The IMU's mounting (recorded minus model), fitted as one constant over every command, degrees.
+    residual_deg, residual_held_out_deg : float
+        Recorded minus offset minus model: with the offset fitted on every command, and on the other commands
+        only, degrees.
+    """
+
+    theta_w_cmd_deg: float
+    n: int
+    recorded_deg: float
+    recorded_sd_deg: float
+    relative_deg: float
+    relative_sd_deg: float
+    rest_sd_deg: float
+    model_deg: float
+    model_rest_deg: float
+    offset_deg: float
+    residual_deg: float
+    residual_held_out_deg: float
+
+
+def hold_pitch_frames(
+    data_dir: str | Path, model_hold_deg: dict[float, float], model_rest_deg: float
+) -> list[HoldFrame]:
+    """Compare the recorded hold pitch of first openings (leg still) with the model's, per wing command.
+
+    Parameters
+    ----------
+    data_dir : path
+        The lab's physical_robot folder.
+    model_hold_deg : dict of float to float
+        The model's metastable pitch per wing command, body frame, degrees (e.g. every wing servo at its
+        measured plateau).
+    model_rest_deg : float
+        The model's rest with the wings closed, degrees.
+
+    Raises
+    ------
+    PhysicalDataError
+        If no trial with the leg still has a command of ``model_hold_deg``.
+    """
+    hold: dict[float, list[float]] = defaultdict(list)
+    rest: dict[float, list[float]] = defaultdict(list)
+    for o in recorded_first_openings(data_dir):
+        r = o.response
+        if o.theta_l_deg == 0.0 and o.theta_w_cmd_deg in model_hold_deg and np.isfinite(r.hold_pitch_deg):
+            hold[o.theta_w_cmd_deg].append(r.hold_pitch_deg)
+            rest[o.theta_w_cmd_deg].append(r.rest_pitch_deg)
+    cmds = sorted(hold)
+    if not cmds:
+        raise PhysicalDataError(
+            f"no first opening with the leg still at wing commands {sorted(model_hold_deg)} deg in '{data_dir}'"
+        )
+    recorded = {c: float(np.median(hold[c])) for c in cmds}
+    diff = {c: recorded[c] - model_hold_deg[c] for c in cmds}
+    offset = float(np.mean(list(diff.values())))
+    out = []
+    for c in cmds:
+        h, s = np.asarray(hold[c]), np.asarray(rest[c])
+        others = [diff[k] for k in cmds if k != c]
+        held_out = diff[c] - float(np.mean(others)) if others else math.nan
+        out.append(
+            HoldFrame(
+                c, len(h), recorded[c], float(h.std()), float(np.median(h - s)), float((h - s).std()),
+                float(s.std()), model_hold_deg[c], model_rest_deg, offset, diff[c] - offset, held_out,
+            )
+        )  # fmt: skip
+    return out
+
+
+def per_servo_hold_deg(robot, measured, commands_deg: Sequence[float]) -> dict[float, float]:
+    """The model's metastable pitch with each wing servo at its own measured plateau (the largest knot angle of
+    its profile at the command: :class:`sim.measured.MeasuredActuation`), reached by following the minimum as
+    the wings open equally to the smallest of the four plateaus and then descending, degrees."""
+    from landscape.minima import local_descent, metastable_orientation
+
+    out = {}
+    for c in commands_deg:
+        i = list(measured.wing_command_deg).index(c)
+        vals = {n: float(np.max(measured.wing_knots_deg[k][i])) for k, n in enumerate(robot.joint_map.wing)}
+        start = metastable_orientation(robot, min(vals.values()), 0.0)
+        out[float(c)] = float(local_descent(robot.pose_joints(vals), *start)[0])
+    return out
+
+
+def plateau_hold_deg(robot, data_dir: str | Path, commands_deg: Sequence[float]) -> dict[float, float]:
+    """The model's metastable pitch with every wing joint at the measured plateau of each command, degrees."""
+    from landscape.minima import metastable_orientation
+
+    plateau = measured_plateaus_deg(data_dir)
+    return {float(c): float(metastable_orientation(robot, plateau[c], 0.0)[0]) for c in commands_deg}

@@ -1,0 +1,86 @@
+"""The first wing opening, recorded and simulated (landscape/analysis/opening.py): the measures on synthetic
+series with known answers, a simulated opening of the symmetric built-in robot, and the hold-pitch frames on the
+lab's recordings (skipped without ../shared)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from landscape.analysis import opening as op
+from tests.conftest import LAB_URDF
+from tests.landscape.analysis.test_physical import DATA, needs_data
+
+
+def test_tilt_is_the_roll_when_level_and_vanishes_at_the_pole():
+    roll = np.array([-40.0, -5.0, 0.0, 12.0, 70.0])
+    assert np.allclose(op.lateral_tilt_deg(np.zeros(5), roll), roll)
+    assert np.allclose(op.lateral_tilt_deg(np.full(5, 90.0), roll), 0.0, atol=1e-12)
+    # closed form at pitch 60: sin(tilt) = cos 60 sin r
+    assert op.lateral_tilt_deg(60.0, 30.0) == pytest.approx(math.degrees(math.asin(0.25)), abs=1e-12)
+
+
+def _series(overshoot_deg=8.0, tilt_roll_deg=-20.0, start_s=0.4):
+    t = np.arange(-0.6, 1.4, 0.01)
+    tau = t - start_s
+    pitch = np.where(tau < 0, 2.0, 2.0 + 60.0 * np.clip(tau / 0.25, 0.0, 1.0))
+    pitch = pitch + overshoot_deg * ((tau > 0.3) & (tau < 0.35))
+    roll = np.where((tau > 0.3) & (tau < 0.32), tilt_roll_deg, 1.0)
+    return t, pitch, roll
+
+
+def test_opening_response_reads_rest_hold_overshoot_rise_and_signed_tilt():
+    t, pitch, roll = _series()
+    r = op.opening_response(t, pitch, roll, 0.4)
+    assert r.rest_pitch_deg == pytest.approx(2.0)
+    assert r.hold_pitch_deg == pytest.approx(62.0)
+    assert r.overshoot_deg == pytest.approx(8.0)
+    assert r.rise_s == pytest.approx(0.13, abs=0.011)  # halfway (32 deg) at 0.125 s, sampled every 10 ms
+    # the peak roll -20 deg at pitch 62 (+8 inside the overshoot): tilt = asin(cos 70 sin -20)
+    assert r.tilt_deg == pytest.approx(
+        math.degrees(math.asin(math.cos(math.radians(70)) * math.sin(math.radians(-20))))
+    )
+
+
+def test_opening_response_is_nan_where_a_window_is_empty():
+    t = np.arange(0.0, 0.3, 0.01)  # no sample before the opening, none in the hold window
+    r = op.opening_response(t, np.zeros_like(t), np.zeros_like(t), 0.0)
+    assert math.isnan(r.rest_pitch_deg) and math.isnan(r.hold_pitch_deg) and math.isnan(r.rise_s)
+    assert r.tilt_deg == 0.0
+
+
+def test_simulated_opening_of_the_symmetric_robot_holds_at_its_minimum_without_tilt():
+    """Built-in robot, leg still, paper set: the body comes to rest at the landscape's metastable pitch (to the
+    contact's penetration) and, mirror-symmetric, does not tilt sideways."""
+    from geometry.robots import load_robot
+    from landscape.minima import metastable_orientation
+
+    r = op.simulated_opening(74.0, 0.0, phase=0.25, seed=1)
+    want = metastable_orientation(load_robot(None), 74.0, 0.0)[0]
+    assert r.hold_pitch_deg == pytest.approx(want, abs=1.0)
+    assert abs(r.tilt_deg) < 0.5
+    assert 0.05 < r.rise_s < 0.35
+
+
+@needs_data
+@pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
+def test_hold_frames_on_the_recordings():
+    """The recorded hold of first openings is steadier in the IMU frame than relative to each trial's rest
+    (the rest carries the spread), and the offset's algebra: residuals sum to zero, and each held-out residual
+    is the command's difference minus the mean of the others'."""
+    from geometry.robots import load_robot
+    from landscape.minima import metastable_orientation
+
+    robot = load_robot(LAB_URDF)
+    model = op.plateau_hold_deg(robot, DATA, (60.0, 75.0, 90.0))
+    rows = op.hold_pitch_frames(DATA, model, metastable_orientation(robot, 0.0, 0.0)[0])
+    assert [r.theta_w_cmd_deg for r in rows] == [60.0, 75.0, 90.0]
+    assert all(r.n == 5 for r in rows)
+    assert all(r.recorded_sd_deg < r.relative_sd_deg for r in rows)
+    assert sum(r.residual_deg for r in rows) == pytest.approx(0.0, abs=1e-9)
+    diff = {r.theta_w_cmd_deg: r.recorded_deg - r.model_deg for r in rows}
+    for r in rows:
+        others = [d for c, d in diff.items() if c != r.theta_w_cmd_deg]
+        assert r.residual_held_out_deg == pytest.approx(diff[r.theta_w_cmd_deg] - np.mean(others))
+    with pytest.raises(op.PhysicalDataError, match="leg still"):
+        op.hold_pitch_frames(DATA, {65.0: 60.0}, 0.0)
