@@ -122,13 +122,23 @@ def opening_response(
 
 @dataclass(frozen=True)
 class RecordedOpening:
-    """The first opening of one recorded trial."""
+    """The first opening of one recorded trial.
+
+    Attributes
+    ----------
+    leg_lead_s : float
+        How long before the opening the leg command last turned positive, s (nan with the leg still; the servo
+        log's 10 Hz resolution). The lab's protocol starts the leg and the wings at fixed times, so this lead,
+        and with it the phase of the first attempt, is the same in every trial: the first attempt's phase is
+        not random on the robot.
+    """
 
     name: str
     theta_w_cmd_deg: float
     theta_l_deg: float
     trial: int
     response: OpeningResponse
+    leg_lead_s: float = math.nan
 
 
 def recorded_first_openings(data_dir: str | Path) -> list[RecordedOpening]:
@@ -142,8 +152,11 @@ def recorded_first_openings(data_dir: str | Path) -> list[RecordedOpening]:
     out = []
     for f in trial_files(data_dir):
         rec = read_recording(f)
-        resp = opening_response(rec.t_s, rec.pitch_deg, rec.roll_deg, float(rec.openings_s[0]))
-        out.append(RecordedOpening(rec.name, rec.theta_w_cmd_deg, rec.theta_l_deg, rec.trial, resp))
+        start = float(rec.openings_s[0])
+        resp = opening_response(rec.t_s, rec.pitch_deg, rec.roll_deg, start)
+        ups = rec.leg_up_s[rec.leg_up_s <= start + 1e-9]
+        lead = start - float(ups[-1]) if len(ups) else math.nan
+        out.append(RecordedOpening(rec.name, rec.theta_w_cmd_deg, rec.theta_l_deg, rec.trial, resp, lead))
     return out
 
 

@@ -36,7 +36,7 @@ import math
 import re
 from collections import defaultdict
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -86,6 +86,9 @@ class Recording:
         Time from the first wing opening (s), body pitch and roll (deg), world-up's body-z component.
     openings_s : ndarray of shape (K,)
         Start of every wing opening, s from the first (``openings_s[0] == 0``).
+    leg_up_s : ndarray of shape (J,)
+        When the leg command turns positive (servo column 1 rises above 0), s from the first opening; empty
+        with the leg still. The servo log is written at 10 Hz, so these times are known to 0.1 s.
     """
 
     name: str
@@ -97,6 +100,7 @@ class Recording:
     roll_deg: NDArray[np.float64]
     up_z: NDArray[np.float64]
     openings_s: NDArray[np.float64]
+    leg_up_s: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0))
 
 
 def _data_dir(data_dir: str | Path) -> Path:
@@ -189,11 +193,14 @@ def read_recording(path: str | Path) -> Recording:
             f"'{path}' has no wing opening (servo column 2 never rises) or no valid orientation sample"
         )
     t0 = float(rises[0])
+    leg_cmd = servo[:, 1]
+    leg_up = servo[1:, 0][(leg_cmd[1:] > 0) & (leg_cmd[:-1] <= 0)]
     pitch, roll = pitch_roll_from_quat_deg(quat[:, 1:5])
     up_z = 1.0 - 2.0 * (quat[:, 1] ** 2 + quat[:, 2] ** 2)
     return Recording(
-        path.name, float(w[0]), float(theta_l), trial, quat[:, 0] - t0, pitch, roll, up_z, rises - t0
-    )
+        path.name, float(w[0]), float(theta_l), trial, quat[:, 0] - t0, pitch, roll, up_z, rises - t0,
+        leg_up - t0,
+    )  # fmt: skip
 
 
 def upright_stretches(

@@ -1,9 +1,11 @@
 """The simulation against the physical robot's recorded trials (issue #15, sections 3–4): the referee.
 
 For each physical cell (wing command 60/75/90° simulated at its measured plateau, leg amplitude 0/15/30/45°)
-:func:`validation_specs` makes ``trials`` simulated trials with random first-attempt phases (the physical robot's
-phase is not controlled: each trial draws phi_1 uniformly from its seed), the model set's own actuation and the
-given noise Cv; they run through the ordinary sweep machinery (:func:`sim.sweep.run_sweep`, a resumable store).
+:func:`validation_specs` makes ``trials`` simulated trials, by default with random first-attempt phases (each
+trial draws phi_1 uniformly from its seed), or all at one given phase: the lab's protocol starts the leg 0.2 s
+(the servo log's 10 Hz resolution) before every trial's first opening, so on the robot phi_1 is the same in every
+trial (:mod:`landscape.analysis.opening`); the model set's own actuation and the given noise Cv on the closed
+holds; they run through the ordinary sweep machinery (:func:`sim.sweep.run_sweep`, a resumable store).
 :func:`compare` then puts simulated beside physical:
 
 - per cell: success fractions with Wilson 95 % intervals, and whether each fraction lies inside the other's
@@ -118,9 +120,11 @@ def validation_specs(
     duration_s: float | None = None,
     dt_s: float | None = None,
     joint_map=None,
+    phase: float | None = None,
 ):
-    """The simulated trials of the cells: ``trials`` random phases each, at the cell's measured plateau (or at its
-    command for a set with a measured actuation profile, :func:`simulates_commands`).
+    """The simulated trials of the cells: ``trials`` random phases each (or ``trials`` seeds at the one first-attempt
+    ``phase`` in [0, 1)), at the cell's measured plateau (or at its command for a set with a measured actuation
+    profile, :func:`simulates_commands`).
 
     Returns a list of :class:`sim.sweep.TrialSpec` for :func:`sim.sweep.run_sweep`.
     """
@@ -131,15 +135,18 @@ def validation_specs(
         raise ValidationError(f"--trials must be at least 1; got {trials}")
     if not cells:
         raise ValidationError("no cells to simulate; give --cells WING:LEG,... from the recorded cells")
+    if phase is not None and not (np.isfinite(phase) and 0.0 <= phase < 1.0):
+        raise ValidationError(f"--phase must be a first-attempt phase in [0, 1); got {phase!r}")
     specs = []
     commanded = simulates_commands(model_set)
     for w, leg in cells:
+        fixed = phase is not None
         specs += sweep_specs(
             [w if commanded else plateaus_deg.get(w, w)],
             [leg],
             [cv],
-            phase=cell_phases(w, leg, trials, seed),
-            trials=1,
+            phase=[float(phase)] if fixed else cell_phases(w, leg, trials, seed),
+            trials=int(trials) if fixed else 1,
             duration_s=DEFAULT_DURATION_S if duration_s is None else duration_s,
             dt_s=dt_s,
             robot=robot,
@@ -407,8 +414,10 @@ def validate(
     workers: int | None = None,
     scheduler: str | None = None,
     progress: bool = True,
+    phase: float | None = None,
 ) -> tuple[Validation, object]:
     """Simulate the physical cells with a model set (resuming ``db``) and compare: ``(Validation, SweepSummary)``.
+    ``phase``: every trial's first attempt at this phase (None: random phases, :func:`validation_specs`).
 
     Raises
     ------
@@ -426,7 +435,7 @@ def validate(
     chosen = parse_cells(cells, available) if cells is None or isinstance(cells, str) else list(cells)
     specs = validation_specs(
         chosen, plateaus, trials=trials, cv=cv, seed=seed, robot=robot, model_set=model_set,
-        duration_s=duration_s, dt_s=dt_s, joint_map=joint_map,
+        duration_s=duration_s, dt_s=dt_s, joint_map=joint_map, phase=phase,
     )  # fmt: skip
     summary = run_sweep(specs, db=db, workers=workers, scheduler=scheduler, progress=progress)
     keys = {s.key() for s in specs}

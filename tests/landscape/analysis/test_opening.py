@@ -84,3 +84,14 @@ def test_hold_frames_on_the_recordings():
         assert r.residual_held_out_deg == pytest.approx(diff[r.theta_w_cmd_deg] - np.mean(others))
     with pytest.raises(op.PhysicalDataError, match="leg still"):
         op.hold_pitch_frames(DATA, {65.0: 60.0}, 0.0)
+
+
+@needs_data
+def test_the_protocol_fixes_the_first_attempts_phase():
+    """The servo log: in every trial with the leg moving the leg command last turned positive 0.2 s (0.3 s at
+    the log's 10 Hz resolution) before the first opening; with the leg still there is no lead."""
+    rows = op.recorded_first_openings(DATA)
+    leads = [o.leg_lead_s for o in rows if o.theta_l_deg > 0]
+    assert len(leads) == 45 and all(round(x, 2) in (0.2, 0.3) for x in leads)
+    assert sum(round(x, 2) == 0.2 for x in leads) >= 40
+    assert all(math.isnan(o.leg_lead_s) for o in rows if o.theta_l_deg == 0)

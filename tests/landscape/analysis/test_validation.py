@@ -108,6 +108,18 @@ def test_phases_are_random_reproducible_and_per_cell():
     assert all(0.0 <= x < 1.0 for x in a) and len(set(a)) == 10
 
 
+def test_a_fixed_phase_gives_every_trial_that_phase_and_its_own_seed():
+    specs = va.validation_specs([(75.0, 15.0), (60.0, 0.0)], {75.0: 73.6, 60.0: 59.1}, trials=4, phase=0.17)
+    assert len(specs) == 8 and {s.phase for s in specs} == {0.17}
+    assert len({(s.theta_w_deg, s.seed) for s in specs}) == 8
+    assert {s.theta_w_deg for s in specs} == {73.6, 59.1}  # the paper set runs at the measured plateaus
+    random = va.validation_specs([(75.0, 15.0)], {75.0: 73.6}, trials=4)
+    assert [s.phase for s in random] == va.cell_phases(75.0, 15.0, 4, 0)
+    for bad in (1.0, -0.1, math.nan):
+        with pytest.raises(va.ValidationError, match=r"--phase must be a first-attempt phase in \[0, 1\)"):
+            va.validation_specs([(75.0, 15.0)], {75.0: 73.6}, phase=bad)
+
+
 @needs_data
 def test_validate_command_end_to_end_and_resumes(tmp_path, capsys):
     args = [
