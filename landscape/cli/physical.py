@@ -7,7 +7,16 @@ from pathlib import Path
 
 import click
 
-from landscape.cli.options import joints_option, robot_option
+from landscape.cli.options import (
+    joints_option,
+    model_set_option,
+    no_progress_option,
+    robot_option,
+    validation_cv_option,
+    validation_duration_option,
+    validation_seed_option,
+    workers_option,
+)
 
 DATA_OPT = click.option(
     "--data",
@@ -16,6 +25,9 @@ DATA_OPT = click.option(
     required=True,
     help="The lab's data-robot folder (run5_*.bag.mat, robot_attempts.mat, ...; e.g. "
     "../shared/ref/physical_robot).",
+)
+SIM_ROBOT = robot_option(
+    extra_help="The simulated robot (the real robot's CAD is ../shared/ref/lab_robot/lab_robot.urdf)."
 )
 
 
@@ -118,18 +130,9 @@ def actuation_cmd(data, out):
 
 @physical.command("validate")
 @DATA_OPT
-@robot_option(
-    extra_help="The simulated robot (the real robot's CAD is ../shared/ref/lab_robot/lab_robot.urdf)."
-)
+@SIM_ROBOT
 @joints_option
-@click.option(
-    "--model",
-    "model_set",
-    type=str,
-    default="paper",
-    show_default=True,
-    help="Model parameter set: a shipped name (paper, physical) or a .toml file (sim/model_set.py).",
-)
+@model_set_option
 @click.option(
     "--trials",
     type=click.IntRange(min=1),
@@ -137,27 +140,19 @@ def actuation_cmd(data, out):
     show_default=True,
     help="Simulated trials per cell, each with a random first-attempt phase.",
 )
-@click.option(
-    "--cv", type=float, default=0.05, show_default=True, help="Noise Cv = sigma / Tl (>= 0), a fraction."
-)
-@click.option(
-    "--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of phases and noise."
-)
+@validation_cv_option
+@validation_seed_option
 @click.option(
     "--cells",
     type=str,
     default=None,
     help="Only these cells, WING:LEG in degrees of the wing command, e.g. 60:15,75:0 [default: all 12 recorded].",
 )
-@click.option(
-    "--duration", type=float, default=None, help="Simulated trial length, s [default: the paper's 10 s]."
-)
+@validation_duration_option
 @click.option(
     "--dt", type=float, default=None, help="Physics time step, s [default: the robot's converged step]."
 )
-@click.option(
-    "--workers", type=click.IntRange(min=1), default=None, help="Local worker processes [default: all cores]."
-)
+@workers_option
 @click.option(
     "--out",
     type=click.Path(file_okay=False, path_type=Path),
@@ -166,11 +161,7 @@ def actuation_cmd(data, out):
     help="Output directory: validation.csv, validation.json, time_to_right.png/.svg and the trial store "
     "(trials_<set>_<hash>.sqlite; rerunning resumes it).",
 )
-@click.option(
-    "--no-progress",
-    is_flag=True,
-    help="No progress bar (it is also off when stderr is not a terminal, e.g. redirected to a log).",
-)
+@no_progress_option
 def validate_cmd(
     data, robot, joints, model_set, trials, cv, seed, cells, duration, dt, workers, out, no_progress
 ):
@@ -224,9 +215,7 @@ def validate_cmd(
 
 @physical.command("calibrate")
 @DATA_OPT
-@robot_option(
-    extra_help="The simulated robot (the real robot's CAD is ../shared/ref/lab_robot/lab_robot.urdf)."
-)
+@SIM_ROBOT
 @click.option(
     "--base",
     type=str,
@@ -261,18 +250,10 @@ def validate_cmd(
     show_default=True,
     help="Leg amplitudes (degrees) of the fit cells; the others (15, 45) are held out.",
 )
-@click.option(
-    "--cv", type=float, default=0.05, show_default=True, help="Noise Cv = sigma / Tl (>= 0), a fraction."
-)
-@click.option(
-    "--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of phases and noise."
-)
-@click.option(
-    "--duration", type=float, default=None, help="Simulated trial length, s [default: the paper's 10 s]."
-)
-@click.option(
-    "--workers", type=click.IntRange(min=1), default=None, help="Local worker processes [default: all cores]."
-)
+@validation_cv_option
+@validation_seed_option
+@validation_duration_option
+@workers_option
 @click.option(
     "--out",
     type=click.Path(file_okay=False, path_type=Path),
@@ -281,11 +262,7 @@ def validate_cmd(
     help="Output directory: candidates/, one trial store per candidate (rerunning resumes), best.toml, "
     "calibration.csv/.json and the best set's validation.",
 )
-@click.option(
-    "--no-progress",
-    is_flag=True,
-    help="No progress bar (it is also off when stderr is not a terminal, e.g. redirected to a log).",
-)
+@no_progress_option
 def calibrate_cmd(
     data, robot, base, vary, trials, validate_trials, fit_legs, cv, seed, duration, workers, out, no_progress
 ):

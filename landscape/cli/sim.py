@@ -14,8 +14,13 @@ from landscape.cli.options import (
     UsageError,
     check_theta_w,
     joints_option,
+    leg_period_option,
+    model_set_option,
+    no_progress_option,
     parse_values,
     robot_option,
+    wing_period_option,
+    workers_option,
     writable_file,
 )
 from sim.protocol import (
@@ -45,16 +50,6 @@ DT_OPT = click.option(
     help=f"Physics time step, s, in [{MIN_DT_S:g}, {MAX_DT_S:g}] [default: {DEFAULT_DT_S:g} for the "
     f"built-in robot, {OTHER_ROBOT_DT_S:g} for others: the largest steps that pass the "
     "convergence benchmark; a larger one gets a warning].",
-)
-
-
-MODEL_OPT = click.option(
-    "--model",
-    "model_set",
-    type=str,
-    default="paper",
-    show_default=True,
-    help="Model parameter set: a shipped name (paper, physical) or a .toml file (sim/model_set.py).",
 )
 
 
@@ -156,20 +151,8 @@ def _human(r, robot: str) -> str:
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of a summary.")
 @robot_option
 @joints_option
-@click.option(
-    "--wing-period",
-    type=float,
-    default=PAPER_WING_PERIOD_S,
-    show_default=True,
-    help="Tw, time between wing openings, s.",
-)
-@click.option(
-    "--leg-period",
-    type=float,
-    default=PAPER_LEG_PERIOD_S,
-    show_default=True,
-    help="Tl, leg oscillation period, s.",
-)
+@wing_period_option
+@leg_period_option
 @click.option(
     "--attempts",
     type=click.IntRange(min=0),
@@ -177,7 +160,7 @@ def _human(r, robot: str) -> str:
     show_default=True,
     help="At most this many wing openings (1: a single attempt, ending one Tw after it); 0: no limit.",
 )
-@MODEL_OPT
+@model_set_option
 def simulate(
     theta_w,
     theta_l,
@@ -325,9 +308,7 @@ def simulate(
     show_default=True,
     help="Base seed mixed into every trial's seed.",
 )
-@click.option(
-    "--workers", type=click.IntRange(min=1), default=None, help="Local worker processes [default: all cores]."
-)
+@workers_option
 @click.option(
     "--scheduler",
     type=str,
@@ -336,13 +317,9 @@ def simulate(
 )
 @robot_option
 @joints_option
-@click.option(
-    "--no-progress",
-    is_flag=True,
-    help="No progress bar (it is also off when stderr is not a terminal, e.g. redirected to a log).",
-)
+@no_progress_option
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object.")
-@MODEL_OPT
+@model_set_option
 def sweep(
     theta_w,
     theta_l,
