@@ -39,6 +39,7 @@ __all__ = [
     "robot_from",
     "robot_option",
     "robot_options",
+    "robot_urdf_arg",
     "validation_cv_option",
     "validation_duration_option",
     "validation_seed_option",
@@ -194,6 +195,12 @@ def robot_urdf(robot: str | None):
     from geometry.robots import robot_urdf_path
 
     return robot_urdf_path(robot)
+
+
+def robot_urdf_arg(robot: str | None) -> str | None:
+    """The URDF path of a given ``--robot`` value as a str, or None when it was not given (the library then
+    uses its default robot)."""
+    return None if robot is None else str(robot_urdf(robot))
 
 
 # ------------------------------------------------------------------ options of the commands that run trials

@@ -128,6 +128,21 @@ def actuation_cmd(data, out):
         click.echo(f"wrote {out}")
 
 
+def _report_validation(out: Path, validation, tables: dict, doc_name: str, doc: dict) -> None:
+    """Print ``validation`` (:class:`landscape.analysis.validation.Validation`) as a table, then write into
+    ``out`` each of ``tables`` (file name -> rows) as CSV, ``doc`` as JSON to ``doc_name`` and the time-to-right
+    figure, naming each file on stdout as it is written."""
+    from landscape.viz.files import json_text
+    from landscape.viz.physical_plots import time_to_right_figure, validation_markdown, write_rows_csv
+
+    click.echo(validation_markdown(validation))
+    outs = [write_rows_csv(rows, out / name) for name, rows in tables.items()]
+    (out / doc_name).write_text(json_text(doc) + "\n")
+    outs += [out / doc_name, time_to_right_figure(validation, out / "time_to_right.png")]
+    for p in outs:
+        click.echo(f"wrote {p}")
+
+
 @physical.command("validate")
 @DATA_OPT
 @SIM_ROBOT
@@ -170,9 +185,7 @@ def validate_cmd(
     from dataclasses import asdict
 
     from landscape.analysis.validation import validate
-    from landscape.cli.options import robot_urdf, writable_dir
-    from landscape.viz.files import json_text
-    from landscape.viz.physical_plots import time_to_right_figure, validation_markdown, write_rows_csv
+    from landscape.cli.options import robot_urdf, robot_urdf_arg, writable_dir
     from sim.model_set import load_model_set
 
     writable_dir(out, "--out")
@@ -182,7 +195,7 @@ def validate_cmd(
     v, summary = validate(
         data,
         db=db,
-        robot=str(robot_urdf(robot)) if robot is not None else None,
+        robot=robot_urdf_arg(robot),
         model_set=model_set,
         trials=trials,
         cv=cv,
@@ -198,8 +211,6 @@ def validate_cmd(
         f"{summary.total} simulated trials: {summary.skipped} already in {db}, ran {summary.ran} in "
         f"{summary.wall_s:.1f} s ({summary.cpu_s:.0f} trial CPU-s)"
     )
-    click.echo(validation_markdown(v))
-    outs = [write_rows_csv(list(v.cells), Path(out) / "validation.csv")]
     doc = asdict(v) | {
         "robot": str(robot_urdf(robot)),
         "trials": trials,
@@ -207,10 +218,7 @@ def validate_cmd(
         "seed": seed,
         "store": str(db),
     }
-    (Path(out) / "validation.json").write_text(json_text(doc) + "\n")
-    outs += [Path(out) / "validation.json", time_to_right_figure(v, Path(out) / "time_to_right.png")]
-    for p in outs:
-        click.echo(f"wrote {p}")
+    _report_validation(Path(out), v, {"validation.csv": list(v.cells)}, "validation.json", doc)
 
 
 @physical.command("calibrate")
@@ -272,10 +280,9 @@ def calibrate_cmd(
     from dataclasses import asdict
 
     from landscape.analysis.calibration import calibrate, parse_vary
-    from landscape.cli.options import robot_urdf, writable_dir
+    from landscape.cli.options import robot_urdf_arg, writable_dir
     from landscape.params import parse_values
     from landscape.viz.files import json_text
-    from landscape.viz.physical_plots import time_to_right_figure, validation_markdown, write_rows_csv
 
     writable_dir(out, "--out")
     Path(out).mkdir(parents=True, exist_ok=True)
@@ -292,7 +299,7 @@ def calibrate_cmd(
         out_dir=out,
         vary=grid,
         base=base,
-        robot=str(robot_urdf(robot)) if robot is not None else None,
+        robot=robot_urdf_arg(robot),
         trials=trials,
         validate_trials=validate_trials,
         cv=cv,
@@ -305,16 +312,6 @@ def calibrate_cmd(
     )
     best = cal.candidates[0]
     click.echo(f"\nbest: {best.name} ({best.overrides}) -> {cal.best_file}; validated on every cell:\n")
-    click.echo(validation_markdown(cal.validation))
     rows = [c.__class__(**{**asdict(c), "overrides": json_text(c.overrides)}) for c in cal.candidates]
-    outs = [
-        write_rows_csv(rows, Path(out) / "calibration.csv"),
-        write_rows_csv(list(cal.validation.cells), Path(out) / "validation.csv"),
-    ]
-    (Path(out) / "calibration.json").write_text(json_text(asdict(cal)) + "\n")
-    outs += [
-        Path(out) / "calibration.json",
-        time_to_right_figure(cal.validation, Path(out) / "time_to_right.png"),
-    ]
-    for p in outs:
-        click.echo(f"wrote {p}")
+    tables = {"calibration.csv": rows, "validation.csv": list(cal.validation.cells)}
+    _report_validation(Path(out), cal.validation, tables, "calibration.json", asdict(cal))

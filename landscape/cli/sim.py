@@ -19,6 +19,7 @@ from landscape.cli.options import (
     no_progress_option,
     parse_values,
     robot_option,
+    robot_urdf_arg,
     wing_period_option,
     workers_option,
     writable_file,
@@ -181,14 +182,13 @@ def simulate(
 ):
     """Run one self-righting trial in pybullet and report its outcome."""
     from geometry import JointMap
-    from landscape.cli.options import robot_urdf
     from landscape.viz.files import json_text
     from sim.model import default_robot_urdf
     from sim.model_set import load_model_set
     from sim.trial import run_trial
     from sim.world import SimulationDiverged
 
-    robot_path = str(robot_urdf(robot)) if robot else str(default_robot_urdf())
+    robot_path = robot_urdf_arg(robot) or str(default_robot_urdf())
     _check_wing(theta_w, robot_path, joints)
     _warn_coarse_dt(dt, robot_path)
     if trace_path is not None:
@@ -362,10 +362,7 @@ def sweep(
         parse_values(phase, "phase"),
     )
     wps, lps = parse_values(wing_period, "wing-period"), parse_values(leg_period, "leg-period")
-    if robot is not None:
-        from landscape.cli.options import robot_urdf
-
-        robot = str(robot_urdf(robot))
+    robot = robot_urdf_arg(robot)
     _check_wing(tw, robot, joints)
     _warn_coarse_dt(dt, robot)
     specs = sweep_specs(
