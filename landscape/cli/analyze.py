@@ -10,8 +10,8 @@ from pathlib import Path
 import click
 
 from geometry.errors import UsageError
-from landscape.cli.options import robot_option
-from sim.protocol import PAPER_LEG_PERIOD_S, PAPER_WING_PERIOD_S
+from landscape.cli.options import leg_period_option, robot_option, wing_period_option
+from sim.protocol import PAPER_LEG_PERIOD_S
 
 TRIALS_ROBOT = robot_option(
     extra_help="The robot the trials ran on, if its stored URDF moved.",
@@ -152,20 +152,8 @@ def prediction_cmd(db, out):
     show_default=True,
     help="Random seed of the noisy sequence.",
 )
-@click.option(
-    "--wing-period",
-    type=float,
-    default=PAPER_WING_PERIOD_S,
-    show_default=True,
-    help="Tw, time between wing openings, s.",
-)
-@click.option(
-    "--leg-period",
-    type=float,
-    default=PAPER_LEG_PERIOD_S,
-    show_default=True,
-    help="Tl, leg oscillation period, s.",
-)
+@wing_period_option
+@leg_period_option
 @click.option(
     "--attempts",
     type=click.IntRange(min=1),

@@ -12,6 +12,7 @@ import click
 
 from geometry.errors import UsageError
 from landscape.params import parse_values
+from sim.protocol import PAPER_LEG_PERIOD_S, PAPER_WING_PERIOD_S
 
 MJ = 1e3
 MM = 1e3
@@ -29,13 +30,22 @@ __all__ = [
     "check_theta_w",
     "finite",
     "joints_option",
+    "leg_period_option",
     "load_robot",
     "method_option",
+    "model_set_option",
+    "no_progress_option",
     "parse_values",
     "robot_from",
     "robot_option",
     "robot_options",
+    "robot_urdf_arg",
+    "validation_cv_option",
+    "validation_duration_option",
+    "validation_seed_option",
+    "wing_period_option",
     "wing_range_deg",
+    "workers_option",
 ]
 
 THETA_W_HELP = "Wing opening angle, degrees, from 0 (closed) to the wing joints' limit."
@@ -185,6 +195,62 @@ def robot_urdf(robot: str | None):
     from geometry.robots import robot_urdf_path
 
     return robot_urdf_path(robot)
+
+
+def robot_urdf_arg(robot: str | None) -> str | None:
+    """The URDF path of a given ``--robot`` value as a str, or None when it was not given (the library then
+    uses its default robot)."""
+    return None if robot is None else str(robot_urdf(robot))
+
+
+# ------------------------------------------------------------------ options of the commands that run trials
+model_set_option = click.option(
+    "--model",
+    "model_set",
+    type=str,
+    default="paper",
+    show_default=True,
+    help="Model parameter set: a shipped name (paper, physical) or a .toml file (sim/model_set.py).",
+)
+"""``--model``: the model parameter set of ``simulate``, ``sweep`` and ``physical validate``."""
+workers_option = click.option(
+    "--workers", type=click.IntRange(min=1), default=None, help="Local worker processes [default: all cores]."
+)
+"""``--workers N``: local worker processes of a batch of trials."""
+no_progress_option = click.option(
+    "--no-progress",
+    is_flag=True,
+    help="No progress bar (it is also off when stderr is not a terminal, e.g. redirected to a log).",
+)
+"""``--no-progress``: no progress bar over a batch of trials."""
+wing_period_option = click.option(
+    "--wing-period",
+    type=float,
+    default=PAPER_WING_PERIOD_S,
+    show_default=True,
+    help="Tw, time between wing openings, s.",
+)
+"""``--wing-period``: one Tw, s (``simulate``, ``analyze evolution``)."""
+leg_period_option = click.option(
+    "--leg-period",
+    type=float,
+    default=PAPER_LEG_PERIOD_S,
+    show_default=True,
+    help="Tl, leg oscillation period, s.",
+)
+"""``--leg-period``: one Tl, s (``simulate``, ``analyze evolution``)."""
+validation_cv_option = click.option(
+    "--cv", type=float, default=0.05, show_default=True, help="Noise Cv = sigma / Tl (>= 0), a fraction."
+)
+"""``--cv`` of the simulated physical-robot cells (``physical validate``, ``calibrate``)."""
+validation_seed_option = click.option(
+    "--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of phases and noise."
+)
+"""``--seed`` of the simulated physical-robot cells (``physical validate``, ``calibrate``)."""
+validation_duration_option = click.option(
+    "--duration", type=float, default=None, help="Simulated trial length, s [default: the paper's 10 s]."
+)
+"""``--duration`` of the simulated physical-robot cells (``physical validate``, ``calibrate``)."""
 
 
 def wing_range_deg(theta_limits_deg: dict) -> tuple[float, float]:

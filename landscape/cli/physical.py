@@ -7,7 +7,16 @@ from pathlib import Path
 
 import click
 
-from landscape.cli.options import joints_option, robot_option
+from landscape.cli.options import (
+    joints_option,
+    model_set_option,
+    no_progress_option,
+    robot_option,
+    validation_cv_option,
+    validation_duration_option,
+    validation_seed_option,
+    workers_option,
+)
 
 DATA_OPT = click.option(
     "--data",
@@ -16,6 +25,9 @@ DATA_OPT = click.option(
     required=True,
     help="The lab's data-robot folder (run5_*.bag.mat, robot_attempts.mat, ...; e.g. "
     "../shared/ref/physical_robot).",
+)
+SIM_ROBOT = robot_option(
+    extra_help="The simulated robot (the real robot's CAD is ../shared/ref/lab_robot/lab_robot.urdf)."
 )
 
 
@@ -116,20 +128,26 @@ def actuation_cmd(data, out):
         click.echo(f"wrote {out}")
 
 
+def _report_validation(out: Path, validation, tables: dict, doc_name: str, doc: dict) -> None:
+    """Print ``validation`` (:class:`landscape.analysis.validation.Validation`) as a table, then write into
+    ``out`` each of ``tables`` (file name -> rows) as CSV, ``doc`` as JSON to ``doc_name`` and the time-to-right
+    figure, naming each file on stdout as it is written."""
+    from landscape.viz.files import json_text
+    from landscape.viz.physical_plots import time_to_right_figure, validation_markdown, write_rows_csv
+
+    click.echo(validation_markdown(validation))
+    outs = [write_rows_csv(rows, out / name) for name, rows in tables.items()]
+    (out / doc_name).write_text(json_text(doc) + "\n")
+    outs += [out / doc_name, time_to_right_figure(validation, out / "time_to_right.png")]
+    for p in outs:
+        click.echo(f"wrote {p}")
+
+
 @physical.command("validate")
 @DATA_OPT
-@robot_option(
-    extra_help="The simulated robot (the real robot's CAD is ../shared/ref/lab_robot/lab_robot.urdf)."
-)
+@SIM_ROBOT
 @joints_option
-@click.option(
-    "--model",
-    "model_set",
-    type=str,
-    default="paper",
-    show_default=True,
-    help="Model parameter set: a shipped name (paper, physical) or a .toml file (sim/model_set.py).",
-)
+@model_set_option
 @click.option(
     "--trials",
     type=click.IntRange(min=1),
@@ -137,27 +155,19 @@ def actuation_cmd(data, out):
     show_default=True,
     help="Simulated trials per cell, each with a random first-attempt phase.",
 )
-@click.option(
-    "--cv", type=float, default=0.05, show_default=True, help="Noise Cv = sigma / Tl (>= 0), a fraction."
-)
-@click.option(
-    "--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of phases and noise."
-)
+@validation_cv_option
+@validation_seed_option
 @click.option(
     "--cells",
     type=str,
     default=None,
     help="Only these cells, WING:LEG in degrees of the wing command, e.g. 60:15,75:0 [default: all 12 recorded].",
 )
-@click.option(
-    "--duration", type=float, default=None, help="Simulated trial length, s [default: the paper's 10 s]."
-)
+@validation_duration_option
 @click.option(
     "--dt", type=float, default=None, help="Physics time step, s [default: the robot's converged step]."
 )
-@click.option(
-    "--workers", type=click.IntRange(min=1), default=None, help="Local worker processes [default: all cores]."
-)
+@workers_option
 @click.option(
     "--out",
     type=click.Path(file_okay=False, path_type=Path),
@@ -166,11 +176,7 @@ def actuation_cmd(data, out):
     help="Output directory: validation.csv, validation.json, time_to_right.png/.svg and the trial store "
     "(trials_<set>_<hash>.sqlite; rerunning resumes it).",
 )
-@click.option(
-    "--no-progress",
-    is_flag=True,
-    help="No progress bar (it is also off when stderr is not a terminal, e.g. redirected to a log).",
-)
+@no_progress_option
 def validate_cmd(
     data, robot, joints, model_set, trials, cv, seed, cells, duration, dt, workers, out, no_progress
 ):
@@ -179,9 +185,7 @@ def validate_cmd(
     from dataclasses import asdict
 
     from landscape.analysis.validation import validate
-    from landscape.cli.options import robot_urdf, writable_dir
-    from landscape.viz.files import json_text
-    from landscape.viz.physical_plots import time_to_right_figure, validation_markdown, write_rows_csv
+    from landscape.cli.options import robot_urdf, robot_urdf_arg, writable_dir
     from sim.model_set import load_model_set
 
     writable_dir(out, "--out")
@@ -191,7 +195,7 @@ def validate_cmd(
     v, summary = validate(
         data,
         db=db,
-        robot=str(robot_urdf(robot)) if robot is not None else None,
+        robot=robot_urdf_arg(robot),
         model_set=model_set,
         trials=trials,
         cv=cv,
@@ -207,8 +211,6 @@ def validate_cmd(
         f"{summary.total} simulated trials: {summary.skipped} already in {db}, ran {summary.ran} in "
         f"{summary.wall_s:.1f} s ({summary.cpu_s:.0f} trial CPU-s)"
     )
-    click.echo(validation_markdown(v))
-    outs = [write_rows_csv(list(v.cells), Path(out) / "validation.csv")]
     doc = asdict(v) | {
         "robot": str(robot_urdf(robot)),
         "trials": trials,
@@ -216,17 +218,12 @@ def validate_cmd(
         "seed": seed,
         "store": str(db),
     }
-    (Path(out) / "validation.json").write_text(json_text(doc) + "\n")
-    outs += [Path(out) / "validation.json", time_to_right_figure(v, Path(out) / "time_to_right.png")]
-    for p in outs:
-        click.echo(f"wrote {p}")
+    _report_validation(Path(out), v, {"validation.csv": list(v.cells)}, "validation.json", doc)
 
 
 @physical.command("calibrate")
 @DATA_OPT
-@robot_option(
-    extra_help="The simulated robot (the real robot's CAD is ../shared/ref/lab_robot/lab_robot.urdf)."
-)
+@SIM_ROBOT
 @click.option(
     "--base",
     type=str,
@@ -261,18 +258,10 @@ def validate_cmd(
     show_default=True,
     help="Leg amplitudes (degrees) of the fit cells; the others (15, 45) are held out.",
 )
-@click.option(
-    "--cv", type=float, default=0.05, show_default=True, help="Noise Cv = sigma / Tl (>= 0), a fraction."
-)
-@click.option(
-    "--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of phases and noise."
-)
-@click.option(
-    "--duration", type=float, default=None, help="Simulated trial length, s [default: the paper's 10 s]."
-)
-@click.option(
-    "--workers", type=click.IntRange(min=1), default=None, help="Local worker processes [default: all cores]."
-)
+@validation_cv_option
+@validation_seed_option
+@validation_duration_option
+@workers_option
 @click.option(
     "--out",
     type=click.Path(file_okay=False, path_type=Path),
@@ -281,11 +270,7 @@ def validate_cmd(
     help="Output directory: candidates/, one trial store per candidate (rerunning resumes), best.toml, "
     "calibration.csv/.json and the best set's validation.",
 )
-@click.option(
-    "--no-progress",
-    is_flag=True,
-    help="No progress bar (it is also off when stderr is not a terminal, e.g. redirected to a log).",
-)
+@no_progress_option
 def calibrate_cmd(
     data, robot, base, vary, trials, validate_trials, fit_legs, cv, seed, duration, workers, out, no_progress
 ):
@@ -295,10 +280,9 @@ def calibrate_cmd(
     from dataclasses import asdict
 
     from landscape.analysis.calibration import calibrate, parse_vary
-    from landscape.cli.options import robot_urdf, writable_dir
+    from landscape.cli.options import robot_urdf_arg, writable_dir
     from landscape.params import parse_values
     from landscape.viz.files import json_text
-    from landscape.viz.physical_plots import time_to_right_figure, validation_markdown, write_rows_csv
 
     writable_dir(out, "--out")
     Path(out).mkdir(parents=True, exist_ok=True)
@@ -315,7 +299,7 @@ def calibrate_cmd(
         out_dir=out,
         vary=grid,
         base=base,
-        robot=str(robot_urdf(robot)) if robot is not None else None,
+        robot=robot_urdf_arg(robot),
         trials=trials,
         validate_trials=validate_trials,
         cv=cv,
@@ -328,16 +312,6 @@ def calibrate_cmd(
     )
     best = cal.candidates[0]
     click.echo(f"\nbest: {best.name} ({best.overrides}) -> {cal.best_file}; validated on every cell:\n")
-    click.echo(validation_markdown(cal.validation))
     rows = [c.__class__(**{**asdict(c), "overrides": json_text(c.overrides)}) for c in cal.candidates]
-    outs = [
-        write_rows_csv(rows, Path(out) / "calibration.csv"),
-        write_rows_csv(list(cal.validation.cells), Path(out) / "validation.csv"),
-    ]
-    (Path(out) / "calibration.json").write_text(json_text(asdict(cal)) + "\n")
-    outs += [
-        Path(out) / "calibration.json",
-        time_to_right_figure(cal.validation, Path(out) / "time_to_right.png"),
-    ]
-    for p in outs:
-        click.echo(f"wrote {p}")
+    tables = {"calibration.csv": rows, "validation.csv": list(cal.validation.cells)}
+    _report_validation(Path(out), cal.validation, tables, "calibration.json", asdict(cal))

@@ -14,8 +14,14 @@ from landscape.cli.options import (
     UsageError,
     check_theta_w,
     joints_option,
+    leg_period_option,
+    model_set_option,
+    no_progress_option,
     parse_values,
     robot_option,
+    robot_urdf_arg,
+    wing_period_option,
+    workers_option,
     writable_file,
 )
 from sim.protocol import (
@@ -45,16 +51,6 @@ DT_OPT = click.option(
     help=f"Physics time step, s, in [{MIN_DT_S:g}, {MAX_DT_S:g}] [default: {DEFAULT_DT_S:g} for the "
     f"built-in robot, {OTHER_ROBOT_DT_S:g} for others: the largest steps that pass the "
     "convergence benchmark; a larger one gets a warning].",
-)
-
-
-MODEL_OPT = click.option(
-    "--model",
-    "model_set",
-    type=str,
-    default="paper",
-    show_default=True,
-    help="Model parameter set: a shipped name (paper, physical) or a .toml file (sim/model_set.py).",
 )
 
 
@@ -156,20 +152,8 @@ def _human(r, robot: str) -> str:
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of a summary.")
 @robot_option
 @joints_option
-@click.option(
-    "--wing-period",
-    type=float,
-    default=PAPER_WING_PERIOD_S,
-    show_default=True,
-    help="Tw, time between wing openings, s.",
-)
-@click.option(
-    "--leg-period",
-    type=float,
-    default=PAPER_LEG_PERIOD_S,
-    show_default=True,
-    help="Tl, leg oscillation period, s.",
-)
+@wing_period_option
+@leg_period_option
 @click.option(
     "--attempts",
     type=click.IntRange(min=0),
@@ -177,7 +161,7 @@ def _human(r, robot: str) -> str:
     show_default=True,
     help="At most this many wing openings (1: a single attempt, ending one Tw after it); 0: no limit.",
 )
-@MODEL_OPT
+@model_set_option
 def simulate(
     theta_w,
     theta_l,
@@ -198,14 +182,13 @@ def simulate(
 ):
     """Run one self-righting trial in pybullet and report its outcome."""
     from geometry import JointMap
-    from landscape.cli.options import robot_urdf
     from landscape.viz.files import json_text
     from sim.model import default_robot_urdf
     from sim.model_set import load_model_set
     from sim.trial import run_trial
     from sim.world import SimulationDiverged
 
-    robot_path = str(robot_urdf(robot)) if robot else str(default_robot_urdf())
+    robot_path = robot_urdf_arg(robot) or str(default_robot_urdf())
     _check_wing(theta_w, robot_path, joints)
     _warn_coarse_dt(dt, robot_path)
     if trace_path is not None:
@@ -325,9 +308,7 @@ def simulate(
     show_default=True,
     help="Base seed mixed into every trial's seed.",
 )
-@click.option(
-    "--workers", type=click.IntRange(min=1), default=None, help="Local worker processes [default: all cores]."
-)
+@workers_option
 @click.option(
     "--scheduler",
     type=str,
@@ -336,13 +317,9 @@ def simulate(
 )
 @robot_option
 @joints_option
-@click.option(
-    "--no-progress",
-    is_flag=True,
-    help="No progress bar (it is also off when stderr is not a terminal, e.g. redirected to a log).",
-)
+@no_progress_option
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object.")
-@MODEL_OPT
+@model_set_option
 def sweep(
     theta_w,
     theta_l,
@@ -385,10 +362,7 @@ def sweep(
         parse_values(phase, "phase"),
     )
     wps, lps = parse_values(wing_period, "wing-period"), parse_values(leg_period, "leg-period")
-    if robot is not None:
-        from landscape.cli.options import robot_urdf
-
-        robot = str(robot_urdf(robot))
+    robot = robot_urdf_arg(robot)
     _check_wing(tw, robot, joints)
     _warn_coarse_dt(dt, robot)
     specs = sweep_specs(

@@ -68,6 +68,34 @@ def test_robot_is_one_shared_option():
 
 
 @pytest.mark.parametrize(
+    "flag, commands",
+    [
+        ("--model", {"simulate", "sweep", "physical validate"}),
+        ("--workers", {"sweep", "physical validate", "physical calibrate"}),
+        ("--no-progress", {"sweep", "physical validate", "physical calibrate"}),
+        ("--wing-period", {"simulate", "analyze evolution"}),
+        ("--leg-period", {"simulate", "analyze evolution"}),
+        ("--cv", {"physical validate", "physical calibrate"}),
+        ("--seed", {"physical validate", "physical calibrate"}),
+        ("--duration", {"physical validate", "physical calibrate"}),
+    ],
+)
+def test_shared_options_are_alike(flag, commands):
+    """An option shared from landscape/cli/options.py has one type, default and help in every command."""
+    found = {name: p for name, p in (o.values for o in OPTIONS) if p.opts[0] == flag and name in commands}
+    assert set(found) == commands
+    first = found[min(commands)]
+    for name, p in found.items():
+        assert (p.name, repr(p.type), p.default, p.show_default, p.help) == (
+            first.name,
+            repr(first.type),
+            first.default,
+            first.show_default,
+            first.help,
+        ), name
+
+
+@pytest.mark.parametrize(
     "argv",
     [
         ["compute", "--robot", "missing.urdf"],
