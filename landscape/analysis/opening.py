@@ -293,3 +293,30 @@ def plateau_hold_deg(robot, data_dir: str | Path, commands_deg: Sequence[float])
 
     plateau = measured_plateaus_deg(data_dir)
     return {float(c): float(metastable_orientation(robot, plateau[c], 0.0)[0]) for c in commands_deg}
+
+
+def support_links(pose, pitch_deg: float, roll_deg: float, *, tol_m: float = 2e-4) -> list[str]:
+    """The links of a posed robot (:class:`geometry.Pose`) whose hull vertices touch flat ground at this body
+    orientation: within ``tol_m`` of the lowest hull point, in the pose's part order.
+
+    Examples
+    --------
+    >>> from geometry.robots import load_robot
+    >>> from landscape.minima import metastable_orientation
+    >>> robot = load_robot(None)  # the built-in robot, held open at 74 deg: on its head and both wing edges
+    >>> support_links(robot.pose(74.0, 0.0), *metastable_orientation(robot, 74.0, 0.0))
+    ['head', 'wing2', 'wing1']
+    """
+    from geometry.frames import up_vector
+
+    u = up_vector(np.deg2rad(pitch_deg), np.deg2rad(roll_deg))
+    low = float((pose.hull_points_m @ u).min())
+    out = []
+    for part in pose.parts:
+        if not len(part.hull_link_m):
+            continue
+        T = pose.link_transforms[part.link]
+        heights = (part.hull_link_m @ T[:3, :3].T + T[:3, 3]) @ u
+        if heights.min() - low <= tol_m:
+            out.append(part.link)
+    return out

@@ -69,37 +69,72 @@ def table_cmd(data, out):
 @DATA_OPT
 @robot_option(extra_help="The model to compare (the lab's is ../shared/ref/lab_robot/lab_robot.urdf).")
 @joints_option
-@click.option("--no-model", is_flag=True, help="Only the robot's resting pitch.")
-def kinematics_cmd(data, robot, joints, no_model):
-    """Body pitch while the wings are held open (leg still), robot against the model's metastable pitch at the
-    measured plateau; and to which side the robot rolls over."""
+@model_set_option
+@click.option("--no-model", is_flag=True, help="Only the robot's recorded pitch, no model.")
+def kinematics_cmd(data, robot, joints, model_set, no_model):
+    """Where the body holds while the wings are open (leg still), robot against model, in two frames; how each
+    first opening moves the body; the protocol's leg timing; and to which side the robot rolls over.
+
+    The model's hold is its metastable pitch with the wing joints at the measured plateau, or, for a model set
+    with a measured actuation profile (--model physical), each wing servo at its own measured plateau."""
     import math
 
+    from landscape.analysis import opening as op
     from landscape.analysis import physical as ph
-    from landscape.viz.physical_plots import resting_pitch_markdown
+    from landscape.viz.physical_plots import (
+        first_openings_markdown,
+        hold_frames_markdown,
+        resting_pitch_markdown,
+    )
 
     rows = ph.resting_pitch_table(data)
-    model = None
+    model = frames = None
     if not no_model:
         from landscape.cli.options import load_robot
+        from landscape.minima import metastable_orientation
+        from sim.model_set import load_model_set
 
         r = load_robot(robot, None, joints=joints)
+        ms = load_model_set(model_set)
         plateaus = [
             row.theta_w_measured_deg if math.isfinite(row.theta_w_measured_deg) else row.theta_w_cmd_deg
             for row in rows
         ]
         model = ph.model_plateau_pitch_deg(r, plateaus)
+        commands = [row.theta_w_cmd_deg for row in rows]
+        if ms.measured is not None:
+            hold = op.per_servo_hold_deg(r, ms.measured, commands)
+            how = f"each wing servo at its own measured plateau (model set {ms.name})"
+        else:
+            hold = op.plateau_hold_deg(r, data, commands)
+            how = "every wing joint at the measured plateau"
+        rest = metastable_orientation(r, 0.0, 0.0)
+        frames = op.hold_pitch_frames(data, hold, rest[0])
+        closed_on = ", ".join(op.support_links(r.pose(0.0, 0.0), *rest))
         click.echo(f"model: {r.name} ({r.source}); pitch at each measured plateau minus pitch at theta_w = 0")
     click.echo(
         "pitch 0.5-0.95 s after each opening starts minus the rest in the 0.3 s before the first opening "
         "(leg amplitude 0, openings before the robot first becomes upright)"
     )
     click.echo(resting_pitch_markdown(rows, model))
+    if frames is not None:
+        click.echo(
+            "\nfirst openings only, leg still: the recorded hold in the IMU's frame and minus each trial's rest; the "
+            f"model's hold with {how}; the IMU's mounting fitted as one constant"
+        )
+        click.echo(hold_frames_markdown(frames))
+        click.echo(f"the model rests with the wings closed on: {closed_on}")
+    click.echo(
+        "\nfirst opening of every trial: the leg command's last rise before it (servo log, 10 Hz), the pitch "
+        "overshoot past the hold, the rise time to half the hold, the lateral tilt asin(cos p sin r) of largest "
+        "magnitude 0.2-0.6 s after the opening starts (medians)"
+    )
+    click.echo(first_openings_markdown(op.recorded_first_openings(data)))
     lat = ph.lateralisation(ph.physical_trials(data))
     click.echo(
         f"\nroll-overs to + roll: {lat.positive} of {lat.positive + lat.negative} "
         f"(Wilson 95 % [{100 * lat.ci_low:.0f}, {100 * lat.ci_high:.0f}] %); a mirror-symmetric model "
-        "has 50 %"
+        "has 50 % over random phases"
     )
 
 
@@ -153,7 +188,14 @@ def _report_validation(out: Path, validation, tables: dict, doc_name: str, doc: 
     type=click.IntRange(min=1),
     default=10,
     show_default=True,
-    help="Simulated trials per cell, each with a random first-attempt phase.",
+    help="Simulated trials per cell, each with a random first-attempt phase (or all at --phase).",
+)
+@click.option(
+    "--phase",
+    type=float,
+    default=None,
+    help="Every trial's first attempt at this phase phi_1 in [0, 1): the lab's protocol starts the leg at a "
+    "fixed time before the first opening (landscape physical kinematics) [default: a random phase per trial].",
 )
 @validation_cv_option
 @validation_seed_option
@@ -178,7 +220,7 @@ def _report_validation(out: Path, validation, tables: dict, doc_name: str, doc: 
 )
 @no_progress_option
 def validate_cmd(
-    data, robot, joints, model_set, trials, cv, seed, cells, duration, dt, workers, out, no_progress
+    data, robot, joints, model_set, trials, phase, cv, seed, cells, duration, dt, workers, out, no_progress
 ):
     """Simulate the physical robot's cells with a model set and compare: success per cell (Wilson 95 %, fit
     cells leg 0/30 and held-out cells leg 15/45 apart), per-attempt rates, righting side, time to right."""
@@ -206,6 +248,7 @@ def validate_cmd(
         joint_map=joints,
         workers=workers,
         progress=not no_progress,
+        phase=phase,
     )
     click.echo(
         f"{summary.total} simulated trials: {summary.skipped} already in {db}, ran {summary.ran} in "
@@ -214,6 +257,7 @@ def validate_cmd(
     doc = asdict(v) | {
         "robot": str(robot_urdf(robot)),
         "trials": trials,
+        "phase": phase,
         "cv": cv,
         "seed": seed,
         "store": str(db),

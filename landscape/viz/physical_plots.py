@@ -7,6 +7,8 @@ import math
 from collections.abc import Sequence
 from pathlib import Path
 
+import numpy as np
+
 
 def _fmt(v) -> str:
     if isinstance(v, bool):
@@ -75,6 +77,50 @@ def resting_pitch_markdown(rows: Sequence, model_deg: Sequence[float] | None = N
         if model_deg is not None:
             line += f" {model_deg[k]:.1f}° | {model_deg[k] - r.median_deg:+.1f}° |"
         lines.append(line)
+    return "\n".join(lines)
+
+
+def hold_frames_markdown(rows: Sequence) -> str:
+    """Markdown table of :class:`~landscape.analysis.opening.HoldFrame` rows (first openings, leg still)."""
+    lines = [
+        "| wing command | n | robot, IMU frame (sd) | robot, minus its rest (sd) | rest sd | model | "
+        "robot - mounting - model | same, mounting fitted on the other commands |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        lines.append(
+            f"| {r.theta_w_cmd_deg:g}° | {r.n} | {r.recorded_deg:.1f}° ({r.recorded_sd_deg:.1f}°) | "
+            f"{r.relative_deg:.1f}° ({r.relative_sd_deg:.1f}°) | {r.rest_sd_deg:.1f}° | {r.model_deg:.1f}° | "
+            f"{r.residual_deg:+.1f}° | {r.residual_held_out_deg:+.1f}° |"
+        )
+    if rows:
+        lines.append(
+            f"\nIMU mounting (recorded minus model, mean over the commands): {rows[0].offset_deg:.1f}°; the model's "
+            f"rest with the wings closed: {rows[0].model_rest_deg:.1f}°"
+        )
+    return "\n".join(lines)
+
+
+def first_openings_markdown(openings: Sequence) -> str:
+    """Markdown table of the recorded first openings per cell (:class:`~landscape.analysis.opening.RecordedOpening`):
+    medians of the leg command's lead, the overshoot, the rise and the lateral tilt (with its range)."""
+    cells: dict[tuple[float, float], list] = {}
+    for o in openings:
+        cells.setdefault((o.theta_w_cmd_deg, o.theta_l_deg), []).append(o)
+    lines = [
+        "| wing command | leg | n | leg command's lead | overshoot | rise | lateral tilt [range] |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for (w, leg), os_ in sorted(cells.items()):
+        lead = [o.leg_lead_s for o in os_ if math.isfinite(o.leg_lead_s)]
+        tilt = [o.response.tilt_deg for o in os_]
+        lines.append(
+            f"| {w:g}° | {leg:g}° | {len(os_)} | "
+            + (f"{float(np.median(lead)):.1f} s" if lead else "–")
+            + f" | {float(np.median([o.response.overshoot_deg for o in os_])):+.1f}° | "
+            f"{float(np.median([o.response.rise_s for o in os_])):.2f} s | {float(np.median(tilt)):+.1f}° "
+            f"[{min(tilt):+.1f}, {max(tilt):+.1f}] |"
+        )
     return "\n".join(lines)
 
 

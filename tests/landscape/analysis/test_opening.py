@@ -95,3 +95,18 @@ def test_the_protocol_fixes_the_first_attempts_phase():
     assert len(leads) == 45 and all(round(x, 2) in (0.2, 0.3) for x in leads)
     assert sum(round(x, 2) == 0.2 for x in leads) >= 40
     assert all(math.isnan(o.leg_lead_s) for o in rows if o.theta_l_deg == 0)
+
+
+@needs_data
+@pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
+def test_kinematics_command_prints_both_frames_the_support_and_the_first_openings(capsys):
+    from landscape.cli import main
+
+    args = ["physical", "kinematics", "--data", str(DATA), "--robot", str(LAB_URDF), "--model", "physical"]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "| 60° | 5 | 68.1° (0.3°) | 68.2° (0.9°) | 0.9° | 57.6° | -1.0° | -1.4° |" in out
+    assert "IMU mounting (recorded minus model, mean over the commands): 11.5°" in out
+    assert "the model rests with the wings closed on: base_link, motor3, motor4" in out
+    assert "| 60° | 45° | 5 | 0.2 s |" in out and "| 60° | 0° | 5 | – |" in out
+    assert main(args[:-2] + ["--model", "nosuchset"]) == 2

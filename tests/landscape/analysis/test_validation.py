@@ -152,6 +152,10 @@ def test_validate_command_bad_input_is_one_line(tmp_path, capsys):
     assert main(base + ["--cells", "61:0"]) == 2
     assert "is not a recorded cell" in capsys.readouterr().err
     assert main(base + ["--model", "nosuchset"]) == 2
+    capsys.readouterr()
+    assert main(base + ["--phase", "1.5"]) == 2
+    err = capsys.readouterr().err
+    assert "--phase must be a first-attempt phase in [0, 1); got 1.5" in err and "Traceback" not in err
     assert main(["physical", "validate", "--data", str(tmp_path / "nowhere"), "--out", str(tmp_path)]) == 2
 
 
