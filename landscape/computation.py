@@ -185,6 +185,15 @@ def _with_sectors(barrier: Barrier, minimum: Minimum, grid: _SectorGrid, connect
     return replace(barrier, pitch_wise=sectors[0], roll_wise=sectors[1])
 
 
+def _posed(robot: Robot, theta_w_deg, theta_l_deg, wing_joints_deg: dict[str, float] | None) -> Pose:
+    """The robot at (theta_w, theta_l), or with each wing joint at its own angle (``wing_joints_deg``, the leg
+    joints at theta_l), labelled with theta_w and theta_l."""
+    if not wing_joints_deg:
+        return robot.pose(theta_w_deg, theta_l_deg)
+    values = dict(wing_joints_deg) | {j: float(theta_l_deg or 0.0) for j in robot.joint_map.leg}
+    return replace(robot.pose_joints(values), theta_w_deg=theta_w_deg, theta_l_deg=theta_l_deg)
+
+
 def start_orientation(
     robot: Robot,
     pose: Pose,
@@ -277,6 +286,7 @@ def compute(
     memory_budget_bytes: float = MEMORY_BUDGET_BYTES,
     landscape_grid: bool = True,
     sector_exits: bool | None = None,
+    wing_joints_deg: dict[str, float] | None = None,
 ) -> Computation:
     """Landscape, start minimum and barriers of a robot at (theta_w, theta_l).
 
@@ -314,6 +324,10 @@ def compute(
         them on the grid. Default: as ``landscape_grid``. True with ``landscape_grid=False`` computes the grid's
         energies only on the cells the sector searches reach (the same exits, without the whole grid: what
         :func:`barrier_map` does at each pose).
+    wing_joints_deg : dict of str to float, optional
+        Each wing joint at its own angle, degrees (e.g. a model set's measured servo plateaus at the wing
+        command ``theta_w_deg``, which then only labels the result). The start follows a slow opening to the
+        smallest of them, then descends on this pose (unless a start is given).
 
     Raises
     ------
@@ -332,10 +346,13 @@ def compute(
     warm_up()
     timing = {}
     t0 = time.perf_counter()
-    pose = robot.pose(theta_w_deg, theta_l_deg)
+    pose = _posed(robot, theta_w_deg, theta_l_deg, wing_joints_deg)
     _check_com_inside(pose)
     timing["pose"] = time.perf_counter() - t0
     t0 = time.perf_counter()
+    if start_deg is None and wing_joints_deg and start_pitch_deg is None and start_roll_deg is None:
+        opened = metastable_orientation(robot, min(wing_joints_deg.values()), theta_l_deg)
+        start_deg = local_descent(pose, *opened)
     if start_deg is None:
         start_deg = start_orientation(
             robot,
@@ -447,6 +464,7 @@ def _map_pose(task: dict, w: float, leg: float, start: tuple[float, float]) -> C
         memory_budget_bytes=task["memory_budget_bytes"],
         landscape_grid=task["grid"],
         sector_exits=task["sectors"],
+        wing_joints_deg=task.get("joints", {}).get(w),
     )
     return replace(c, landscape=None, pose=None)
 
@@ -505,6 +523,7 @@ def barrier_map(
     memory_budget_bytes: float = MEMORY_BUDGET_BYTES,
     workers: int | None = None,
     sector_exits: bool = True,
+    wing_joints_deg: dict[float, dict[str, float]] | None = None,
 ) -> BarrierMap:
     """Start minimum and barriers at every (theta_w, theta_l), the starts from one shared continuation.
 
@@ -528,6 +547,9 @@ def barrier_map(
         searches reach (``compute``'s ``landscape_grid=False, sector_exits=True``; no pose keeps a landscape
         grid either way). False skips them: those two exits are then None; minima, righting and escape are
         unchanged.
+    wing_joints_deg : dict, optional
+        Per theta_w (a key for each), each wing joint at its own angle (:func:`compute`'s ``wing_joints_deg``);
+        those poses start from a slow opening to the smallest of the angles, then descend.
 
     Raises
     ------
@@ -550,7 +572,10 @@ def barrier_map(
     check_memory(step_deg, memory_budget_bytes)
     n_workers = map_workers(len(ws) * len(ls_), workers)
     starts = sweep_starts(robot, ws, ls_)
-    tasks = [(w, leg, starts[(w, leg)]) for w in ws for leg in ls_]
+    joints = wing_joints_deg or {}
+    if joints and set(joints) != set(ws):
+        raise UsageError(f"wing_joints_deg needs one entry per theta_w {ws}; got {sorted(joints)}")
+    tasks = [(w, leg, None if joints else starts[(w, leg)]) for w in ws for leg in ls_]
     warm_up()  # load the kernels once, before any fork, so the workers inherit them
     task = dict(
         robot=robot,
@@ -559,6 +584,7 @@ def barrier_map(
         memory_budget_bytes=memory_budget_bytes,
         grid=grid,
         sectors=bool(sector_exits),
+        joints=joints,
     )
     if n_workers == 1:
         out = _collect((_map_pose(task, *t) for t in tasks), progress)

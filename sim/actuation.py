@@ -89,6 +89,23 @@ class MeasuredActuation:
         ks, kd = np.asarray(self.wing_knots_s, float), np.asarray(self.wing_knots_deg, float)
         return (1 - f) * ks[:, i] + f * ks[:, i + 1], (1 - f) * kd[:, i] + f * kd[:, i + 1]
 
+    def wing_plateaus_deg(self, theta_w_deg: float) -> NDArray[np.float64]:
+        """Where each wing servo (LP, RP, LR, RR) holds while open at this command: the largest knot angle of
+        :meth:`wing_knots`, deg, shape (4,).
+
+        Raises
+        ------
+        UsageError
+            If the command lies outside the measured ones.
+        """
+        lo, hi = self.wing_command_deg[0], self.wing_command_deg[-1]
+        if not (np.isfinite(theta_w_deg) and lo <= theta_w_deg <= hi):
+            raise UsageError(
+                f"theta_w = {theta_w_deg:g} deg is outside the measured wing commands [{lo:g}, {hi:g}] deg; "
+                "choose a wing command inside or an idealised model set"
+            )
+        return self.wing_knots(theta_w_deg)[1].max(axis=1)
+
     def leg_knots(self, theta_l_deg: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Knot times (s) and angles (deg) of the leg at this amplitude command: linear in the command between
         the measured ones, and from the smallest down to a still leg at 0."""

@@ -273,17 +273,16 @@ def hold_pitch_frames(
 
 
 def per_servo_hold_deg(robot, measured, commands_deg: Sequence[float]) -> dict[float, float]:
-    """The model's metastable pitch with each wing servo at its own measured plateau (the largest knot angle of
-    its profile at the command: :class:`sim.measured.MeasuredActuation`), reached by following the minimum as
-    the wings open equally to the smallest of the four plateaus and then descending, degrees."""
-    from landscape.minima import local_descent, metastable_orientation
+    """The model's metastable pitch with each wing servo at its own measured plateau
+    (:meth:`sim.actuation.MeasuredActuation.wing_plateaus_deg`), degrees: :func:`landscape.computation.compute`
+    with ``wing_joints_deg`` (a slow opening to the smallest plateau, then descent)."""
+    from landscape.computation import compute
 
     out = {}
     for c in commands_deg:
-        i = list(measured.wing_command_deg).index(c)
-        vals = {n: float(np.max(measured.wing_knots_deg[k][i])) for k, n in enumerate(robot.joint_map.wing)}
-        start = metastable_orientation(robot, min(vals.values()), 0.0)
-        out[float(c)] = float(local_descent(robot.pose_joints(vals), *start)[0])
+        vals = dict(zip(robot.joint_map.wing, measured.wing_plateaus_deg(c).tolist(), strict=True))
+        comp = compute(robot, theta_w_deg=c, theta_l_deg=0.0, wing_joints_deg=vals, landscape_grid=False)
+        out[float(c)] = float(comp.start_deg[0])
     return out
 
 

@@ -17,7 +17,9 @@ from landscape.cli.options import (
     grid_step,
     memory_budget_bytes,
     method_option,
+    model_wing_joints,
     parse_values,
+    pose_model_option,
     robot_from,
     robot_options,
     writable_dir,
@@ -87,6 +89,7 @@ def human_summary(c, robot, *, mass_note: str = "", units: str | None = None) ->
 )
 @method_option
 @robot_options
+@pose_model_option
 @click.option(
     "--out",
     type=click.Path(file_okay=False),
@@ -94,7 +97,9 @@ def human_summary(c, robot, *, mass_note: str = "", units: str | None = None) ->
     help="Write landscape.npz, landscape.csv and summary.json into this directory [default: write nothing].",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of the table.")
-def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, method, out, as_json, **kw):
+def compute(
+    theta_w, theta_l, step, start_pitch, start_roll, connectivity, method, pose_model, out, as_json, **kw
+):
     """Landscape, start minimum and minimal barriers at one (theta_w, theta_l)."""
     from landscape.computation import compute as run
     from landscape.viz import files
@@ -111,8 +116,10 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
     if out:
         writable_dir(out, "--out")
     robot = robot_from(kw, theta_w_deg=theta_w)
+    wing_joints = model_wing_joints(pose_model, robot, theta_w)
     c = run(
         robot,
+        wing_joints_deg=wing_joints,
         theta_w_deg=theta_w,
         theta_l_deg=theta_l,
         step_deg=step,
@@ -130,6 +137,8 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
         com_source=robot.com_source,
         description_hash=robot.description_hash,
     )
+    if pose_model is not None:
+        s = dict(s) | {"model_set": pose_model, "wing_joints_deg": wing_joints}
     if out:
         files.write_computation(c, s, Path(out))
     if as_json:
@@ -146,6 +155,9 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
                 mass_note="  (default; give --mass KG)" if mesh and kw["mass"] is None else "",
             )
         )
+        if wing_joints:
+            joints = ", ".join(f"{k} {v:.2f}°" for k, v in wing_joints.items())
+            click.echo(f"model set    {pose_model}: each wing servo at its measured plateau ({joints})")
         if out:
             click.echo(f"wrote        {out}/landscape.npz, landscape.csv, summary.json")
 
@@ -171,6 +183,7 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
 @click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees; divides 360.")
 @method_option
 @robot_options
+@pose_model_option
 @click.option(
     "--out",
     type=click.Path(file_okay=False),
@@ -178,7 +191,7 @@ def compute(theta_w, theta_l, step, start_pitch, start_roll, connectivity, metho
     show_default=True,
     help="Directory for barrier_map.csv and barrier_map.png.",
 )
-def barrier_map(theta_w, theta_l, step, method, out, **kw):
+def barrier_map(theta_w, theta_l, step, method, pose_model, out, **kw):
     """Minimal barrier over theta_w x theta_l: CSV and heat map (the source paper's Fig. 5)."""
     import numpy as np
     from tqdm import tqdm
@@ -190,6 +203,8 @@ def barrier_map(theta_w, theta_l, step, method, out, **kw):
     grid_step(step)
     writable_dir(out, "--out")
     robot = robot_from(kw, theta_w_deg=ws)
+    joints = {w: model_wing_joints(pose_model, robot, w) for w in ws}
+    joints = joints if all(joints.values()) else None
     t0 = time.perf_counter()
     with tqdm(
         total=len(ws) * len(ls_), desc="barrier-map", unit="pose", file=sys.stderr, disable=None
@@ -202,6 +217,7 @@ def barrier_map(theta_w, theta_l, step, method, out, **kw):
             method=method,
             progress=bar.update,
             memory_budget_bytes=memory_budget_bytes(),
+            wing_joints_deg=joints,
         )
     rows = files.barrier_map_rows(bm)
     outd = Path(out)
@@ -213,7 +229,8 @@ def barrier_map(theta_w, theta_l, step, method, out, **kw):
         grid_mj,
         outd / "barrier_map.png",
         title=f"Minimal righting barrier, {robot.name}, "
-        + ("exact" if method == "exact" else f"{step:g}° {method}"),
+        + ("exact" if method == "exact" else f"{step:g}° {method}")
+        + (f", model set {pose_model}" if joints else ""),
     )
     click.echo(
         f"{len(rows)} poses in {time.perf_counter() - t0:.2f} s; "

@@ -405,3 +405,36 @@ def writable_file(path, option: str, *, inputs=()) -> None:
     if p.is_dir():
         raise UsageError(f"{option} {path} is a directory; give a file name")
     writable_dir(p.parent if str(p.parent) else ".", option)
+
+
+pose_model_option = click.option(
+    "--model",
+    "pose_model",
+    type=str,
+    default=None,
+    help="Pose the wings as a model set does: a set with a measured actuation profile (physical) holds each "
+    "wing servo at its own measured plateau for the wing command --theta-w (60-90); an idealised set (paper) "
+    "holds every wing joint at --theta-w, as without this option [default: every wing joint at --theta-w].",
+)
+"""``--model``: the model set whose wing-servo plateaus pose the robot in ``compute`` and ``barrier-map``."""
+
+
+def model_wing_joints(pose_model: str | None, robot, theta_w_deg: float) -> dict[str, float] | None:
+    """The wing joints' angles (degrees) a model set holds at the wing command ``theta_w_deg``: each servo's own
+    measured plateau for a measured actuation profile, None (every joint at theta_w) for an idealised set or
+    no set. Imports the model sets (and with them pybullet) only when a set is named."""
+    if pose_model is None:
+        return None
+    from sim.model_set import load_model_set
+
+    ms = load_model_set(pose_model)
+    if ms.measured is None:
+        return None
+    names = robot.joint_map.wing
+    plateaus = ms.measured.wing_plateaus_deg(theta_w_deg)
+    if len(names) != len(plateaus):
+        raise UsageError(
+            f"the model set {ms.name} measures {len(plateaus)} wing servos, but {robot.name} drives "
+            f"{len(names)} wing joints ({', '.join(names)}); use an idealised set or none"
+        )
+    return dict(zip(names, plateaus.tolist(), strict=True))

@@ -1,0 +1,78 @@
+"""``--model`` on compute and barrier-map (issue #15): a measured set poses each wing servo at its own plateau; an
+idealised set, or each joint given the same angle, is the plain computation."""
+
+import json
+
+import numpy as np
+import pytest
+
+from landscape.cli import main
+from landscape.computation import barrier_map, compute
+from sim.model_set import load_model_set
+from tests.conftest import LAB_URDF, needs_lab
+
+
+def test_equal_wing_joints_are_the_plain_computation():
+    from geometry.robots import load_robot
+
+    robot = load_robot(None)
+    plain = compute(robot, theta_w_deg=74.0, theta_l_deg=20.0)
+    same = compute(
+        robot, theta_w_deg=74.0, theta_l_deg=20.0, wing_joints_deg=dict.fromkeys(robot.joint_map.wing, 74.0)
+    )
+    assert same.start_deg == pytest.approx(plain.start_deg, abs=1e-9)
+    assert same.barrier.righting.barrier_j == pytest.approx(plain.barrier.righting.barrier_j, abs=1e-12)
+    assert same.barrier.escape.barrier_j == pytest.approx(plain.barrier.escape.barrier_j, abs=1e-12)
+
+
+def test_measured_plateaus_are_the_largest_knots_and_interpolate_between_commands():
+    m = load_model_set("physical").measured
+    for i, c in enumerate(m.wing_command_deg):
+        assert m.wing_plateaus_deg(c) == pytest.approx(np.asarray(m.wing_knots_deg)[:, i].max(axis=1))
+    knots = np.asarray(m.wing_knots_deg)  # (servo, command, knot)
+    mid = m.wing_plateaus_deg(
+        67.5
+    )  # halfway between 60 and 75: every knot halfway, the plateau their largest
+    assert mid == pytest.approx(((knots[:, 0] + knots[:, 1]) / 2).max(axis=1), abs=1e-9)
+    for bad in (59.0, 91.0, float("nan")):
+        with pytest.raises(ValueError, match="outside the measured wing commands"):
+            m.wing_plateaus_deg(bad)
+
+
+@needs_lab
+def test_compute_and_barrier_map_with_the_physical_set(tmp_path, capsys):
+    from geometry.robots import load_robot
+
+    robot = load_robot(LAB_URDF)
+    joints = dict(
+        zip(robot.joint_map.wing, load_model_set("physical").measured.wing_plateaus_deg(75.0), strict=True)
+    )
+    want = compute(robot, theta_w_deg=75.0, theta_l_deg=0.0, wing_joints_deg=joints)
+    args = ["compute", "--robot", str(LAB_URDF), "--theta-w", "75", "--model", "physical", "--json"]
+    assert main(args) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["model_set"] == "physical" and doc["wing_joints_deg"] == pytest.approx(joints)
+    assert doc["barrier"]["righting_j"] == pytest.approx(want.barrier.righting.barrier_j, abs=1e-12)
+    # the asymmetric plateaus (left pitch 73.66, right 73.36 ...) tilt the start off the mirror plane
+    assert doc["minimum"]["roll_deg"] != 0.0
+    bm = barrier_map(robot, [75.0], [0.0], wing_joints_deg={75.0: joints}, workers=1)
+    assert bm.righting_j[0, 0] == pytest.approx(want.barrier.righting.barrier_j, abs=1e-12)
+    out = tmp_path / "map"
+    assert main(["barrier-map", "--robot", str(LAB_URDF), "--theta-w", "60,75", "--theta-l", "0",
+                 "--model", "physical", "--out", str(out)]) == 0  # fmt: skip
+    rows = (out / "barrier_map.csv").read_text().splitlines()
+    assert len(rows) == 3 and rows[2].startswith("75.0,0.0,")
+    assert float(rows[2].split(",")[5]) == pytest.approx(want.barrier.righting.barrier_j, abs=1e-12)
+    capsys.readouterr()
+    assert main(["compute", "--robot", str(LAB_URDF), "--theta-w", "50", "--model", "physical"]) == 2
+    err = capsys.readouterr().err
+    assert "theta_w = 50 deg is outside the measured wing commands [60, 90] deg" in err
+    assert "Traceback" not in err
+
+
+def test_an_idealised_set_poses_every_joint_at_theta_w(capsys):
+    assert main(["compute", "--theta-w", "74", "--model", "paper", "--json"]) == 0
+    with_set = json.loads(capsys.readouterr().out)
+    assert main(["compute", "--theta-w", "74", "--json"]) == 0
+    plain = json.loads(capsys.readouterr().out)
+    assert with_set["barrier"] == plain["barrier"] and with_set["wing_joints_deg"] is None
