@@ -940,7 +940,8 @@ def section_validation(
         docs.append(json.loads(f.read_text()))
     paras, figures, tables = [], [], []
     paras.append(
-        "Simulated trials at each physical cell (random first-attempt phases, the set's own actuation) beside the "
+        "Simulated trials at each physical cell (the set's own actuation; first-attempt phases as each set names) "
+        "beside the "
         "physical robot's recorded trials. A cell agrees when each success fraction lies inside the other's "
         "Wilson 95 % interval; cells with leg amplitude 15° or 45° are held out of any calibration and counted "
         "apart."
@@ -953,7 +954,12 @@ def section_validation(
         side = f"{s.sim_positive}/{s.sim_events}" if s.sim_events else "no righting events"
         paras.append(
             f"Model set {tag}, robot {Path(str(doc.get('robot', '?'))).name}, {doc.get('trials', '?')} trials a cell, "
-            f"Cv {doc.get('cv', '?')}: {every[0]} of {every[1]} cells agree ({fit[0]} of {fit[1]} fit cells, "
+            + (
+                "random first-attempt phases"
+                if doc.get("phase") is None
+                else f"first attempts at phase {doc['phase']}"
+            )
+            + f", Cv {doc.get('cv', '?')}: {every[0]} of {every[1]} cells agree ({fit[0]} of {fit[1]} fit cells, "
             f"{held[0]} of {held[1]} held-out cells); log-likelihood of the physical outcomes "
             f"{v.log_likelihood['all']:.1f}. Per-attempt rates agreeing: "
             f"{sum(a.agree for a in v.attempts)} of {len(v.attempts)} wing commands. Righting to + roll: "
@@ -1020,7 +1026,48 @@ def section_validation(
                 _write_csv(out / "validation" / "resting_pitch.csv", out_rows),
             )
         )
+        tables += _opening_tables(out, data_dir, sorted(robots), [x.theta_w_cmd_deg for x in rows])
     return Section("validation", title, tuple(paras), tuple(figures), tuple(tables))
+
+
+def _opening_tables(out: Path, data_dir, robots: list[str], commands: list[float]) -> list[Table]:
+    """The hold pitch of first openings in the IMU's frame beside each robot model's (every wing joint at the
+    measured plateau), and every recorded first opening (:mod:`landscape.analysis.opening`)."""
+    from dataclasses import asdict
+
+    from geometry.robots import load_robot
+    from landscape.analysis import opening as op
+    from landscape.minima import metastable_orientation
+
+    frames = []
+    for r in robots:
+        rb = load_robot(r)
+        hold = op.plateau_hold_deg(rb, data_dir, commands)
+        rows = op.hold_pitch_frames(data_dir, hold, metastable_orientation(rb, 0.0, 0.0)[0])
+        frames += [{"robot": rb.name} | asdict(x) for x in rows]
+    first = [
+        {
+            "trial": o.name,
+            "wing_command_deg": o.theta_w_cmd_deg,
+            "leg_deg": o.theta_l_deg,
+            "leg_lead_s": o.leg_lead_s,
+        }
+        | asdict(o.response)
+        for o in op.recorded_first_openings(data_dir)
+    ]
+    return [
+        Table(
+            "Hold pitch of first openings (leg still) in the IMU's frame and relative to each trial's rest, beside "
+            "the model's; the IMU's mounting fitted as one constant (residuals also with it fitted on the other "
+            "commands)",
+            _write_csv(out / "validation" / "hold_frames.csv", frames),
+        ),
+        Table(
+            "First opening of every recorded trial: the leg command's lead, the pitch overshoot, the rise time and "
+            "the lateral tilt asin(cos p sin r) of largest magnitude 0.2-0.6 s after the opening starts",
+            _write_csv(out / "validation" / "first_openings.csv", first),
+        ),
+    ]
 
 
 #: the report's sections in page order; a new analysis is one ``section_*`` function and one entry here

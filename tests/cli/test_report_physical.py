@@ -78,6 +78,14 @@ def test_report_with_validation_adds_the_simulated_against_physical_section(caps
         rest = list(csv.DictReader(f))
     assert [float(r["wing_command_deg"]) for r in rest] == [60.0, 75.0, 90.0]
     assert "model_builtin_robot_deg" in rest[0]
+    assert "random first-attempt phases" in html
+    with open(out / "validation" / "hold_frames.csv", newline="") as f:
+        frames = list(csv.DictReader(f))
+    assert [float(r["theta_w_cmd_deg"]) for r in frames] == [60.0, 75.0, 90.0]
+    assert {r["robot"] for r in frames} == {"builtin_robot"} and all(r["n"] == "5" for r in frames)
+    with open(out / "validation" / "first_openings.csv", newline="") as f:
+        first = list(csv.DictReader(f))
+    assert len(first) == 60 and {r["leg_lead_s"] for r in first if float(r["leg_deg"]) == 0} == {"nan"}
     code, _, err = run(
         capsys, "report", "--db", db, "--out", out, "--validation", tmp_path
     )  # no validation.json
