@@ -27,13 +27,8 @@ from pathlib import Path
 
 import tomli_w
 
-try:
-    import tomllib
-except ModuleNotFoundError:  # Python 3.10
-    import tomli as tomllib  # type: ignore[no-redef]
-
 from landscape.analysis.validation import validate
-from sim.model_set import load_model_set
+from sim.model_set import load_model_set, read_toml
 
 ROOT = Path(__file__).resolve().parents[1]
 CAUSES = ("actuation", "contact", "geometry", "compliance")
@@ -41,8 +36,8 @@ CAUSES = ("actuation", "contact", "geometry", "compliance")
 
 def variant(base_file: Path, full_file: Path, tables: tuple[str, ...], name: str, out: Path) -> Path:
     """The base set with ``tables`` taken from the fuller set, written to ``out/NAME.toml``."""
-    base = tomllib.loads(base_file.read_text())
-    full = tomllib.loads(full_file.read_text())
+    base = read_toml(base_file)
+    full = read_toml(full_file)
     for t in tables:
         if t in full:
             base[t] = full[t]
@@ -70,7 +65,7 @@ def main(argv=None) -> int:
     out = Path(args.out)
     paper = Path(load_model_set("paper").source)
     full = Path(load_model_set(args.full).source)
-    have = [c for c in CAUSES if c in tomllib.loads(full.read_text())]
+    have = [c for c in CAUSES if c in read_toml(full)]
     variants = [("paper", paper)]
     variants += [(f"paper+{c}", variant(paper, full, (c,), f"paper+{c}", out / "sets")) for c in have]
     variants.append((f"all ({load_model_set(full).name})", full))

@@ -183,6 +183,25 @@ def _check_keys(section, allowed: set[str], required: set[str], where: str) -> d
     return section
 
 
+def read_toml(path: str | Path) -> dict:
+    """The TOML file's tables (``tomllib``; ``tomli`` on Python 3.10).
+
+    Raises
+    ------
+    ModelSetError
+        If the file is not valid UTF-8 TOML.
+    """
+    try:
+        import tomllib
+    except ImportError:  # pragma: no cover - Python 3.10
+        import tomli as tomllib  # type: ignore[no-redef]
+
+    try:
+        return tomllib.loads(Path(path).read_text())
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise ModelSetError(f"model set '{path}' is not valid TOML: {exc}") from None
+
+
 def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     """Read a model set by shipped name or TOML file.
 
@@ -197,16 +216,8 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     >>> ms.name, ms.wing_open_deg_s, ms.contact.friction
     ('paper', 300.0, 1.0)
     """
-    try:
-        import tomllib
-    except ImportError:  # pragma: no cover - Python 3.10
-        import tomli as tomllib  # type: ignore[no-redef]
-
     path = _resolve(name_or_file)
-    try:
-        data = tomllib.loads(path.read_text())
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise ModelSetError(f"model set '{path}' is not valid TOML: {exc}") from None
+    data = read_toml(path)
     where = f"model set '{path}'"
     _check_keys(data, _TOP, _TOP - {"description", "compliance"}, where)
     if not isinstance(data["name"], str) or not data["name"].strip():

@@ -60,15 +60,6 @@ def parse_vary(items: Sequence[str]) -> dict[str, list[float]]:
     return out
 
 
-def _read_toml(path: Path) -> dict:
-    try:
-        import tomllib
-    except ModuleNotFoundError:  # Python 3.10
-        import tomli as tomllib  # type: ignore[no-redef]
-
-    return tomllib.loads(path.read_text())
-
-
 def candidate_set(base: str | Path, overrides: dict[str, float], name: str, path: str | Path):
     """Write the base model set with ``overrides`` (dotted keys that the base already has) as ``path`` under
     ``name`` and return it loaded (so it is validated like any set).
@@ -82,10 +73,10 @@ def candidate_set(base: str | Path, overrides: dict[str, float], name: str, path
     """
     import tomli_w
 
-    from sim.model_set import load_model_set
+    from sim.model_set import load_model_set, read_toml
 
     ms = load_model_set(base)
-    data = _read_toml(Path(ms.source))
+    data = read_toml(ms.source)
     for key, value in overrides.items():
         table, _, leaf = key.rpartition(".")
         node = data
