@@ -30,8 +30,8 @@ class Hull:
         for a degenerate set.
     neighbors : ndarray of shape (F, 3) of int64 or None
         Qhull's neighbouring triangle opposite each vertex of each triangle; None for a degenerate set.
-        (The exact barrier method still runs Qhull on ``vertices_m`` itself: Qhull triangulates coplanar
-        faces in input order, and its face numbering breaks ties between symmetric saddles.)
+        (The exact barrier method builds its faces from these; its choice between equal saddles does not
+        depend on Qhull's numbering.)
     """
 
     vertices_m: NDArray[np.float64]

@@ -7,6 +7,7 @@ import trimesh
 
 from geometry import Robot
 from geometry.frames import up_vector
+from geometry.hull import convex_hull
 from geometry.robots import load_robot
 from landscape.barriers import exact
 
@@ -177,12 +178,13 @@ def test_merge_coplanar_kernel_equals_scipy_components(builtin_landscapes):
         [(x, y, z) for x in range(3) for y in range(3) for z in range(2)], dtype=float
     )  # coplanar
     for pts in [box, blob, grid, *(ex.vertices_m for ex in builtin_landscapes)]:
-        qh = ConvexHull(pts)
+        hull = convex_hull(pts)
+        qh = ConvexHull(hull.vertices_m)
         tol = 1e-9 * float(np.ptp(pts, axis=0).max())
-        eq, tri, nb, got = exact._faces(np.asarray(pts, dtype=np.float64), tol)
-        np.testing.assert_array_equal(got, exact._merge_coplanar_reference(pts, tri, eq, nb, tol))
+        eq, tri, nb, got = exact._faces(hull, tol)
+        np.testing.assert_array_equal(got, exact._merge_coplanar_reference(hull.vertices_m, tri, eq, nb, tol))
         assert len(tri) == len(qh.simplices)
-    assert exact._faces(np.asarray(box, dtype=np.float64), 1e-9)[3].max() + 1 == 6
+    assert exact._faces(convex_hull(box), 1e-9)[3].max() + 1 == 6
 
 
 def test_arcs_kernel_equals_numpy(builtin_landscapes, lab_or_builtin_poses):
@@ -191,10 +193,11 @@ def test_arcs_kernel_equals_numpy(builtin_landscapes, lab_or_builtin_poses):
     grid = np.array([(x, y, z) for x in range(3) for y in range(3) for z in range(2)], dtype=float)
     blob = np.random.default_rng(3).normal(size=(80, 3))
     clouds = [box, grid, blob, *(ex.vertices_m for ex in builtin_landscapes), *lab_or_builtin_poses]
-    for pts in clouds:
-        pts = np.asarray(pts, dtype=np.float64)
+    for cloud in clouds:
+        hull = convex_hull(cloud)
+        pts = hull.vertices_m
         tol = 1e-9 * float(np.ptp(pts, axis=0).max())
-        _, tri, nb, tri_face = exact._faces(pts, tol)
+        _, tri, nb, tri_face = exact._faces(hull, tol)
         n_f = int(tri_face.max()) + 1
         got = exact._arcs(pts, tri, nb, tri_face, n_f)
         want = exact._arcs_reference(pts, tri, nb, tri_face, n_f)
@@ -208,9 +211,9 @@ def test_arcs_kernel_equals_numpy(builtin_landscapes, lab_or_builtin_poses):
 
 
 def _box_args(pts):
-    pts = np.asarray(pts, dtype=np.float64)
-    _, tri, nb, tri_face = exact._faces(pts, 1e-9)
-    return pts, tri, nb, tri_face, int(tri_face.max()) + 1
+    hull = convex_hull(pts)
+    _, tri, nb, tri_face = exact._faces(hull, 1e-9)
+    return hull.vertices_m, tri, nb, tri_face, int(tri_face.max()) + 1
 
 
 @pytest.fixture(scope="module")
