@@ -56,6 +56,7 @@ from __future__ import annotations
 import heapq
 import logging
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
@@ -109,7 +110,8 @@ class CriticalPoints:
     saddles_arc : ndarray of shape (S,) of int64
         Edge arc the saddle lies on (index into ``ExactLandscape.arc_faces``).
     saddles_joins : ndarray of shape (S, 2) of int64
-        The minima (rows of ``minima_*``) reached by rolling down from either side of each saddle.
+        The minima (rows of ``minima_*``) reached by rolling down from either side of each saddle (computed on
+        first use: the barrier searches roll down only from the saddles they meet).
     maxima_vertex : ndarray of shape (X,) of int64
         Hull vertex the body balances on.
     """
@@ -120,10 +122,14 @@ class CriticalPoints:
     saddles_arc: NDArray[np.int64]
     saddles_deg: NDArray[np.float64]
     saddles_energy_j: NDArray[np.float64]
-    saddles_joins: NDArray[np.int64]
     maxima_vertex: NDArray[np.int64]
     maxima_deg: NDArray[np.float64]
     maxima_energy_j: NDArray[np.float64]
+    _landscape: ExactLandscape = field(repr=False, compare=False)
+
+    @cached_property
+    def saddles_joins(self) -> NDArray[np.int64]:
+        return _joins(self._landscape, self.minima_face, self.saddles_arc)
 
 
 @dataclass(frozen=True)
@@ -431,7 +437,8 @@ def _critical_points(
     partial: ExactLandscape, d, nbr_ptr, nbr_idx, margin, peak_s, theta, foot, seg_len, ang_tol: float
 ) -> CriticalPoints:
     """Minima (faces the CoM projects strictly inside), saddles (arc peaks strictly inside their arc and
-    edge), maxima (vertices higher than all their neighbours), and the two minima each saddle joins."""
+    edge), maxima (vertices higher than all their neighbours), and the two minima each saddle joins (on first
+    use)."""
     tol_m, scale, k_v = partial.tol_m, partial.mass_kg * partial.g_m_s2, len(d)
     face_up, face_h, arc_max, peak_up = (
         partial.face_up,
@@ -448,12 +455,6 @@ def _critical_points(
     worst = np.full(k_v, np.inf)
     np.minimum.at(worst, src, gap)
     maxima_vertex = np.flatnonzero(worst > tol_m).astype(np.int64)
-    row = np.full(len(face_up), -1, dtype=np.int64)
-    row[minima_face] = np.arange(len(minima_face))
-    ends = partial.arc_faces[saddles_arc]
-    faces, where = np.unique(ends, return_inverse=True)  # roll down from each face once
-    reached = np.array([row[_descend_face(partial, int(f))] for f in faces], dtype=np.int64)
-    joins = reached[where.reshape(-1)].reshape(-1, 2)
     return CriticalPoints(
         minima_face,
         _deg(face_up[minima_face]),
@@ -461,11 +462,20 @@ def _critical_points(
         saddles_arc,
         _deg(peak_up[saddles_arc]),
         scale * arc_max[saddles_arc],
-        joins,
         maxima_vertex,
         _deg(dn[maxima_vertex]),
         scale * np.linalg.norm(d[maxima_vertex], axis=1),
+        partial,
     )
+
+
+def _joins(ex: ExactLandscape, minima_face: NDArray[np.int64], arcs: NDArray[np.int64]) -> NDArray[np.int64]:
+    """The minima (rows of ``minima_face``) reached by rolling down from either face of each arc, (len, 2)."""
+    row = np.full(len(ex.face_up), -1, dtype=np.int64)
+    row[minima_face] = np.arange(len(minima_face))
+    faces, where = np.unique(ex.arc_faces[arcs], return_inverse=True)  # roll down from each face once
+    reached = np.array([row[_descend_face(ex, int(f))] for f in faces.tolist()], dtype=np.int64)
+    return reached[where.reshape(-1)].reshape(-1, 2)
 
 
 def _build(hull: Hull, com: NDArray[np.float64], mass_kg: float, g_m_s2: float) -> ExactLandscape:
@@ -952,7 +962,7 @@ def _joins_start_basin(ex: ExactLandscape, piece: tuple, start_row: int) -> bool
     hit = np.flatnonzero(crit.saddles_arc == piece[0])
     if not len(hit) or np.linalg.norm(piece[4] - ex.arc_peak_up[piece[0]]) > 1e-9:
         return False
-    joins = crit.saddles_joins[hit[0]]
+    joins = _joins(ex, crit.minima_face, crit.saddles_arc[hit[:1]])[0]
     return bool(joins[0] != joins[1] and start_row in joins)
 
 
@@ -1110,7 +1120,7 @@ def _pass_path(ex: ExactLandscape, n: int, eu, ev, ew, f0: int, goal, pieces_of,
                 par, first = par2, first2
                 break
     chain = _chain(par, eu, ev, int(first))
-    k = next(i for i, (_, x) in enumerate(chain) if not basin[x])  # the path leaves the basin once
+    k = int(np.argmin(basin[[x for _, x in chain]]))  # the path leaves the basin once
     return level, chain, k
 
 
