@@ -394,7 +394,13 @@ def _arcs_reference(pts: NDArray[np.float64], tri, nb, tri_face, n_f: int):
 
 def _arc_geometry(pts, com, face_up, face_h, arc_faces, arc_a, arc_b):
     """Each arc between two face normals: its angle, tangent, the CoM height along it (amplitude and phase of a
-    sinusoid), where it peaks, and the peak's height and up-direction."""
+    sinusoid), where it peaks, and the peak's height and up-direction.
+    Compiled (``_kernels.arc_geometry``); :func:`_arc_geometry_reference` is the NumPy reference."""
+    return _kernels.arc_geometry(pts, com, face_up, face_h, arc_faces, arc_a, arc_b)
+
+
+def _arc_geometry_reference(pts, com, face_up, face_h, arc_faces, arc_a, arc_b):
+    """:func:`_arc_geometry` in NumPy (the reference the compiled one is tested against)."""
     u0 = face_up[arc_faces[:, 0]]
     u1 = face_up[arc_faces[:, 1]]
     cos_t = np.clip(np.einsum("ij,ij->i", u0, u1), -1.0, 1.0)
@@ -452,8 +458,7 @@ def _critical_points(
     dn = d / np.linalg.norm(d, axis=1, keepdims=True)
     src = np.repeat(np.arange(k_v), np.diff(nbr_ptr))
     gap = np.einsum("ij,ij->i", d[src] - d[nbr_idx], dn[src])  # vertex k vs its neighbour at u = d_k/|d_k|
-    worst = np.full(k_v, np.inf)
-    np.minimum.at(worst, src, gap)
+    worst = np.minimum.reduceat(gap, nbr_ptr[:-1])  # every hull vertex has neighbours
     maxima_vertex = np.flatnonzero(worst > tol_m).astype(np.int64)
     return CriticalPoints(
         minima_face,
@@ -502,11 +507,7 @@ def _build(hull: Hull, com: NDArray[np.float64], mass_kg: float, g_m_s2: float) 
     half_ptr, half_face, half_arc, half_a, half_b = _half_edges(arc_faces, arc_a, arc_b, n_f)
     face_proj = com[None, :] - face_h[:, None] * face_up  # c + h n: the foot on the face plane
     margin = _face_margins(pts, normal, face_proj, face_ptr, face_idx, half_ptr, half_a, half_b)
-    nbr_ptr, nbr_idx = _csr(
-        k_v,
-        np.concatenate([tri[:, [0, 1, 2]].ravel(), tri[:, [1, 2, 0]].ravel()]),
-        np.concatenate([tri[:, [1, 2, 0]].ravel(), tri[:, [0, 1, 2]].ravel()]),
-    )
+    nbr_ptr, nbr_idx = hull.neighbor_ptr, hull.neighbor_idx  # the triangles' edges, neighbours sorted
     face_next = _face_exits(pts, face_proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, tol_m)
     g = _Graph(
         d,

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from geometry import Robot
+from geometry import Pose, Robot
 from geometry.frames import up_vector
 from geometry.hull import convex_hull
 from geometry.robots import load_robot
@@ -90,6 +90,26 @@ def test_face_margins_and_exits_kernels_equal_numpy(builtin_landscapes):
         np.testing.assert_array_equal(got, want)
         args = (pts, g.face_proj, g.half_ptr, g.half_arc, g.half_a, g.half_b, ex.arc_faces, want, ex.tol_m)
         np.testing.assert_array_equal(exact._face_exits(*args), exact._face_exits_reference(*args))
+
+
+def test_arc_geometry_kernel_equals_numpy(builtin_landscapes, lab_or_builtin_poses):
+    """The compiled arc geometry equals the NumPy reference: the same arithmetic, except that the compiled
+    arccos, arctan2, hypot, cos and sin may round differently in the last bit. Arcs whose peak lies off the arc
+    (the highest point at a face) are among them."""
+    box = Robot.from_trimesh(trimesh.creation.box(extents=(4.0, 2.0, 1.0)), mass_kg=1.0, com=[1.9, 0.0, 0.0])
+    cases = [*builtin_landscapes, exact.exact_landscape(box.pose())]
+    cases += [
+        exact.exact_landscape(Pose(None, None, 1.0, v.mean(axis=0), v, {}, ())) for v in lab_or_builtin_poses
+    ]
+    on_arc = []
+    for ex in cases:
+        a, b = ex.arc_vertices[:, 0], ex.arc_vertices[:, 1]
+        args = (ex.vertices_m, ex.com_m, ex.face_up, ex.face_height_m, ex.arc_faces, a, b)
+        got, want = exact._arc_geometry(*args), exact._arc_geometry_reference(*args)
+        on_arc += ((want[5] > 0) & (want[5] < want[0])).tolist()
+        for g, w in zip(got, want, strict=True):
+            np.testing.assert_allclose(g, w, rtol=1e-14, atol=1e-15)
+    assert any(on_arc) and not all(on_arc)
 
 
 def test_box_face_margins_closed_form():
