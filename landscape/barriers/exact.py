@@ -1094,8 +1094,8 @@ def _pass_path(ex: ExactLandscape, n: int, eu, ev, ew, f0: int, goal, pieces_of,
 
     The start's basin is the set of nodes the search reaches below the bottleneck level minus the length
     tolerance; its passes are the edges out of it at the level (within the tolerance). With several, each is
-    tried in the rule's order (``prefer``-red ones first), the others closed, until the goal stays at the level.
-    ``pieces_of(edges, toward)`` gives the traversals of edges toward the given nodes.
+    tried in the rule's order (first those ``prefer(pieces)`` marks), the others closed, until the goal stays
+    at the level. ``pieces_of(edges, toward)`` gives the traversals of edges toward the given nodes.
 
     Returns (level m, chain of (edge, node reached) from f0, index of the pass in the chain), or None when no
     goal is reachable.
