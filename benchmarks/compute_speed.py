@@ -23,31 +23,30 @@ barriers and pitch-wise and roll-wise barriers of the two trees, which must agre
 Run:  PYTHONPATH=. /work/main/.venv/bin/python benchmarks/compute_speed.py [--baseline 3ba33fb] [--repeat 5]
       [--no-map] [--lab PATH]
 
-Last run (issue #12's remaining targets: sector exits by lazy floods that compute only the grid cells they
-reach, so a map's poses build no whole landscape grid; compiled face-edge arcs and rolling; the import floor;
-``--repeat 3`` at load 1.1)::
+Last run (issue #12's map target: of equal exact saddles the one a rule on their geometry picks, so the exact
+method reuses the pose hull's Qhull output instead of a second Qhull run; the hull sorts only its vertices;
+compiled arc geometry; saddles' basins found on demand; ``--repeat 3`` at load 0.99, on a machine running
+slower than in earlier runs: the baseline's map took 13.0 s)::
 
-    python 3.11.7, 2 CPUs, load 1.11; best of 3 (map: one round); baseline 3ba33fb
+    python 3.11.7, 2 CPUs, load 0.99; best of 3 (map: one round); baseline 3ba33fb
     quantity                                       target    3ba33fb  this tree   ratio  met
-    start state, lab θw 74 θl 30                 10.00 ms  111.08 ms    7.20 ms   15.43  yes
-    compute, lab θw 74 θl 30 (exact)             40.00 ms  151.67 ms   25.73 ms    5.89  yes
-    barrier map, lab θw -10..90/0.5 (exact)       2.000 s   10.429 s    2.146 s    4.86  NO
-      the same map in one process                 2.000 s   10.244 s    3.844 s    2.66  NO
-      the same map, sector_exits=False            2.000 s          —    1.717 s          yes
-    landscape compute --theta-w 74 (process)     600.00 ms    1.759 s    1.201 s    1.46  NO
-    landscape --help (process)                   300.00 ms   85.78 ms   80.96 ms    1.06  yes
-      floor: import numpy, scipy.spatial, numba  600.00 ms  634.52 ms  616.75 ms    1.03  NO
+    start state, lab θw 74 θl 30                 10.00 ms  139.15 ms    8.02 ms   17.35  yes
+    compute, lab θw 74 θl 30 (exact)             40.00 ms  189.57 ms   25.33 ms    7.48  yes
+    barrier map, lab θw -10..90/0.5 (exact)       2.000 s   13.023 s    1.947 s    6.69  yes
+      the same map in one process                 2.000 s   14.762 s    3.608 s    4.09  NO
+      the same map, sector_exits=False            2.000 s          —    1.376 s          yes
+    landscape compute --theta-w 74 (process)     600.00 ms    2.361 s    1.498 s    1.58  NO
+    landscape --help (process)                   300.00 ms   97.41 ms  112.67 ms    0.86  yes
+      floor: import numpy, scipy.spatial, numba  600.00 ms  809.74 ms  741.90 ms    1.09  NO
 
     start minimum energy   |dE| = 0.00e+00 J
-    righting barrier       |dB| = 0.00e+00 J
-    barrier map (201 poses)  max |dE start| = 0.00e+00 J   max |dB righting| = 0.00e+00 J
-      pitch-wise and roll-wise barriers  max |dB| = 0.00e+00 J
+    righting barrier       |dB| = 7.11e-17 J
+    barrier map (201 poses)  max |dE start| = 5.55e-17 J   max |dB righting| = 1.11e-16 J
+      pitch-wise and roll-wise barriers  max |dB| = 1.11e-16 J
 
-Where a map pose's time goes now (one process, lab robot, ~17 ms a pose): Qhull twice, ~6 ms (the pose's hull of
-every part's hull vertices, then the exact method's own hull of those vertices, whose triangle order numbers the
-faces that break ties between symmetric saddles, so it cannot reuse the first); the rest of the exact landscape
-and its searches, ~7 ms of NumPy and Python; the sector floods, ~2-3 ms; posing, ~1 ms. An earlier run of the
-same code at load 3.4: compute 25.25 ms, map 4.120 s, in one process 3.662 s.
+Where a map pose's time goes now (one process, lab robot, about 18 ms a pose in that run): one Qhull run (the
+pose's hull of every part's hull vertices, whose triangles the exact method reuses); the exact landscape and its
+searches in NumPy and Python; the sector floods; posing.
 """
 
 from __future__ import annotations

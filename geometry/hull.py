@@ -30,8 +30,8 @@ class Hull:
         for a degenerate set.
     neighbors : ndarray of shape (F, 3) of int64 or None
         Qhull's neighbouring triangle opposite each vertex of each triangle; None for a degenerate set.
-        (The exact barrier method still runs Qhull on ``vertices_m`` itself: Qhull triangulates coplanar
-        faces in input order, and its face numbering breaks ties between symmetric saddles.)
+        (The exact barrier method builds its faces from these; its choice between equal saddles does not
+        depend on Qhull's numbering.)
     """
 
     vertices_m: NDArray[np.float64]
@@ -105,16 +105,18 @@ def convex_hull(points_m: ArrayLike) -> Hull:
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         raise GeometryError(f"geometry has a non-finite vertex {pts[i].tolist()} at index {i}; fix the mesh")
-    pts = _unique_rows(pts)
     try:
-        qh = ConvexHull(pts)
+        qh = ConvexHull(pts)  # duplicates are fine: all but one of equal points are left inside
     except (QhullError, ValueError):
-        # flat, collinear or too few points: keep them all and join every pair
+        # flat, collinear or too few points: keep them all (once each) and join every pair
+        pts = _unique_rows(pts)
         n = len(pts)
         ii, jj = np.triu_indices(n, 1)
         ptr, idx = _csr(n, np.stack([ii, jj], axis=1).astype(np.int64))
         return Hull(pts, ptr, idx, np.zeros((0, 3), dtype=np.int64))
-    keep = _sorted_unique(np.asarray(qh.simplices, dtype=np.int64).ravel())  # = qh.vertices
+    used = _sorted_unique(np.asarray(qh.simplices, dtype=np.int64).ravel())  # = qh.vertices
+    # vertices sorted by x, then y, then z, whatever the input order (sorting only the vertices is cheaper)
+    keep = used[np.lexsort((pts[used, 2], pts[used, 1], pts[used, 0]))]
     remap = np.full(len(pts), -1, dtype=np.int64)
     remap[keep] = np.arange(len(keep))
     simp = remap[np.asarray(qh.simplices, dtype=np.int64)]

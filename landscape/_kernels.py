@@ -944,6 +944,82 @@ def _dot3_einsum(a0, a1, a2, b0, b1, b2):
 
 
 @numba.njit(cache=True)
+def _edge_unit(pts, a, b):
+    """Unit direction from vertex a to vertex b and their distance, as NumPy's ``seg / norm(seg)`` computes
+    them: (e0, e1, e2, length)."""
+    d0 = pts[b, 0] - pts[a, 0]
+    d1 = pts[b, 1] - pts[a, 1]
+    d2 = pts[b, 2] - pts[a, 2]
+    ln = _norm3_seq(d0, d1, d2)
+    return d0 / ln, d1 / ln, d2 / ln, ln
+
+
+@numba.njit(cache=True)
+def arc_geometry(pts, com, face_up, face_h, arc_faces, arc_a, arc_b):
+    """Each edge arc between two face up-directions (``arc_faces``; edge from vertex ``arc_a`` to ``arc_b``):
+    its angle theta, unit tangent t at the first face, edge length, the foot of the perpendicular from the CoM
+    along the edge (m from ``arc_a``), that perpendicular w, where the CoM height w.u peaks along the arc
+    (angle from the first face, may lie outside [0, theta]), the highest CoM height on the arc, m, and where
+    it is reached. The arithmetic of landscape.barriers.exact's NumPy reference, operation for operation
+    (its trigonometric functions may differ in the last bit)."""
+    n_a = arc_faces.shape[0]
+    theta = np.zeros(n_a)
+    t = np.zeros((n_a, 3))
+    seg_len = np.zeros(n_a)
+    foot = np.zeros(n_a)
+    w = np.zeros((n_a, 3))
+    peak_s = np.zeros(n_a)
+    arc_max = np.zeros(n_a)
+    peak_up = np.zeros((n_a, 3))
+    for k in range(n_a):
+        f0 = arc_faces[k, 0]
+        f1 = arc_faces[k, 1]
+        u0 = face_up[f0]
+        u1 = face_up[f1]
+        c = _dot3_einsum(u0[0], u0[1], u0[2], u1[0], u1[1], u1[2])
+        c = min(max(c, -1.0), 1.0)
+        theta[k] = np.arccos(c)
+        t0 = u1[0] - c * u0[0]
+        t1 = u1[1] - c * u0[1]
+        t2 = u1[2] - c * u0[2]
+        tn = _norm3_seq(t0, t1, t2)
+        if tn > 0:
+            t[k, 0] = t0 / tn
+            t[k, 1] = t1 / tn
+            t[k, 2] = t2 / tn
+        a = arc_a[k]
+        e0, e1, e2, ln = _edge_unit(pts, a, arc_b[k])
+        seg_len[k] = ln
+        d0 = com[0] - pts[a, 0]
+        d1 = com[1] - pts[a, 1]
+        d2 = com[2] - pts[a, 2]
+        ft = _dot3_einsum(d0, d1, d2, e0, e1, e2)
+        foot[k] = ft
+        w0 = d0 - ft * e0
+        w1 = d1 - ft * e1
+        w2 = d2 - ft * e2
+        w[k, 0] = w0
+        w[k, 1] = w1
+        w[k, 2] = w2
+        amp_a = _dot3_einsum(w0, w1, w2, u0[0], u0[1], u0[2])
+        amp_b = _dot3_einsum(w0, w1, w2, t[k, 0], t[k, 1], t[k, 2])
+        pk = np.arctan2(amp_b, amp_a)
+        peak_s[k] = pk
+        h_ends = max(face_h[f0], face_h[f1])
+        if pk > 0 and pk < theta[k]:
+            arc_max[k] = max(np.hypot(amp_a, amp_b), h_ends)
+            cp = np.cos(pk)
+            sp = np.sin(pk)
+            for j in range(3):
+                peak_up[k, j] = cp * u0[j] + sp * t[k, j]
+        else:
+            arc_max[k] = h_ends
+            for j in range(3):
+                peak_up[k, j] = u0[j] if face_h[f0] >= face_h[f1] else u1[j]
+    return theta, t, seg_len, foot, w, peak_s, arc_max, peak_up
+
+
+@numba.njit(cache=True)
 def face_margins(pts, normal, proj, face_ptr, face_idx, half_ptr, half_a, half_b):
     """Signed distance of each face's CoM projection ``proj`` (F, 3) inside its boundary, m: the minimum over
     the face's boundary half-edges (``half_ptr`` CSR, end vertices ``half_a``, ``half_b``) of the distance to the
@@ -970,14 +1046,7 @@ def face_margins(pts, normal, proj, face_ptr, face_idx, half_ptr, half_a, half_b
         best = np.inf
         for h in range(half_ptr[f], half_ptr[f + 1]):
             a = half_a[h]
-            b = half_b[h]
-            d0 = pts[b, 0] - pts[a, 0]
-            d1 = pts[b, 1] - pts[a, 1]
-            d2 = pts[b, 2] - pts[a, 2]
-            ln = _norm3_seq(d0, d1, d2)
-            e0 = d0 / ln
-            e1 = d1 / ln
-            e2 = d2 / ln
+            e0, e1, e2, _ = _edge_unit(pts, a, half_b[h])
             m0 = n1 * e2 - n2 * e1
             m1 = n2 * e0 - n0 * e2
             m2 = n0 * e1 - n1 * e0

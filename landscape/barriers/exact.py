@@ -42,6 +42,13 @@ Faces closer than that to coplanar are merged; a CoM that projects within that d
 is *above the edge or vertex*: the face is not a minimum (the body tips over, as a marginal equilibrium would
 under any disturbance); a start exactly on a saddle rolls to the lower of the two faces (ties: the lower face
 index) and a start exactly on a vertex maximum to the lowest face at that vertex.
+
+Equal saddles (the tie rule): an exit's saddle is the pass by which its path leaves the start's basin (the
+nodes the search reaches below the barrier level minus the tolerance), and of several passes at the barrier
+level, equal within the tolerance, the one with the largest canonical roll is reported, then the smallest
+canonical pitch (coordinates within ``TIE_DEG`` equal). For a body symmetric left to right that is the
+mirror-image saddle on the positive-roll side. Escape prefers a pass that is a saddle between the start's
+basin and another. The rule is on geometry alone, not on Qhull's face numbering or the vertices' order.
 """
 
 from __future__ import annotations
@@ -49,16 +56,17 @@ from __future__ import annotations
 import heapq
 import logging
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
-from scipy.spatial import ConvexHull, QhullError
 
 from geometry import Pose
 from geometry.errors import UsageError
 from geometry.frames import canonical_pitch_roll_deg, pitch_roll_from_up, up_vector
+from geometry.hull import Hull
 from landscape import _kernels
 from landscape.barriers._base import Barrier, Exit
 from landscape.energy import G_M_S2
@@ -71,6 +79,7 @@ LENGTH_RTOL = 1e-9  # lengths below LENGTH_RTOL * hull diameter count as zero
 ANGLE_TOL_RAD = 1e-9  # face normals closer than this (and within the length tolerance) are one face
 UPRIGHT_Z_TOL = 1e-12  # u_z <= this counts as reached the upright set
 PATH_STEP_DEG = 1.0  # sampling of reported paths along arcs, degrees
+TIE_DEG = 1e-9  # saddle coordinates closer than this are equal in the tie rule, degrees
 
 NOT_A_SOLID = (
     "the exact method needs a solid body: the hull of {n} points is flat or degenerate "
@@ -101,7 +110,8 @@ class CriticalPoints:
     saddles_arc : ndarray of shape (S,) of int64
         Edge arc the saddle lies on (index into ``ExactLandscape.arc_faces``).
     saddles_joins : ndarray of shape (S, 2) of int64
-        The minima (rows of ``minima_*``) reached by rolling down from either side of each saddle.
+        The minima (rows of ``minima_*``) reached by rolling down from either side of each saddle (computed on
+        first use: the barrier searches roll down only from the saddles they meet).
     maxima_vertex : ndarray of shape (X,) of int64
         Hull vertex the body balances on.
     """
@@ -112,10 +122,14 @@ class CriticalPoints:
     saddles_arc: NDArray[np.int64]
     saddles_deg: NDArray[np.float64]
     saddles_energy_j: NDArray[np.float64]
-    saddles_joins: NDArray[np.int64]
     maxima_vertex: NDArray[np.int64]
     maxima_deg: NDArray[np.float64]
     maxima_energy_j: NDArray[np.float64]
+    _landscape: ExactLandscape = field(repr=False, compare=False)
+
+    @cached_property
+    def saddles_joins(self) -> NDArray[np.int64]:
+        return _joins(self._landscape, self.minima_face, self.saddles_arc)
 
 
 @dataclass(frozen=True)
@@ -217,17 +231,17 @@ class _Graph:
 
 
 # --------------------------------------------------------------------------------------------- construction
-def _faces(pts: NDArray[np.float64], tol_m: float):
-    """Merged faces of the hull: (outward normals, triangle -> face, triangles, triangle neighbours)."""
-    try:
-        qh = ConvexHull(pts)
-    except (QhullError, ValueError):
-        raise ExactMethodError(NOT_A_SOLID.format(n=len(pts), tol=tol_m)) from None
-    tri = np.ascontiguousarray(qh.simplices, dtype=np.int64)
-    eq = np.ascontiguousarray(qh.equations, dtype=np.float64)
-    nb = np.ascontiguousarray(qh.neighbors, dtype=np.int64)
+def _faces(hull: Hull, tol_m: float):
+    """Merged faces of the hull: (outward normals, triangle -> face, triangles, triangle neighbours), from the
+    Qhull output the hull already carries (no second Qhull run: the choice between equal saddles does not
+    depend on Qhull's numbering, see the module docstring)."""
+    if hull.equations is None or not len(hull.simplices):
+        raise ExactMethodError(NOT_A_SOLID.format(n=len(hull.vertices_m), tol=tol_m))
+    tri = np.ascontiguousarray(hull.simplices, dtype=np.int64)
+    eq = np.ascontiguousarray(hull.equations, dtype=np.float64)
+    nb = np.ascontiguousarray(hull.neighbors, dtype=np.int64)
     tri_face = _kernels.merge_coplanar(
-        np.ascontiguousarray(pts, dtype=np.float64), tri, eq, nb, float(tol_m), ANGLE_TOL_RAD
+        np.ascontiguousarray(hull.vertices_m, dtype=np.float64), tri, eq, nb, float(tol_m), ANGLE_TOL_RAD
     )
     return eq, tri, nb, tri_face
 
@@ -293,17 +307,18 @@ def exact_landscape(pose: Pose, *, g_m_s2: float = G_M_S2) -> ExactLandscape:
     (0.5, 1.118034)
     """
     return _build(
-        np.asarray(pose.hull.vertices_m, dtype=np.float64),
+        pose.hull,
         np.asarray(pose.com_m, dtype=np.float64),
         float(pose.mass_kg),
         float(g_m_s2),
     )
 
 
-def _merged_faces(pts: NDArray[np.float64], com: NDArray[np.float64], tol_m: float):
+def _merged_faces(hull: Hull, com: NDArray[np.float64], tol_m: float):
     """The hull's merged faces: triangles, neighbours, face of each triangle, outward normals, and the CoM
     checked inside (:data:`COM_OUTSIDE`)."""
-    eq, tri, nb, tri_face = _faces(pts, tol_m)
+    pts = hull.vertices_m
+    eq, tri, nb, tri_face = _faces(hull, tol_m)
     n_f = int(tri_face.max()) + 1
     # outward normal of each merged face: area-weighted mean of its triangles' normals
     a, b = pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]]
@@ -379,7 +394,13 @@ def _arcs_reference(pts: NDArray[np.float64], tri, nb, tri_face, n_f: int):
 
 def _arc_geometry(pts, com, face_up, face_h, arc_faces, arc_a, arc_b):
     """Each arc between two face normals: its angle, tangent, the CoM height along it (amplitude and phase of a
-    sinusoid), where it peaks, and the peak's height and up-direction."""
+    sinusoid), where it peaks, and the peak's height and up-direction.
+    Compiled (``_kernels.arc_geometry``); :func:`_arc_geometry_reference` is the NumPy reference."""
+    return _kernels.arc_geometry(pts, com, face_up, face_h, arc_faces, arc_a, arc_b)
+
+
+def _arc_geometry_reference(pts, com, face_up, face_h, arc_faces, arc_a, arc_b):
+    """:func:`_arc_geometry` in NumPy (the reference the compiled one is tested against)."""
     u0 = face_up[arc_faces[:, 0]]
     u1 = face_up[arc_faces[:, 1]]
     cos_t = np.clip(np.einsum("ij,ij->i", u0, u1), -1.0, 1.0)
@@ -422,7 +443,8 @@ def _critical_points(
     partial: ExactLandscape, d, nbr_ptr, nbr_idx, margin, peak_s, theta, foot, seg_len, ang_tol: float
 ) -> CriticalPoints:
     """Minima (faces the CoM projects strictly inside), saddles (arc peaks strictly inside their arc and
-    edge), maxima (vertices higher than all their neighbours), and the two minima each saddle joins."""
+    edge), maxima (vertices higher than all their neighbours), and the two minima each saddle joins (on first
+    use)."""
     tol_m, scale, k_v = partial.tol_m, partial.mass_kg * partial.g_m_s2, len(d)
     face_up, face_h, arc_max, peak_up = (
         partial.face_up,
@@ -436,15 +458,8 @@ def _critical_points(
     dn = d / np.linalg.norm(d, axis=1, keepdims=True)
     src = np.repeat(np.arange(k_v), np.diff(nbr_ptr))
     gap = np.einsum("ij,ij->i", d[src] - d[nbr_idx], dn[src])  # vertex k vs its neighbour at u = d_k/|d_k|
-    worst = np.full(k_v, np.inf)
-    np.minimum.at(worst, src, gap)
+    worst = np.minimum.reduceat(gap, nbr_ptr[:-1])  # every hull vertex has neighbours
     maxima_vertex = np.flatnonzero(worst > tol_m).astype(np.int64)
-    row = np.full(len(face_up), -1, dtype=np.int64)
-    row[minima_face] = np.arange(len(minima_face))
-    ends = partial.arc_faces[saddles_arc]
-    faces, where = np.unique(ends, return_inverse=True)  # roll down from each face once
-    reached = np.array([row[_descend_face(partial, int(f))] for f in faces], dtype=np.int64)
-    joins = reached[where.reshape(-1)].reshape(-1, 2)
     return CriticalPoints(
         minima_face,
         _deg(face_up[minima_face]),
@@ -452,20 +467,28 @@ def _critical_points(
         saddles_arc,
         _deg(peak_up[saddles_arc]),
         scale * arc_max[saddles_arc],
-        joins,
         maxima_vertex,
         _deg(dn[maxima_vertex]),
         scale * np.linalg.norm(d[maxima_vertex], axis=1),
+        partial,
     )
 
 
-def _build(
-    pts: NDArray[np.float64], com: NDArray[np.float64], mass_kg: float, g_m_s2: float
-) -> ExactLandscape:
+def _joins(ex: ExactLandscape, minima_face: NDArray[np.int64], arcs: NDArray[np.int64]) -> NDArray[np.int64]:
+    """The minima (rows of ``minima_face``) reached by rolling down from either face of each arc, (len, 2)."""
+    row = np.full(len(ex.face_up), -1, dtype=np.int64)
+    row[minima_face] = np.arange(len(minima_face))
+    faces, where = np.unique(ex.arc_faces[arcs], return_inverse=True)  # roll down from each face once
+    reached = np.array([row[_descend_face(ex, int(f))] for f in faces.tolist()], dtype=np.int64)
+    return reached[where.reshape(-1)].reshape(-1, 2)
+
+
+def _build(hull: Hull, com: NDArray[np.float64], mass_kg: float, g_m_s2: float) -> ExactLandscape:
+    pts = np.ascontiguousarray(hull.vertices_m, dtype=np.float64)
     diam = float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0)))
     tol_m = LENGTH_RTOL * max(diam, np.finfo(float).tiny)
     k_v = len(pts)
-    tri, nb, tri_face, n_f, normal = _merged_faces(pts, com, tol_m)
+    tri, nb, tri_face, n_f, normal = _merged_faces(hull, com, tol_m)
     d = com[None, :] - pts
     face_up = -normal
     # faces' vertices and the faces at each vertex
@@ -484,11 +507,7 @@ def _build(
     half_ptr, half_face, half_arc, half_a, half_b = _half_edges(arc_faces, arc_a, arc_b, n_f)
     face_proj = com[None, :] - face_h[:, None] * face_up  # c + h n: the foot on the face plane
     margin = _face_margins(pts, normal, face_proj, face_ptr, face_idx, half_ptr, half_a, half_b)
-    nbr_ptr, nbr_idx = _csr(
-        k_v,
-        np.concatenate([tri[:, [0, 1, 2]].ravel(), tri[:, [1, 2, 0]].ravel()]),
-        np.concatenate([tri[:, [1, 2, 0]].ravel(), tri[:, [0, 1, 2]].ravel()]),
-    )
+    nbr_ptr, nbr_idx = hull.neighbor_ptr, hull.neighbor_idx  # the triangles' edges, neighbours sorted
     face_next = _face_exits(pts, face_proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, tol_m)
     g = _Graph(
         d,
@@ -937,6 +956,17 @@ def _whole_pieces(ex: ExactLandscape, arcs, forward) -> list[tuple]:
     return _pieces(ex, arcs, np.where(forward, 0.0, theta), np.where(forward, theta, 0.0))
 
 
+def _joins_start_basin(ex: ExactLandscape, piece: tuple, start_row: int) -> bool:
+    """Whether a piece's highest point is a saddle (an edge-arc peak with the CoM's foot inside the edge) whose
+    two sides roll down into different basins, one of them the start's (row ``start_row`` of the minima)."""
+    crit = ex.critical
+    hit = np.flatnonzero(crit.saddles_arc == piece[0])
+    if not len(hit) or np.linalg.norm(piece[4] - ex.arc_peak_up[piece[0]]) > 1e-9:
+        return False
+    joins = _joins(ex, crit.minima_face, crit.saddles_arc[hit[:1]])[0]
+    return bool(joins[0] != joins[1] and start_row in joins)
+
+
 def _escape_saddle(ex: ExactLandscape, pieces: list[tuple], f0: int, level_m: float) -> int:
     """Check that the escape path's highest point is a saddle between the start's basin and another one.
 
@@ -950,17 +980,10 @@ def _escape_saddle(ex: ExactLandscape, pieces: list[tuple], f0: int, level_m: fl
     RuntimeError
         If no point of the path at the bottleneck level is such a saddle (a bug: please report the body).
     """
-    crit = ex.critical
-    start_row = int(np.flatnonzero(crit.minima_face == f0)[0])
-    tol = ex.tol_m
+    start_row = int(np.flatnonzero(ex.critical.minima_face == f0)[0])
     for k, pc in enumerate(pieces):
-        if pc[3] < level_m - tol:
-            continue
-        hit = np.flatnonzero(crit.saddles_arc == pc[0])
-        if len(hit) and np.linalg.norm(pc[4] - ex.arc_peak_up[pc[0]]) <= 1e-9:
-            joins = crit.saddles_joins[hit[0]]
-            if joins[0] != joins[1] and start_row in joins:
-                return k
+        if pc[3] >= level_m - ex.tol_m and _joins_start_basin(ex, pc, start_row):
+            return k
     raise RuntimeError(
         f"the escape path's highest point (level {level_m:.9g} m) is no saddle between the start's "
         "basin and another; please report this body"
@@ -1046,13 +1069,76 @@ def _escape_exit(ex: ExactLandscape, f0: int, h0: float, start_deg) -> Exit | No
     goal = np.zeros(n_f, dtype=bool)
     goal[ex.critical.minima_face] = True
     goal[f0] = False
-    lev, par, first = _minimax(n_f, fa, fb, ex.arc_max_m, [f0], goal, True)
+    start_row = int(np.flatnonzero(ex.critical.minima_face == f0)[0])
+    found = _pass_path(
+        ex,
+        n_f,
+        fa,
+        fb,
+        ex.arc_max_m,
+        f0,
+        goal,
+        lambda arcs, toward: _whole_pieces(ex, arcs, fb[arcs] == toward),
+        lambda pieces: [_joins_start_basin(ex, pc, start_row) for pc in pieces],
+    )
+    if found is None:
+        return None
+    level, chain, _ = found
+    pieces = _whole_pieces(ex, [e for e, _ in chain], [fb[e] == x for e, x in chain])
+    k = _escape_saddle(ex, pieces, f0, level)
+    return _exit(ex, level, h0, start_deg, pieces, None, peak=k)
+
+
+def _pass_path(ex: ExactLandscape, n: int, eu, ev, ew, f0: int, goal, pieces_of, prefer=None):
+    """The bottleneck path from ``f0`` to a goal node, through the pass the tie rule picks (module docstring).
+
+    The start's basin is the set of nodes the search reaches below the bottleneck level minus the length
+    tolerance; its passes are the edges out of it at the level (within the tolerance). With several, each is
+    tried in the rule's order (first those ``prefer(pieces)`` marks), the others closed, until the goal stays
+    at the level. ``pieces_of(edges, toward)`` gives the traversals of edges toward the given nodes.
+
+    Returns (level m, chain of (edge, node reached) from f0, index of the pass in the chain), or None when no
+    goal is reachable.
+    """
+    ptr, other, edge, weight = _adjacency(n, eu, ev, ew)
+    sources = np.array([f0], dtype=np.int64)
+    goal = np.ascontiguousarray(goal, dtype=np.bool_)
+    lev, par, first = _kernels.minimax_graph(ptr, other, edge, weight, sources, goal, True)
     if first < 0:
         return None
-    chain = _chain(par, fa, fb, first)
-    pieces = _whole_pieces(ex, [e for e, _ in chain], [fb[e] == x for e, x in chain])
-    k = _escape_saddle(ex, pieces, f0, float(lev[first]))
-    return _exit(ex, float(lev[first]), h0, start_deg, pieces, None, peak=k)
+    level, tol = float(lev[first]), ex.tol_m
+    basin = lev < level - tol  # settled below the level: reached before the goal, so exact
+    passes = np.flatnonzero((basin[eu] != basin[ev]) & (ew <= level + tol))
+    if len(passes) > 1:
+        toward = np.where(basin[eu[passes]], ev[passes], eu[passes])
+        pieces = pieces_of(passes, toward)
+        preferred = np.ones(len(passes), dtype=bool) if prefer is None else np.asarray(prefer(pieces), bool)
+        for i in _tie_order(np.array([pc[4] for pc in pieces]), preferred):
+            w = weight.copy()
+            w[np.isin(edge, np.delete(passes, i))] = np.inf  # closed: never relaxed
+            lev2, par2, first2 = _kernels.minimax_graph(ptr, other, edge, w, sources, goal, True)
+            if first2 >= 0 and lev2[first2] <= level + tol:
+                par, first = par2, first2
+                break
+    chain = _chain(par, eu, ev, int(first))
+    k = int(np.argmin(basin[[x for _, x in chain]]))  # the path leaves the basin once
+    return level, chain, k
+
+
+def _tie_order(up: NDArray[np.float64], preferred: NDArray[np.bool_]) -> list[int]:
+    """Indices of up-directions in the tie rule's order: preferred ones first, then the largest canonical roll,
+    then the smallest canonical pitch (coordinates within ``TIE_DEG`` equal), then the first given."""
+    pr = np.array([canonical_pitch_roll_deg(p, r) for p, r in _deg(up).tolist()]).reshape(-1, 2)
+    left, out = list(range(len(pr))), []
+    while left:
+        pool = [i for i in left if preferred[i]] or left
+        top = max(pr[i, 1] for i in pool)
+        pool = [i for i in pool if pr[i, 1] >= top - TIE_DEG]
+        low = min(pr[i, 0] for i in pool)
+        best = next(i for i in pool if pr[i, 0] <= low + TIE_DEG)
+        out.append(best)
+        left.remove(best)
+    return out
 
 
 @dataclass(frozen=True)
@@ -1072,34 +1158,31 @@ class _RightingGraph:
     def target(self) -> int:
         return len(self.goal) - 1
 
-    def edge_pieces(self, ex: ExactLandscape, e: int, toward: int):
-        n_in = len(self.arcs_in)
-        if e >= n_in:
-            return self.pieces_out[e - n_in]
-        arc = int(self.arcs_in[e])
-        return _piece(ex, arc, bool(ex.arc_faces[arc, 1] == toward))
-
     def exit(
         self, ex: ExactLandscape, keep: NDArray[np.bool_], f0: int, h0: float, start_deg, kind: str | None
     ) -> Exit | None:
         """The bottleneck exit to upright over the edges ``keep``; None if upright is out of reach."""
         idx = np.flatnonzero(keep)
         eu, ev, ew = self.eu[idx], self.ev[idx], self.ew[idx]
-        lev, par, first = _minimax(len(self.goal), eu, ev, ew, [f0], self.goal, True)
-        if first < 0:
-            return None
-        chain = [(int(idx[e]), x) for e, x in _chain(par, eu, ev, self.target)]
-        n_in = len(self.arcs_in)
-        inner = [(e, x) for e, x in chain if e < n_in]
-        whole = iter(
-            _whole_pieces(
-                ex,
-                [self.arcs_in[e] for e, _ in inner],
-                [ex.arc_faces[self.arcs_in[e], 1] == x for e, x in inner],
-            )
+        found = _pass_path(
+            ex, len(self.goal), eu, ev, ew, f0, self.goal, lambda e, toward: self.pieces(ex, idx[e], toward)
         )
-        pieces = [next(whole) if e < n_in else self.pieces_out[e - n_in] for e, _ in chain]
-        return _exit(ex, float(lev[self.target]), h0, start_deg, pieces, kind)
+        if found is None:
+            return None
+        level, chain, k = found
+        chain = [(int(idx[e]), x) for e, x in chain]
+        pieces = self.pieces(ex, np.array([e for e, _ in chain], dtype=np.int64), [x for _, x in chain])
+        return _exit(ex, level, h0, start_deg, pieces, kind, peak=k)
+
+    def pieces(self, ex: ExactLandscape, edges, toward) -> list[tuple]:
+        """Traversals of edges toward the given nodes: whole arcs above the equator, cut ones to the target."""
+        edges = np.asarray(edges, dtype=np.int64)
+        toward = np.asarray(toward, dtype=np.int64)
+        n_in = len(self.arcs_in)
+        inner = edges < n_in
+        arcs = self.arcs_in[edges[inner]]
+        whole = iter(_whole_pieces(ex, arcs, ex.arc_faces[arcs, 1] == toward[inner]))
+        return [next(whole) if e < n_in else self.pieces_out[e - n_in] for e in edges.tolist()]
 
 
 def _righting_graph(ex: ExactLandscape, upright: NDArray[np.bool_]) -> _RightingGraph:

@@ -3,8 +3,10 @@
 barrier_map_reference.json holds, for the built-in robot (theta_w -10..90 at 5 deg, theta_l 0 and 30) and the
 lab robot (theta_w -10..90 at 2.5 deg, theta_l 0), every pose's start minimum and its righting, pitch-wise,
 roll-wise and escape exits (barrier, saddle, direction) as ``barrier_map(..., method="exact")`` computed them at
-commit bd6cd45 (before the compiled searches, batched path pieces and worker processes). The map must give the
-same numbers to 1e-12 J (barriers, energies) and 1e-9 deg (angles) in this process and over worker processes.
+commit bd6cd45 (before the compiled searches, batched path pieces and worker processes), except 21 of the
+built-in robot's saddles, replaced by their mirror images (roll sign) when the exact method's tie rule between
+equal saddles came in (issue #12; their energies unchanged). The map must give the same numbers to 1e-12 J
+(barriers, energies) and 1e-9 deg (angles) in this process and over worker processes.
 """
 
 import json

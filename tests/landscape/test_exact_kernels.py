@@ -5,8 +5,9 @@ import numpy as np
 import pytest
 import trimesh
 
-from geometry import Robot
+from geometry import Pose, Robot
 from geometry.frames import up_vector
+from geometry.hull import convex_hull
 from geometry.robots import load_robot
 from landscape.barriers import exact
 
@@ -89,6 +90,26 @@ def test_face_margins_and_exits_kernels_equal_numpy(builtin_landscapes):
         np.testing.assert_array_equal(got, want)
         args = (pts, g.face_proj, g.half_ptr, g.half_arc, g.half_a, g.half_b, ex.arc_faces, want, ex.tol_m)
         np.testing.assert_array_equal(exact._face_exits(*args), exact._face_exits_reference(*args))
+
+
+def test_arc_geometry_kernel_equals_numpy(builtin_landscapes, lab_or_builtin_poses):
+    """The compiled arc geometry equals the NumPy reference: the same arithmetic, except that the compiled
+    arccos, arctan2, hypot, cos and sin may round differently in the last bit. Arcs whose peak lies off the arc
+    (the highest point at a face) are among them."""
+    box = Robot.from_trimesh(trimesh.creation.box(extents=(4.0, 2.0, 1.0)), mass_kg=1.0, com=[1.9, 0.0, 0.0])
+    cases = [*builtin_landscapes, exact.exact_landscape(box.pose())]
+    cases += [
+        exact.exact_landscape(Pose(None, None, 1.0, v.mean(axis=0), v, {}, ())) for v in lab_or_builtin_poses
+    ]
+    on_arc = []
+    for ex in cases:
+        a, b = ex.arc_vertices[:, 0], ex.arc_vertices[:, 1]
+        args = (ex.vertices_m, ex.com_m, ex.face_up, ex.face_height_m, ex.arc_faces, a, b)
+        got, want = exact._arc_geometry(*args), exact._arc_geometry_reference(*args)
+        on_arc += ((want[5] > 0) & (want[5] < want[0])).tolist()
+        for g, w in zip(got, want, strict=True):
+            np.testing.assert_allclose(g, w, rtol=1e-14, atol=1e-15)
+    assert any(on_arc) and not all(on_arc)
 
 
 def test_box_face_margins_closed_form():
@@ -177,12 +198,13 @@ def test_merge_coplanar_kernel_equals_scipy_components(builtin_landscapes):
         [(x, y, z) for x in range(3) for y in range(3) for z in range(2)], dtype=float
     )  # coplanar
     for pts in [box, blob, grid, *(ex.vertices_m for ex in builtin_landscapes)]:
-        qh = ConvexHull(pts)
+        hull = convex_hull(pts)
+        qh = ConvexHull(hull.vertices_m)
         tol = 1e-9 * float(np.ptp(pts, axis=0).max())
-        eq, tri, nb, got = exact._faces(np.asarray(pts, dtype=np.float64), tol)
-        np.testing.assert_array_equal(got, exact._merge_coplanar_reference(pts, tri, eq, nb, tol))
+        eq, tri, nb, got = exact._faces(hull, tol)
+        np.testing.assert_array_equal(got, exact._merge_coplanar_reference(hull.vertices_m, tri, eq, nb, tol))
         assert len(tri) == len(qh.simplices)
-    assert exact._faces(np.asarray(box, dtype=np.float64), 1e-9)[3].max() + 1 == 6
+    assert exact._faces(convex_hull(box), 1e-9)[3].max() + 1 == 6
 
 
 def test_arcs_kernel_equals_numpy(builtin_landscapes, lab_or_builtin_poses):
@@ -191,10 +213,11 @@ def test_arcs_kernel_equals_numpy(builtin_landscapes, lab_or_builtin_poses):
     grid = np.array([(x, y, z) for x in range(3) for y in range(3) for z in range(2)], dtype=float)
     blob = np.random.default_rng(3).normal(size=(80, 3))
     clouds = [box, grid, blob, *(ex.vertices_m for ex in builtin_landscapes), *lab_or_builtin_poses]
-    for pts in clouds:
-        pts = np.asarray(pts, dtype=np.float64)
+    for cloud in clouds:
+        hull = convex_hull(cloud)
+        pts = hull.vertices_m
         tol = 1e-9 * float(np.ptp(pts, axis=0).max())
-        _, tri, nb, tri_face = exact._faces(pts, tol)
+        _, tri, nb, tri_face = exact._faces(hull, tol)
         n_f = int(tri_face.max()) + 1
         got = exact._arcs(pts, tri, nb, tri_face, n_f)
         want = exact._arcs_reference(pts, tri, nb, tri_face, n_f)
@@ -208,9 +231,9 @@ def test_arcs_kernel_equals_numpy(builtin_landscapes, lab_or_builtin_poses):
 
 
 def _box_args(pts):
-    pts = np.asarray(pts, dtype=np.float64)
-    _, tri, nb, tri_face = exact._faces(pts, 1e-9)
-    return pts, tri, nb, tri_face, int(tri_face.max()) + 1
+    hull = convex_hull(pts)
+    _, tri, nb, tri_face = exact._faces(hull, 1e-9)
+    return hull.vertices_m, tri, nb, tri_face, int(tri_face.max()) + 1
 
 
 @pytest.fixture(scope="module")

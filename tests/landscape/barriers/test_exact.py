@@ -297,3 +297,70 @@ def test_rolling_down_never_climbs(seed, p, r):
     f = _descend_from(ex, u)
     assert f in set(ex.critical.minima_face.tolist())
     assert ex.face_height_m[f] <= np.max(ex._g.d @ u) + ex.tol_m
+
+
+def _permuted(hull, rng):
+    """The same hull with its vertices, triangles and each triangle's corners renumbered (Qhull's numbering is
+    one such permutation of another)."""
+    from dataclasses import replace
+
+    from geometry.hull import _csr
+
+    pv = rng.permutation(len(hull.vertices_m))
+    new_of_vertex = np.argsort(pv)
+    pt = rng.permutation(len(hull.simplices))
+    new_of_tri = np.argsort(pt)
+    turn = rng.integers(0, 3, size=len(pt))[:, None]  # a cyclic turn keeps each triangle's orientation
+    cols = (np.arange(3)[None, :] + turn) % 3
+    rows = np.arange(len(pt))[:, None]
+    simp = new_of_vertex[hull.simplices[pt]][rows, cols]
+    nb = new_of_tri[hull.neighbors[pt]][rows, cols]
+    edges = np.concatenate([simp[:, [0, 1]], simp[:, [1, 2]], simp[:, [2, 0]]])
+    ptr, idx = _csr(len(pv), edges)
+    return replace(
+        hull,
+        vertices_m=hull.vertices_m[pv],
+        neighbor_ptr=ptr,
+        neighbor_idx=idx,
+        simplices=simp,
+        equations=hull.equations[pt],
+        neighbors=nb,
+    )
+
+
+def test_equal_mirror_saddles_follow_the_tie_rule_whatever_the_numbering():
+    """A body symmetric left to right (y -> -y), resting on its bottom face, tips over either long side at the
+    same barrier: the rule (module docstring) reports the positive-roll saddle, and the same one for every
+    numbering of the hull's vertices and triangles."""
+    half = [
+        (x, y, z)
+        for x, y, z in ((-0.2, 0.1, 0.05), (-0.2, 0.1, -0.05), (0.2, 0.06, 0.04), (0.2, 0.06, -0.04))
+    ]
+    pts = np.array([*half, *((x, -y, z) for x, y, z in half)])
+    robot = Robot.from_trimesh(trimesh.convex.convex_hull(pts), mass_kg=1.0, com=[0.02, 0.0, 0.0])
+    pose = robot.pose()
+    want = exact_barrier(pose, 0.0, 0.0, g_m_s2=G)
+    ex = want.landscape
+    for kind in ("righting", "escape"):
+        e = getattr(want.barrier, kind)
+        assert e.saddle_roll_deg > 1.0 and abs(e.saddle_pitch_deg) > 1e-3  # off both symmetry planes
+        # its mirror image is a saddle at the same energy: the two are a tie the rule decides
+        mirror = up_vector(*np.deg2rad([e.saddle_pitch_deg, -e.saddle_roll_deg]))
+        at = np.flatnonzero(np.linalg.norm(ex.arc_peak_up[ex.critical.saddles_arc] - mirror, axis=1) < 1e-9)
+        assert len(at) == 1
+        assert ex.critical.saddles_energy_j[at[0]] == pytest.approx(
+            e.barrier_j + want.start.energy_j, abs=1e-12
+        )
+    rng = np.random.default_rng(12)
+    for _ in range(12):
+        shuffled = Robot.from_trimesh(
+            trimesh.convex.convex_hull(pts), mass_kg=1.0, com=[0.02, 0.0, 0.0]
+        ).pose()
+        shuffled.__dict__["hull"] = _permuted(pose.hull, rng)  # what the cached property would hold
+        got = exact_barrier(shuffled, 0.0, 0.0, g_m_s2=G)
+        for kind in ("righting", "escape"):
+            a, b = getattr(got.barrier, kind), getattr(want.barrier, kind)
+            assert a.barrier_j == pytest.approx(b.barrier_j, abs=1e-12)
+            assert (a.saddle_pitch_deg, a.saddle_roll_deg) == pytest.approx(
+                (b.saddle_pitch_deg, b.saddle_roll_deg), abs=1e-9
+            )
