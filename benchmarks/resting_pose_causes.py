@@ -28,24 +28,14 @@ from pathlib import Path
 import numpy as np
 
 from geometry.robots import load_robot
+from landscape.analysis.opening import per_servo_hold_deg
 from landscape.analysis.physical import resting_pitch_table
-from landscape.minima import local_descent, metastable_orientation
+from landscape.minima import metastable_orientation
 from sim.compliance import Compliance
 from sim.model_set import load_model_set
 from sim.trial import run_trial
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def per_servo_pitch_deg(
-    robot, measured, command_deg: float, start: tuple[float, float], ref_deg: float
-) -> float:
-    """Rest pitch with each wing servo at its own plateau (the largest knot angle of its profile at the
-    command), descending from the equal-joint minimum, minus the rest at theta_w = 0."""
-    i = list(measured.wing_command_deg).index(command_deg)
-    vals = {n: float(np.max(measured.wing_knots_deg[k][i])) for k, n in enumerate(robot.joint_map.wing)}
-    p, _ = local_descent(robot.pose_joints(vals), *start)
-    return p - ref_deg
 
 
 def sim_hold_pitch_deg(
@@ -86,7 +76,7 @@ def main(argv=None) -> int:
     for r in rows:
         start = metastable_orientation(robot, r.theta_w_measured_deg, 0.0)
         model = start[0] - ref
-        servo = per_servo_pitch_deg(robot, measured, r.theta_w_cmd_deg, start, ref)
+        servo = per_servo_hold_deg(robot, measured, [r.theta_w_cmd_deg])[r.theta_w_cmd_deg] - ref
         sp = sim_hold_pitch_deg(args.robot, "paper", r.theta_w_cmd_deg, r.theta_w_measured_deg)
         sf = sim_hold_pitch_deg(args.robot, "physical", r.theta_w_cmd_deg, r.theta_w_measured_deg)
         sc = sim_hold_pitch_deg(args.robot, "physical", r.theta_w_cmd_deg, r.theta_w_measured_deg, comp)
