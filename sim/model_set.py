@@ -105,6 +105,30 @@ class ModelSet:
     measured: MeasuredActuation | None = None
     compliance: Compliance | None = None
 
+    def wing_joints_deg(self, joint_names, theta_w_deg: float) -> dict[str, float] | None:
+        """The wing joints' angles (degrees) this set holds at the wing command ``theta_w_deg``: each servo at
+        its own measured plateau (:meth:`MeasuredActuation.wing_plateaus_deg`) for a measured profile, None
+        (every joint at theta_w) for an idealised one. ``joint_names``: the robot's wing joints in the joint
+        map's order (LP, RP, LR, RR).
+
+        Raises
+        ------
+        ModelSetError
+            If the robot drives another number of wing joints than the set measures.
+        UsageError
+            If the command lies outside the measured ones.
+        """
+        if self.measured is None:
+            return None
+        plateaus = self.measured.wing_plateaus_deg(theta_w_deg)
+        names = tuple(joint_names)
+        if len(names) != len(plateaus):
+            raise ModelSetError(
+                f"the model set {self.name} measures {len(plateaus)} wing servos, but the robot drives "
+                f"{len(names)} wing joints ({', '.join(names)}); use an idealised set or none"
+            )
+        return dict(zip(names, plateaus.tolist(), strict=True))
+
     def actuation(
         self,
         theta_w_deg: float,

@@ -420,21 +420,11 @@ pose_model_option = click.option(
 
 
 def model_wing_joints(pose_model: str | None, robot, theta_w_deg: float) -> dict[str, float] | None:
-    """The wing joints' angles (degrees) a model set holds at the wing command ``theta_w_deg``: each servo's own
-    measured plateau for a measured actuation profile, None (every joint at theta_w) for an idealised set or
-    no set. Imports the model sets (and with them pybullet) only when a set is named."""
+    """The wing joints' angles (degrees) a model set holds at the wing command ``theta_w_deg``
+    (:meth:`sim.model_set.ModelSet.wing_joints_deg`); None without a set. Imports the model sets (and with them
+    pybullet) only when a set is named."""
     if pose_model is None:
         return None
     from sim.model_set import load_model_set
 
-    ms = load_model_set(pose_model)
-    if ms.measured is None:
-        return None
-    names = robot.joint_map.wing
-    plateaus = ms.measured.wing_plateaus_deg(theta_w_deg)
-    if len(names) != len(plateaus):
-        raise UsageError(
-            f"the model set {ms.name} measures {len(plateaus)} wing servos, but {robot.name} drives "
-            f"{len(names)} wing joints ({', '.join(names)}); use an idealised set or none"
-        )
-    return dict(zip(names, plateaus.tolist(), strict=True))
+    return load_model_set(pose_model).wing_joints_deg(robot.joint_map.wing, theta_w_deg)
