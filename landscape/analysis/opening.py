@@ -41,6 +41,8 @@ from landscape.analysis.physical import (
 
 TRANSIENT_WINDOW_S = (0.2, 0.6)
 """Window after an opening's start in which the overshoot and the tilt are read, s."""
+SWING_WINDOW_S = 0.35
+"""Window before an opening in which the body's fastest roll times the leg's last swing, s."""
 SIM_OPENING_S = 1.0
 """Simulated time after the opening's start: the hold window and the transient lie inside it, s."""
 
@@ -131,6 +133,10 @@ class RecordedOpening:
         log's 10 Hz resolution). The lab's protocol starts the leg and the wings at fixed times, so this lead,
         and with it the phase of the first attempt, is the same in every trial: the first attempt's phase is
         not random on the robot.
+    leg_swing_s : float
+        When the body rolled fastest in the ``SWING_WINDOW_S`` before the opening, s before it (positive): the
+        body's reaction to the leg's last swing, which times the swing itself to the IMU's 50 Hz rather than the
+        servo log's 10 Hz; nan with the leg still.
     """
 
     name: str
@@ -139,6 +145,7 @@ class RecordedOpening:
     trial: int
     response: OpeningResponse
     leg_lead_s: float = math.nan
+    leg_swing_s: float = math.nan
 
 
 def recorded_first_openings(data_dir: str | Path) -> list[RecordedOpening]:
@@ -156,8 +163,30 @@ def recorded_first_openings(data_dir: str | Path) -> list[RecordedOpening]:
         resp = opening_response(rec.t_s, rec.pitch_deg, rec.roll_deg, start)
         ups = rec.leg_up_s[rec.leg_up_s <= start + 1e-9]
         lead = start - float(ups[-1]) if len(ups) else math.nan
-        out.append(RecordedOpening(rec.name, rec.theta_w_cmd_deg, rec.theta_l_deg, rec.trial, resp, lead))
+        swing = _fastest_roll_before_s(rec.t_s, rec.roll_deg, start) if rec.theta_l_deg > 0 else math.nan
+        out.append(
+            RecordedOpening(rec.name, rec.theta_w_cmd_deg, rec.theta_l_deg, rec.trial, resp, lead, swing)
+        )
     return out
+
+
+def _fastest_roll_before_s(t_s, roll_deg, start_s: float) -> float:
+    """How long before ``start_s`` the roll changed fastest within ``SWING_WINDOW_S`` (midpoint of the steepest
+    sample pair), s; nan with fewer than three samples there.
+
+    Examples
+    --------
+    >>> t = np.arange(-0.5, 0.0, 0.02)
+    >>> round(_fastest_roll_before_s(t, np.where(t < -0.13, 0.0, 1.0), 0.0), 3)
+    0.13
+    """
+    t = np.asarray(t_s, dtype=np.float64) - start_s
+    sel = (t >= -SWING_WINDOW_S) & (t < 0)
+    if sel.sum() < 3:
+        return math.nan
+    ts, rs = t[sel], np.asarray(roll_deg, dtype=np.float64)[sel]
+    i = int(np.argmax(np.abs(np.diff(rs) / np.diff(ts))))
+    return float(-(ts[i] + ts[i + 1]) / 2)
 
 
 def simulated_opening(

@@ -108,15 +108,19 @@ def first_openings_markdown(openings: Sequence) -> str:
     for o in openings:
         cells.setdefault((o.theta_w_cmd_deg, o.theta_l_deg), []).append(o)
     lines = [
-        "| wing command | leg | n | leg command's lead | overshoot | rise | lateral tilt [range] |",
-        "|---|---|---|---|---|---|---|",
+        "| wing command | leg | n | leg command's lead | body's fastest roll before | overshoot | rise | "
+        "lateral tilt [range] |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for (w, leg), os_ in sorted(cells.items()):
         lead = [o.leg_lead_s for o in os_ if math.isfinite(o.leg_lead_s)]
+        swing = [o.leg_swing_s for o in os_ if math.isfinite(o.leg_swing_s)]
         tilt = [o.response.tilt_deg for o in os_]
         lines.append(
             f"| {w:g}° | {leg:g}° | {len(os_)} | "
             + (f"{float(np.median(lead)):.1f} s" if lead else "–")
+            + " | "
+            + (f"{float(np.median(swing)):.2f} s" if swing else "–")
             + f" | {float(np.median([o.response.overshoot_deg for o in os_])):+.1f}° | "
             f"{float(np.median([o.response.rise_s for o in os_])):.2f} s | {float(np.median(tilt)):+.1f}° "
             f"[{min(tilt):+.1f}, {max(tilt):+.1f}] |"

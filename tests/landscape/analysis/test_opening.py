@@ -94,7 +94,10 @@ def test_the_protocol_fixes_the_first_attempts_phase():
     leads = [o.leg_lead_s for o in rows if o.theta_l_deg > 0]
     assert len(leads) == 45 and all(round(x, 2) in (0.2, 0.3) for x in leads)
     assert sum(round(x, 2) == 0.2 for x in leads) >= 40
-    assert all(math.isnan(o.leg_lead_s) for o in rows if o.theta_l_deg == 0)
+    assert all(math.isnan(o.leg_lead_s) and math.isnan(o.leg_swing_s) for o in rows if o.theta_l_deg == 0)
+    # the body's reaction to the leg's last swing, timed by the IMU: 0.13 s before the opening (median)
+    swings = [o.leg_swing_s for o in rows if o.theta_l_deg > 0]
+    assert 0.11 <= float(np.median(swings)) <= 0.15 and all(0 < x <= op.SWING_WINDOW_S for x in swings)
 
 
 @needs_data
