@@ -1051,6 +1051,7 @@ def _opening_tables(out: Path, data_dir, robots: list[str], commands: list[float
             "wing_command_deg": o.theta_w_cmd_deg,
             "leg_deg": o.theta_l_deg,
             "leg_lead_s": o.leg_lead_s,
+            "leg_swing_s": o.leg_swing_s,
         }
         | asdict(o.response)
         for o in op.recorded_first_openings(data_dir)
