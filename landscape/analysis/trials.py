@@ -489,12 +489,19 @@ def logistic_fit(e_mj: Sequence[float], k: Sequence[int], n: Sequence[int]) -> L
 
 
 def landscape_barriers(
-    robot, pairs: Iterable[tuple[float, float]], *, step_deg: float = 1.0, progress: bool = False
+    robot,
+    pairs: Iterable[tuple[float, float]],
+    *,
+    step_deg: float = 1.0,
+    progress: bool = False,
+    wing_joints_deg: dict[float, dict[str, float] | None] | None = None,
 ) -> dict[tuple[float, float], tuple[float, float]]:
     """Minimal righting barrier (J) per (theta_w, theta_l): (exact, grid at ``step_deg``), nan where none.
 
     The start minimum comes from one shared continuation (:func:`landscape.computation.sweep_starts`), as in
-    ``landscape barrier-map``.
+    ``landscape barrier-map``. ``wing_joints_deg``: per theta_w, each wing joint at its own angle (a model set's
+    plateaus, :meth:`sim.model_set.ModelSet.wing_joints_deg`; None for every joint at theta_w), as in
+    ``landscape barrier-map --model``.
     """
     from landscape.computation import compute, sweep_starts
 
@@ -512,14 +519,16 @@ def landscape_barriers(
         it = tqdm(pairs, desc="barriers", unit="pose", file=sys.stderr, disable=None)
     for w, leg in it:
         vals = []
+        joints = (wing_joints_deg or {}).get(w)
         for method in ("exact", "grid"):
             c = compute(
                 robot,
                 theta_w_deg=w,
                 theta_l_deg=leg,
                 step_deg=step_deg,
-                start_deg=starts[(w, leg)],
+                start_deg=None if joints else starts[(w, leg)],
                 method=method,
+                wing_joints_deg=joints,
             )
             vals.append(math.nan if c.barrier.righting is None else c.barrier.righting.barrier_j)
         out[(w, leg)] = (vals[0], vals[1])

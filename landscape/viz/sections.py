@@ -535,13 +535,13 @@ def section_barrier(
     cells, phase = pc.cells, pc.phase
     if not cells:
         return Section("barrier", title, missing=pc.missing)
-    robot = _robot_of(
-        [r for r in rows if r["attempts"] == 0 and (r["wing_period_s"], r["leg_period_s"]) == PAPER_PERIODS],
-        robot,
-    )
-    barriers = an.landscape_barriers(
-        robot, {(c.theta_w_deg, c.theta_l_deg) for c in cells}, step_deg=step_deg, progress=True
-    )
+    used = [
+        r for r in rows if r["attempts"] == 0 and (r["wing_period_s"], r["leg_period_s"]) == PAPER_PERIODS
+    ]
+    robot = _robot_of(used, robot)
+    pairs = {(c.theta_w_deg, c.theta_l_deg) for c in cells}
+    joints, posed_by = _set_wing_joints(used, robot, {w for w, _ in pairs})
+    barriers = an.landscape_barriers(robot, pairs, step_deg=step_deg, progress=True, wing_joints_deg=joints)
     res = an.barrier_outcome(cells, barriers)
     recs = []
     for r in res:
@@ -587,7 +587,7 @@ def section_barrier(
     )
     paras = [
         f"Barriers: exact (hull face–edge graph) and the 1° grid search, at θl on the +θl side, for "
-        f"{len(barriers)} settings; outcomes: the paper-protocol trials at φ1 = {phase:g}."
+        f"{len(barriers)} settings; outcomes: the paper-protocol trials at φ1 = {phase:g}. {posed_by}"
     ]
     for s in stats:
         paras.append(
@@ -604,6 +604,28 @@ def section_barrier(
         (Figure(png, "Barrier against outcome", png.with_suffix(".svg")),),
         (Table("Barrier and outcome per setting", table), Table("Statistics per Cv", stats_csv)),
     )
+
+
+def _set_wing_joints(rows: list[dict], robot, theta_w_deg: set[float]):
+    """The wing joints the trials' model set holds at each theta_w (``{w: joints or None}``) and a sentence
+    saying how the barriers pose the wings: each servo at its plateau for a shipped set with a measured
+    actuation that still hashes as stored; every joint at theta_w otherwise."""
+    from sim.model_set import ModelSetError, load_model_set
+
+    sets = {(r.get("model_set") or "paper", r.get("model_set_hash") or "") for r in rows}
+    if len(sets) != 1:
+        return None, "Wings posed with every joint at θw (the trials mix model sets)."
+    name, stored = next(iter(sets))
+    try:
+        ms = load_model_set(name)
+    except ModelSetError:
+        return None, f"Wings posed with every joint at θw (model set {name} is not a shipped set)."
+    if ms.measured is None:
+        return None, f"Wings posed with every joint at θw (model set {name}, idealised)."
+    if stored and ms.model_set_hash != stored:
+        return None, f"Wings posed with every joint at θw (model set {name} changed since the trials ran)."
+    joints = {w: ms.wing_joints_deg(robot.joint_map.wing, w) for w in theta_w_deg}
+    return joints, f"Each wing servo posed at its measured plateau (model set {name}), as the trials ran."
 
 
 def _robot_of(rows: list[dict], robot: str | Path | None = None):

@@ -222,3 +222,21 @@ def test_logistic_fit_solves_the_score_equations():
         2 * an.RIDGE * f.b * e.std() ** 2
     )  # d/db of the penalty on the standardised slope, per unit E
     assert abs(np.sum((n * p - k) * e) + ridge_term) < 1e-5
+
+
+def test_landscape_barriers_pose_each_wing_joint_as_given():
+    """With a model set's wing joints the barrier is compute's with those joints; without, the plain one."""
+    from geometry.robots import load_robot
+    from landscape.computation import compute
+    from sim.model_set import load_model_set
+
+    robot = load_robot(None)
+    joints = load_model_set("physical").wing_joints_deg(robot.joint_map.wing, 75.0)
+    got = an.landscape_barriers(robot, [(75.0, 30.0)], wing_joints_deg={75.0: joints})
+    want = compute(robot, theta_w_deg=75.0, theta_l_deg=30.0, wing_joints_deg=joints)
+    assert got[(75.0, 30.0)][0] == pytest.approx(want.barrier.righting.barrier_j, abs=1e-12)
+    plain = an.landscape_barriers(robot, [(75.0, 30.0)])
+    assert plain[(75.0, 30.0)][0] == pytest.approx(
+        compute(robot, theta_w_deg=75.0, theta_l_deg=30.0).barrier.righting.barrier_j, abs=1e-12
+    )
+    assert plain[(75.0, 30.0)][0] != pytest.approx(got[(75.0, 30.0)][0], abs=1e-9)

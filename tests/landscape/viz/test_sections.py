@@ -135,3 +135,25 @@ def test_probability_says_why_there_is_no_estimate(tmp_path):
         [_won(seed=1), _row(seed=2)], tmp_path, tmp_path / "t.sqlite", phase=0.3
     )
     assert sec.missing == "no multi-attempt trials at φ1 = 0.3; the database has φ1 = 0.7"
+
+
+def test_barriers_pose_the_wings_as_the_trials_model_set_did():
+    """A shipped measured set that still hashes as stored poses each servo at its plateau; an idealised set, a
+    set not shipped, a changed set or mixed sets pose every joint at theta_w, and the sentence says which."""
+    from geometry.robots import load_robot
+    from sim.model_set import load_model_set
+
+    robot = load_robot(None)
+    phys = load_model_set("physical")
+    rows = [{"model_set": "physical", "model_set_hash": phys.model_set_hash}]
+    joints, text = sections._set_wing_joints(rows, robot, {60.0, 75.0})
+    assert joints[75.0] == phys.wing_joints_deg(robot.joint_map.wing, 75.0) and set(joints) == {60.0, 75.0}
+    assert "measured plateau (model set physical)" in text
+    for rows, why in (
+        ([{"model_set": "paper", "model_set_hash": "x"}], "idealised"),
+        ([{"model_set": "mine", "model_set_hash": "x"}], "not a shipped set"),
+        ([{"model_set": "physical", "model_set_hash": "old"}], "changed since the trials ran"),
+        ([{"model_set": "physical", "model_set_hash": phys.model_set_hash}, {"model_set": "paper"}], "mix"),
+    ):
+        joints, text = sections._set_wing_joints(rows, robot, {75.0})
+        assert joints is None and why in text, (rows, text)
