@@ -59,6 +59,11 @@ INTERNAL = (
 )
 _PATH = re.compile(r"(?<![\w.:/])/(?!api/)(?:[\w.+@-]+/){2,}([\w.+@-]*)")
 _JSON_BODY_BYTES = 1 << 20
+MODEL_HELP = (
+    "a shipped model set (paper, physical) that poses the wings, as `landscape compute --model NAME`: a "
+    "measured set holds each wing servo at its own plateau for the wing command theta_w (60-90); an idealised "
+    "set every wing joint at theta_w [default: every wing joint at theta_w]"
+)
 SWEEP_EXAMPLE = {"theta_w": "74", "theta_l": "30", "cv": "0,0.1", "trials": 2, "duration": 1.0, "dt": 0.001}
 
 
@@ -319,10 +324,12 @@ def create_app(config: ServiceConfig) -> FastAPI:
             "json", pattern="^(json|npz|csv)$", description="json (the summary), npz or csv (the energy grid)"
         ),
         grid: bool = Query(False, description="json: include the energy grid in mJ"),
+        model: str | None = Query(None, description=MODEL_HELP),
     ):
-        """The object of ``landscape compute --json`` plus the barrier ``paths`` (and, with ``grid=1``, the grid)."""
+        """The object of ``landscape compute --json`` plus the barrier ``paths`` (and, with ``grid=1``, the grid);
+        with ``model`` also ``model_set`` and ``wing_joints_deg``, as ``landscape compute --model NAME --json``."""
         entry = await asyncio.to_thread(registry.get, robot)
-        key = landscapes.check(entry, theta_w, theta_l, method, step)
+        key = await asyncio.to_thread(landscapes.check, entry, theta_w, theta_l, method, step, model=model)
         if format == "json":
             a = await landscapes.answer(entry, key)
             return Response(a.body(grid=grid), media_type="application/json")
