@@ -391,16 +391,21 @@ def create_app(config: ServiceConfig) -> FastAPI:
         step: float = Query(1.0),
         method: str = Query("exact"),
         format: str = Query("json", pattern="^(json|csv)$"),
+        model: str | None = Query(None, description=MODEL_HELP),
     ):
-        """Barrier rows over theta_w x theta_l (``landscape barrier-map``): at once if small, else 202 and a job."""
+        """Barrier rows over theta_w x theta_l (``landscape barrier-map [--model NAME]``): at once if small, else 202
+        and a job (whose ``model_set`` and ``wing_joints_deg`` name the set and its wing joints per theta_w)."""
         from landscape.params import parse_values
+
+        from .model_sets import map_wing_joints_deg
 
         entry = await asyncio.to_thread(registry.get, robot)
         ws, ls = parse_values(theta_w, "theta_w"), parse_values(theta_l, "theta_l")
         if not (step == step and abs(step) != float("inf")):
             raise UsageError(f"step must be a finite number of degrees; got {step!r}")
         est = maps.check(entry, ws, ls, step, method)
-        job = maps.start(entry, ws, ls, step, method)
+        joints = await asyncio.to_thread(map_wing_joints_deg, model, entry.robot, ws)
+        job = maps.start(entry, ws, ls, step, method, model=model, wing_joints_deg=joints)
         if est <= limits.sync_map_s:
             try:
                 await asyncio.wait_for(

@@ -55,6 +55,8 @@ class MapJob:
     step_deg: float
     method: str
     total: int
+    model: str | None = None
+    wing_joints_deg: dict[float, dict[str, float]] | None = None
     done: int = 0
     status: str = "queued"
     rows: list | None = None
@@ -82,6 +84,10 @@ class MapJob:
             "theta_l_deg": self.theta_l_deg,
             "step_deg": self.step_deg,
             "method": self.method,
+            "model_set": self.model,
+            "wing_joints_deg": None
+            if self.wing_joints_deg is None
+            else [self.wing_joints_deg[w] for w in self.theta_w_deg],
             "rows": self.rows,
         }
 
@@ -136,11 +142,33 @@ class MapJobs:
             )
         return est
 
-    def start(self, entry, ws: list[float], ls: list[float], step_deg: float, method: str) -> MapJob:
+    def start(
+        self,
+        entry,
+        ws: list[float],
+        ls: list[float],
+        step_deg: float,
+        method: str,
+        *,
+        model: str | None = None,
+        wing_joints_deg: dict[float, dict[str, float]] | None = None,
+    ) -> MapJob:
+        """Queue a checked map; ``model`` names the shipped set whose wing joints per theta_w
+        (:func:`.model_sets.map_wing_joints_deg`) pose the robot."""
         done = [k for k, j in self.jobs.items() if j.status in ("done", "failed", "cancelled")]
         for k in done[: max(0, len(self.jobs) - self.keep)]:
             del self.jobs[k]
-        job = MapJob(uuid.uuid4().hex[:12], entry.id, ws, ls, float(step_deg), method, len(ws) * len(ls))
+        job = MapJob(
+            uuid.uuid4().hex[:12],
+            entry.id,
+            ws,
+            ls,
+            float(step_deg),
+            method,
+            len(ws) * len(ls),
+            model=model,
+            wing_joints_deg=wing_joints_deg,
+        )
         self.jobs[job.id] = job
         job.future = self.pool.submit(self._run, job)
         return job
@@ -177,6 +205,7 @@ class MapJobs:
                 step_deg=job.step_deg,
                 method=job.method,
                 progress=progress,
+                wing_joints_deg=job.wing_joints_deg,
             )
             job.rows = files.barrier_map_rows(bm)
             job.status = "done"

@@ -9,6 +9,7 @@ import pytest
 
 from .conftest import box_stl
 from .test_api import _strip
+from .test_sweeps import _wait
 
 OUT_OF_RANGE = "theta_w = 50 deg is outside the measured wing commands [60, 90] deg"
 BAD_NAMES = ["../../etc/passwd", "nosuch", "/etc/passwd", "sim/models/physical.toml", "physical.toml", ""]
@@ -70,13 +71,13 @@ def test_paper_landscape_equals_no_model(client, capsys):
 
 
 @pytest.mark.parametrize("model", BAD_NAMES)
-@pytest.mark.parametrize("url", ["/api/landscape"])
+@pytest.mark.parametrize("url", ["/api/landscape", "/api/barrier-map"])
 def test_only_a_shipped_set_name_is_taken(client, url, model):
     r = client.get(url, params={"theta_w": "75", "theta_l": "0", "model": model})
     _refused(r, "model must be a shipped model set (paper, physical)")
 
 
-@pytest.mark.parametrize("url", ["/api/landscape"])
+@pytest.mark.parametrize("url", ["/api/landscape", "/api/barrier-map"])
 def test_a_wing_command_outside_the_measured_ones_is_refused(client, url):
     _refused(client.get(url, params={"theta_w": "50", "theta_l": "0", "model": "physical"}), OUT_OF_RANGE)
     assert client.get(url, params={"theta_w": "50", "theta_l": "0", "model": "paper"}).status_code == 200
@@ -87,3 +88,35 @@ def test_a_measured_set_needs_the_wing_joints_it_measures(client):
     r = client.get("/api/landscape", params={"robot": rid, "theta_w": 75, "model": "physical"})
     _refused(r, "measures 4 wing servos, but the robot drives 0 wing joints")
     assert client.get("/api/landscape", params={"robot": rid, "model": "paper"}).status_code == 200
+
+
+# ---------------------------------------------------------------------------------------------- barrier map
+def test_physical_barrier_map_job_names_the_set_and_matches_the_library(make_app):
+    from fastapi.testclient import TestClient
+
+    from geometry.robots import load_robot
+    from landscape.computation import barrier_map
+
+    robot = load_robot(None)
+    joints = {w: _physical_joints(robot, w) for w in (60.0, 75.0)}
+    want = barrier_map(robot, [60.0, 75.0], [0.0], step_deg=10, wing_joints_deg=joints, workers=1)
+    with TestClient(make_app(limits=make_app.Limits(sync_map_s=0.0))) as c:
+        params = {"theta_w": "60,75", "theta_l": "0", "step": 10}
+        r = c.get("/api/barrier-map", params={**params, "model": "physical"})
+        assert r.status_code == 202, r.text
+        assert r.json()["job"]["model_set"] == "physical"
+        url = r.json()["status_url"]
+        job = _wait(lambda: c.get(url).json(), lambda j: j["status"] in ("done", "failed", "cancelled"))
+        assert job["status"] == "done", job
+        assert job["model_set"] == "physical"
+        assert job["wing_joints_deg"] == [pytest.approx(joints[60.0]), pytest.approx(joints[75.0])]
+        assert [row["righting_j"] for row in job["rows"]] == pytest.approx(want.righting_j[:, 0], abs=1e-12)
+        plain = c.get("/api/barrier-map", params=params).json()["job"]  # 202 again: the job names no set
+        assert plain["model_set"] is None and plain["wing_joints_deg"] is None
+
+
+def test_paper_barrier_map_equals_no_model(client):
+    params = {"theta_w": "70,74", "theta_l": "0,30", "step": 10}
+    paper = client.get("/api/barrier-map", params={**params, "model": "paper"})
+    assert paper.status_code == 200, paper.text
+    assert paper.json() == client.get("/api/barrier-map", params=params).json()
