@@ -449,7 +449,8 @@ def create_app(config: ServiceConfig) -> FastAPI:
     @app.post("/api/sweeps", status_code=201)
     async def create_sweep(body: Annotated[dict, Body(examples=[SWEEP_EXAMPLE])]):
         """Queue a sweep (the options of ``landscape sweep``: theta_w, theta_l, cv, phase, trials, wing_period,
-        leg_period, attempts, duration, dt, seed, robot); answers the job with its id."""
+        leg_period, attempts, duration, dt, seed, robot, model: a shipped model set); answers the job with its
+        id."""
         return await asyncio.to_thread(sweeps.create, body)
 
     @app.get("/api/sweeps")

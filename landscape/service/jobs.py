@@ -234,8 +234,10 @@ SWEEP_DEFAULTS = {
     "dt": None,
     "seed": 0,
     "robot": "builtin",
+    "model": "paper",
 }
-"""The options of ``landscape sweep`` (same names, same defaults) that a sweep job takes."""
+"""The options of ``landscape sweep`` (same names, same defaults) that a sweep job takes; ``model`` only a
+shipped model set's name."""
 
 
 @dataclass
@@ -307,7 +309,11 @@ class SweepJobs:
         from landscape.params import parse_values
         from sim.sweep import sweep_specs
 
-        r = request
+        from .model_sets import shipped_model_set
+
+        r = {**SWEEP_DEFAULTS, **request}  # a job stored before an option existed takes its default
+        model = r["model"]
+        shipped_model_set(str(model))  # a name, never a file: null or a number is refused too
         lists = {
             k: parse_values(str(r[k]), k.replace("_", "-"))
             for k in ("theta_w", "theta_l", "cv", "phase", "wing_period", "leg_period")
@@ -343,6 +349,7 @@ class SweepJobs:
             wing_period_s=lists["wing_period"],
             leg_period_s=lists["leg_period"],
             attempts=int(r["attempts"]),
+            model_set=model,
         )
 
     def create(self, request: dict) -> dict:
@@ -388,7 +395,12 @@ class SweepJobs:
             if run.ran and elapsed > 0:
                 rate = run.ran / elapsed
                 eta = (run.total - run.done) / rate
-        job.update(rate_per_s=rate, eta_s=eta, report_url=f"/api/sweeps/{job_id}/report")
+        job.update(
+            rate_per_s=rate,
+            eta_s=eta,
+            report_url=f"/api/sweeps/{job_id}/report",
+            model_set=job["request"].get("model", SWEEP_DEFAULTS["model"]),
+        )
         return job
 
     def cancel(self, job_id: str) -> dict:

@@ -9,7 +9,7 @@ import pytest
 
 from .conftest import box_stl
 from .test_api import _strip
-from .test_sweeps import _wait
+from .test_sweeps import TINY, _wait
 
 OUT_OF_RANGE = "theta_w = 50 deg is outside the measured wing commands [60, 90] deg"
 BAD_NAMES = ["../../etc/passwd", "nosuch", "/etc/passwd", "sim/models/physical.toml", "physical.toml", ""]
@@ -120,3 +120,25 @@ def test_paper_barrier_map_equals_no_model(client):
     paper = client.get("/api/barrier-map", params={**params, "model": "paper"})
     assert paper.status_code == 200, paper.text
     assert paper.json() == client.get("/api/barrier-map", params=params).json()
+
+
+# ---------------------------------------------------------------------------------------------- sweeps
+def test_a_physical_sweep_stores_trials_of_the_set(client):
+    from sim.store import read_rows
+
+    r = client.post("/api/sweeps", json={**TINY, "trials": 1, "model": "physical"})
+    assert r.status_code == 201, r.text
+    job = r.json()
+    assert job["model_set"] == "physical" and job["request"]["model"] == "physical"
+    done = _wait(lambda: client.get(f"/api/sweeps/{job['id']}").json(), lambda j: j["status"] != "queued")
+    done = _wait(lambda: client.get(f"/api/sweeps/{job['id']}").json(), lambda j: j["status"] != "running")
+    assert done["status"] == "done" and done["done"] == 1 and done["model_set"] == "physical"
+    rows = read_rows(client.app.state.sweeps.root / job["id"] / "trials.sqlite")
+    assert [row["model_set"] for row in rows] == ["physical"]
+
+
+@pytest.mark.parametrize("model", [*BAD_NAMES, None, 1])
+def test_a_sweep_takes_only_a_shipped_set_name(client, model):
+    r = client.post("/api/sweeps", json={**TINY, "model": model})
+    _refused(r, "model must be a shipped model set (paper, physical)")
+    assert client.get("/api/sweeps").json() == []
