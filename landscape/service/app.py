@@ -59,6 +59,11 @@ INTERNAL = (
 )
 _PATH = re.compile(r"(?<![\w.:/])/(?!api/)(?:[\w.+@-]+/){2,}([\w.+@-]*)")
 _JSON_BODY_BYTES = 1 << 20
+MODEL_HELP = (
+    "a shipped model set (paper, physical) that poses the wings, as `landscape compute --model NAME`: a "
+    "measured set holds each wing servo at its own plateau for the wing command theta_w (60-90); an idealised "
+    "set every wing joint at theta_w [default: every wing joint at theta_w]"
+)
 SWEEP_EXAMPLE = {"theta_w": "74", "theta_l": "30", "cv": "0,0.1", "trials": 2, "duration": 1.0, "dt": 0.001}
 
 
@@ -319,10 +324,12 @@ def create_app(config: ServiceConfig) -> FastAPI:
             "json", pattern="^(json|npz|csv)$", description="json (the summary), npz or csv (the energy grid)"
         ),
         grid: bool = Query(False, description="json: include the energy grid in mJ"),
+        model: str | None = Query(None, description=MODEL_HELP),
     ):
-        """The object of ``landscape compute --json`` plus the barrier ``paths`` (and, with ``grid=1``, the grid)."""
+        """The object of ``landscape compute --json`` plus the barrier ``paths`` (and, with ``grid=1``, the grid);
+        with ``model`` also ``model_set`` and ``wing_joints_deg``, as ``landscape compute --model NAME --json``."""
         entry = await asyncio.to_thread(registry.get, robot)
-        key = landscapes.check(entry, theta_w, theta_l, method, step)
+        key = await asyncio.to_thread(landscapes.check, entry, theta_w, theta_l, method, step, model=model)
         if format == "json":
             a = await landscapes.answer(entry, key)
             return Response(a.body(grid=grid), media_type="application/json")
@@ -384,16 +391,21 @@ def create_app(config: ServiceConfig) -> FastAPI:
         step: float = Query(1.0),
         method: str = Query("exact"),
         format: str = Query("json", pattern="^(json|csv)$"),
+        model: str | None = Query(None, description=MODEL_HELP),
     ):
-        """Barrier rows over theta_w x theta_l (``landscape barrier-map``): at once if small, else 202 and a job."""
+        """Barrier rows over theta_w x theta_l (``landscape barrier-map [--model NAME]``): at once if small, else 202
+        and a job (whose ``model_set`` and ``wing_joints_deg`` name the set and its wing joints per theta_w)."""
         from landscape.params import parse_values
+
+        from .model_sets import map_wing_joints_deg
 
         entry = await asyncio.to_thread(registry.get, robot)
         ws, ls = parse_values(theta_w, "theta_w"), parse_values(theta_l, "theta_l")
         if not (step == step and abs(step) != float("inf")):
             raise UsageError(f"step must be a finite number of degrees; got {step!r}")
         est = maps.check(entry, ws, ls, step, method)
-        job = maps.start(entry, ws, ls, step, method)
+        joints = await asyncio.to_thread(map_wing_joints_deg, model, entry.robot, ws)
+        job = maps.start(entry, ws, ls, step, method, model=model, wing_joints_deg=joints)
         if est <= limits.sync_map_s:
             try:
                 await asyncio.wait_for(
@@ -437,7 +449,8 @@ def create_app(config: ServiceConfig) -> FastAPI:
     @app.post("/api/sweeps", status_code=201)
     async def create_sweep(body: Annotated[dict, Body(examples=[SWEEP_EXAMPLE])]):
         """Queue a sweep (the options of ``landscape sweep``: theta_w, theta_l, cv, phase, trials, wing_period,
-        leg_period, attempts, duration, dt, seed, robot); answers the job with its id."""
+        leg_period, attempts, duration, dt, seed, robot, model: a shipped model set); answers the job with its
+        id."""
         return await asyncio.to_thread(sweeps.create, body)
 
     @app.get("/api/sweeps")

@@ -55,6 +55,8 @@ class MapJob:
     step_deg: float
     method: str
     total: int
+    model: str | None = None
+    wing_joints_deg: dict[float, dict[str, float]] | None = None
     done: int = 0
     status: str = "queued"
     rows: list | None = None
@@ -82,6 +84,10 @@ class MapJob:
             "theta_l_deg": self.theta_l_deg,
             "step_deg": self.step_deg,
             "method": self.method,
+            "model_set": self.model,
+            "wing_joints_deg": None
+            if self.wing_joints_deg is None
+            else [self.wing_joints_deg[w] for w in self.theta_w_deg],
             "rows": self.rows,
         }
 
@@ -136,11 +142,33 @@ class MapJobs:
             )
         return est
 
-    def start(self, entry, ws: list[float], ls: list[float], step_deg: float, method: str) -> MapJob:
+    def start(
+        self,
+        entry,
+        ws: list[float],
+        ls: list[float],
+        step_deg: float,
+        method: str,
+        *,
+        model: str | None = None,
+        wing_joints_deg: dict[float, dict[str, float]] | None = None,
+    ) -> MapJob:
+        """Queue a checked map; ``model`` names the shipped set whose wing joints per theta_w
+        (:func:`.model_sets.map_wing_joints_deg`) pose the robot."""
         done = [k for k, j in self.jobs.items() if j.status in ("done", "failed", "cancelled")]
         for k in done[: max(0, len(self.jobs) - self.keep)]:
             del self.jobs[k]
-        job = MapJob(uuid.uuid4().hex[:12], entry.id, ws, ls, float(step_deg), method, len(ws) * len(ls))
+        job = MapJob(
+            uuid.uuid4().hex[:12],
+            entry.id,
+            ws,
+            ls,
+            float(step_deg),
+            method,
+            len(ws) * len(ls),
+            model=model,
+            wing_joints_deg=wing_joints_deg,
+        )
         self.jobs[job.id] = job
         job.future = self.pool.submit(self._run, job)
         return job
@@ -177,6 +205,7 @@ class MapJobs:
                 step_deg=job.step_deg,
                 method=job.method,
                 progress=progress,
+                wing_joints_deg=job.wing_joints_deg,
             )
             job.rows = files.barrier_map_rows(bm)
             job.status = "done"
@@ -205,8 +234,10 @@ SWEEP_DEFAULTS = {
     "dt": None,
     "seed": 0,
     "robot": "builtin",
+    "model": "paper",
 }
-"""The options of ``landscape sweep`` (same names, same defaults) that a sweep job takes."""
+"""The options of ``landscape sweep`` (same names, same defaults) that a sweep job takes; ``model`` only a
+shipped model set's name."""
 
 
 @dataclass
@@ -278,7 +309,11 @@ class SweepJobs:
         from landscape.params import parse_values
         from sim.sweep import sweep_specs
 
-        r = request
+        from .model_sets import shipped_model_set
+
+        r = {**SWEEP_DEFAULTS, **request}  # a job stored before an option existed takes its default
+        model = r["model"]
+        shipped_model_set(str(model))  # a name, never a file: null or a number is refused too
         lists = {
             k: parse_values(str(r[k]), k.replace("_", "-"))
             for k in ("theta_w", "theta_l", "cv", "phase", "wing_period", "leg_period")
@@ -314,6 +349,7 @@ class SweepJobs:
             wing_period_s=lists["wing_period"],
             leg_period_s=lists["leg_period"],
             attempts=int(r["attempts"]),
+            model_set=model,
         )
 
     def create(self, request: dict) -> dict:
@@ -359,7 +395,12 @@ class SweepJobs:
             if run.ran and elapsed > 0:
                 rate = run.ran / elapsed
                 eta = (run.total - run.done) / rate
-        job.update(rate_per_s=rate, eta_s=eta, report_url=f"/api/sweeps/{job_id}/report")
+        job.update(
+            rate_per_s=rate,
+            eta_s=eta,
+            report_url=f"/api/sweeps/{job_id}/report",
+            model_set=job["request"].get("model", SWEEP_DEFAULTS["model"]),
+        )
         return job
 
     def cancel(self, job_id: str) -> dict:

@@ -1,5 +1,6 @@
 """Landscape answers: validated, estimated, computed in a thread pool by :func:`landscape.computation.compute`,
-and cached by (robot hash, theta_w, theta_l, method, step) in a bounded in-memory LRU and on disk.
+and cached by (robot hash, theta_w, theta_l, method, step, model set, wing joints) in a bounded in-memory LRU
+and on disk.
 
 Two requests for the same answer share one computation; a request still waiting at its time limit answers 503
 and the computation finishes into the cache. A robot is posed by one thread at a time (posing moves the shared
@@ -217,10 +218,24 @@ class Landscapes:
     def close(self) -> None:
         self.pool.shutdown(wait=False, cancel_futures=True)
 
-    def check(self, entry, theta_w_deg: float, theta_l_deg: float, method: str, step_deg: float) -> tuple:
-        """Validate a request and return its cache key; UsageError (or TooCostlyError) for bad or costly input."""
+    def check(
+        self,
+        entry,
+        theta_w_deg: float,
+        theta_l_deg: float,
+        method: str,
+        step_deg: float,
+        *,
+        model: str | None = None,
+    ) -> tuple:
+        """Validate a request and return its cache key; UsageError (or TooCostlyError) for bad or costly input.
+
+        ``model`` names a shipped model set that poses the wings (:func:`.model_sets.wing_joints_deg`); the key
+        holds it and the wing joints' angles it gives."""
         from landscape.barriers import method as barrier_method
         from landscape.grid import cells_per_turn
+
+        from .model_sets import wing_joints_deg
 
         for name, v in (("theta_w", theta_w_deg), ("theta_l", theta_l_deg), ("step", step_deg)):
             if not math.isfinite(v):
@@ -245,7 +260,9 @@ class Landscapes:
             tw, tl = float(theta_w_deg), float(theta_l_deg)
         else:
             tw = tl = None
-        return (entry.robot.description_hash, tw, tl, method, float(step_deg))
+        joints = wing_joints_deg(model, entry.robot, theta_w_deg)
+        joints_key = None if joints is None else tuple(joints.items())
+        return (entry.robot.description_hash, tw, tl, method, float(step_deg), model, joints_key)
 
     @staticmethod
     def estimate_s(entry, step_deg: float) -> float:
@@ -296,15 +313,23 @@ class Landscapes:
         a = None if need_computation else self.cache.get(key)
         if a is not None:
             return a
-        _, tw, tl, method, step = key
+        _, tw, tl, method, step, model, joints_key = key
+        joints = None if joints_key is None else dict(joints_key)
         with entry.lock:
             start = None
-            if entry.robot.has_joints:
+            if entry.robot.has_joints and joints is None:
                 if entry.starts is None:
                     entry.starts = StartMemo(entry.robot)
                 start = entry.starts.start_deg(tw, tl)
+            # with wing joints of their own, compute finds the start as `landscape compute --model` does
             c = compute(
-                entry.robot, theta_w_deg=tw, theta_l_deg=tl, step_deg=step, method=method, start_deg=start
+                entry.robot,
+                theta_w_deg=tw,
+                theta_l_deg=tl,
+                step_deg=step,
+                method=method,
+                start_deg=start,
+                wing_joints_deg=joints,
             )
         s = files.summary(
             c,
@@ -313,6 +338,8 @@ class Landscapes:
             robot_hash=entry.robot.description_hash,
             com_source=entry.robot.com_source,
         )
+        if model is not None:  # as `landscape compute --model NAME --json`
+            s = dict(s) | {"model_set": model, "wing_joints_deg": joints}
         cells = c.landscape.energy_j.size
         per_cell = (c.timing_s["landscape"] + c.timing_s["barrier"]) / cells
         prev = entry.seconds_per_cell

@@ -1,0 +1,64 @@
+"""The ``model`` parameter of the service: a model set shipped with the package (``sim/models/``), by name only.
+
+A set poses the wings as ``landscape compute --model NAME`` does (:meth:`sim.model_set.ModelSet.wing_joints_deg`):
+a measured set holds each wing servo at its own plateau, an idealised one every wing joint at theta_w. The
+service never reads a model file named by a request: anything but a shipped name is refused. :mod:`sim.model_set`
+(and with it pybullet) is imported only when a request names a set.
+"""
+
+from __future__ import annotations
+
+from geometry.errors import UsageError
+
+_SHOWN_CHARS = 40
+"""Longest refused value repeated in the message, characters."""
+
+
+def shipped_model_set(model: str | None):
+    """The shipped :class:`sim.model_set.ModelSet` named ``model``; None without a name.
+
+    Raises
+    ------
+    UsageError
+        If ``model`` is not the name of a shipped set (a file path included).
+    """
+    if model is None:
+        return None
+    from sim.model_set import load_model_set, shipped_model_sets
+
+    names = shipped_model_sets()
+    if model not in names:
+        shown = model if len(model) <= _SHOWN_CHARS else model[:_SHOWN_CHARS] + "..."
+        raise UsageError(
+            f"model must be a shipped model set ({', '.join(names)}); got {shown!r}: "
+            "the service reads no model files"
+        )
+    return load_model_set(model)
+
+
+def wing_joints_deg(model: str | None, robot, theta_w_deg: float) -> dict[str, float] | None:
+    """The wing joints' angles (degrees) the shipped set ``model`` holds at the wing command ``theta_w_deg``;
+    None without a set or for an idealised one (every wing joint at theta_w).
+
+    Raises
+    ------
+    UsageError
+        If ``model`` is not a shipped set, ``theta_w_deg`` lies outside the set's measured commands, or the
+        robot has not the wing joints the set measures (:class:`sim.model_set.ModelSetError`).
+    """
+    return _joints(shipped_model_set(model), robot, theta_w_deg)
+
+
+def map_wing_joints_deg(model: str | None, robot, theta_w_deg: list[float]) -> dict[float, dict] | None:
+    """:func:`wing_joints_deg` per theta_w of a barrier map (its ``wing_joints_deg``); None when the set poses
+    every wing joint at theta_w (no set, or an idealised one)."""
+    ms = shipped_model_set(model)
+    joints = {w: _joints(ms, robot, w) for w in theta_w_deg}
+    return joints if joints and all(joints.values()) else None
+
+
+def _joints(ms, robot, theta_w_deg: float) -> dict[str, float] | None:
+    if ms is None:
+        return None
+    names = robot.joint_map.wing if robot.has_joints else ()
+    return ms.wing_joints_deg(names, theta_w_deg)

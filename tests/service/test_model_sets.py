@@ -1,0 +1,144 @@
+"""The ``model`` parameter (issue #15): a shipped model set poses the wings of a landscape, a barrier map and a
+sweep as ``landscape compute|barrier-map|sweep --model NAME`` does; anything but a shipped name is refused."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from .conftest import box_stl
+from .test_api import _strip
+from .test_sweeps import TINY, _wait
+
+OUT_OF_RANGE = "theta_w = 50 deg is outside the measured wing commands [60, 90] deg"
+BAD_NAMES = ["../../etc/passwd", "nosuch", "/etc/passwd", "sim/models/physical.toml", "physical.toml", ""]
+
+
+def _physical_joints(robot, theta_w_deg: float) -> dict[str, float]:
+    from sim.model_set import load_model_set
+
+    return load_model_set("physical").wing_joints_deg(robot.joint_map.wing, theta_w_deg)
+
+
+def _refused(r, match: str) -> None:
+    assert r.status_code == 422, r.text
+    detail = r.json()["detail"]
+    assert match in detail and "\n" not in detail and "Traceback" not in detail
+
+
+# ---------------------------------------------------------------------------------------------- landscape
+def test_physical_landscape_is_compute_with_the_sets_wing_joints(client, capsys):
+    from geometry.robots import load_robot
+    from landscape.cli import main
+    from landscape.computation import compute
+
+    robot = load_robot(None)
+    joints = _physical_joints(robot, 75.0)
+    assert len(set(joints.values())) > 1  # each servo at its own plateau
+    want = compute(robot, theta_w_deg=75.0, theta_l_deg=0.0, wing_joints_deg=joints)
+    r = client.get("/api/landscape", params={"theta_w": 75, "model": "physical"})
+    assert r.status_code == 200, r.text
+    got = r.json()
+    assert got["model_set"] == "physical" and got["wing_joints_deg"] == pytest.approx(joints)
+    assert got["barrier"]["righting_j"] == pytest.approx(want.barrier.righting.barrier_j, abs=1e-12)
+    assert (got["start_deg"]["pitch_deg"], got["start_deg"]["roll_deg"]) == pytest.approx(want.start_deg)
+    assert main(["compute", "--theta-w", "75", "--model", "physical", "--json"]) == 0
+    assert _strip(got) == _strip(json.loads(capsys.readouterr().out))
+    # the set is part of the cache key: the plain landscape at the same command is another answer
+    plain = client.get("/api/landscape", params={"theta_w": 75}).json()
+    assert "model_set" not in plain and "wing_joints_deg" not in plain
+    assert plain["barrier"]["righting_j"] != got["barrier"]["righting_j"]
+    again = client.get("/api/landscape", params={"theta_w": 75, "model": "physical"}).json()
+    assert again["barrier"] == got["barrier"] and again["model_set"] == "physical"
+
+
+def test_paper_landscape_equals_no_model(client, capsys):
+    params = {"theta_w": 74, "theta_l": 20, "step": 3}
+    paper = client.get("/api/landscape", params={**params, "model": "paper"}).json()
+    plain = client.get("/api/landscape", params=params).json()
+    assert paper["model_set"] == "paper" and paper["wing_joints_deg"] is None
+    assert {k: v for k, v in paper.items() if k not in ("model_set", "wing_joints_deg", "timing_s")} == {
+        k: v for k, v in plain.items() if k != "timing_s"
+    }
+    from landscape.cli import main
+
+    assert (
+        main(["compute", "--theta-w", "74", "--theta-l", "20", "--step", "3", "--model", "paper", "--json"])
+        == 0
+    )
+    assert _strip(paper) == _strip(json.loads(capsys.readouterr().out))
+
+
+@pytest.mark.parametrize("model", BAD_NAMES)
+@pytest.mark.parametrize("url", ["/api/landscape", "/api/barrier-map"])
+def test_only_a_shipped_set_name_is_taken(client, url, model):
+    r = client.get(url, params={"theta_w": "75", "theta_l": "0", "model": model})
+    _refused(r, "model must be a shipped model set (paper, physical)")
+
+
+@pytest.mark.parametrize("url", ["/api/landscape", "/api/barrier-map"])
+def test_a_wing_command_outside_the_measured_ones_is_refused(client, url):
+    _refused(client.get(url, params={"theta_w": "50", "theta_l": "0", "model": "physical"}), OUT_OF_RANGE)
+    assert client.get(url, params={"theta_w": "50", "theta_l": "0", "model": "paper"}).status_code == 200
+
+
+def test_a_measured_set_needs_the_wing_joints_it_measures(client):
+    rid = client.post("/api/robots", files={"file": ("c.stl", box_stl())}).json()["id"]
+    r = client.get("/api/landscape", params={"robot": rid, "theta_w": 75, "model": "physical"})
+    _refused(r, "measures 4 wing servos, but the robot drives 0 wing joints")
+    assert client.get("/api/landscape", params={"robot": rid, "model": "paper"}).status_code == 200
+
+
+# ---------------------------------------------------------------------------------------------- barrier map
+def test_physical_barrier_map_job_names_the_set_and_matches_the_library(make_app):
+    from fastapi.testclient import TestClient
+
+    from geometry.robots import load_robot
+    from landscape.computation import barrier_map
+
+    robot = load_robot(None)
+    joints = {w: _physical_joints(robot, w) for w in (60.0, 75.0)}
+    want = barrier_map(robot, [60.0, 75.0], [0.0], step_deg=10, wing_joints_deg=joints, workers=1)
+    with TestClient(make_app(limits=make_app.Limits(sync_map_s=0.0))) as c:
+        params = {"theta_w": "60,75", "theta_l": "0", "step": 10}
+        r = c.get("/api/barrier-map", params={**params, "model": "physical"})
+        assert r.status_code == 202, r.text
+        assert r.json()["job"]["model_set"] == "physical"
+        url = r.json()["status_url"]
+        job = _wait(lambda: c.get(url).json(), lambda j: j["status"] in ("done", "failed", "cancelled"))
+        assert job["status"] == "done", job
+        assert job["model_set"] == "physical"
+        assert job["wing_joints_deg"] == [pytest.approx(joints[60.0]), pytest.approx(joints[75.0])]
+        assert [row["righting_j"] for row in job["rows"]] == pytest.approx(want.righting_j[:, 0], abs=1e-12)
+        plain = c.get("/api/barrier-map", params=params).json()["job"]  # 202 again: the job names no set
+        assert plain["model_set"] is None and plain["wing_joints_deg"] is None
+
+
+def test_paper_barrier_map_equals_no_model(client):
+    params = {"theta_w": "70,74", "theta_l": "0,30", "step": 10}
+    paper = client.get("/api/barrier-map", params={**params, "model": "paper"})
+    assert paper.status_code == 200, paper.text
+    assert paper.json() == client.get("/api/barrier-map", params=params).json()
+
+
+# ---------------------------------------------------------------------------------------------- sweeps
+def test_a_physical_sweep_stores_trials_of_the_set(client):
+    from sim.store import read_rows
+
+    r = client.post("/api/sweeps", json={**TINY, "trials": 1, "model": "physical"})
+    assert r.status_code == 201, r.text
+    job = r.json()
+    assert job["model_set"] == "physical" and job["request"]["model"] == "physical"
+    done = _wait(lambda: client.get(f"/api/sweeps/{job['id']}").json(), lambda j: j["status"] != "queued")
+    done = _wait(lambda: client.get(f"/api/sweeps/{job['id']}").json(), lambda j: j["status"] != "running")
+    assert done["status"] == "done" and done["done"] == 1 and done["model_set"] == "physical"
+    rows = read_rows(client.app.state.sweeps.root / job["id"] / "trials.sqlite")
+    assert [row["model_set"] for row in rows] == ["physical"]
+
+
+@pytest.mark.parametrize("model", [*BAD_NAMES, None, 1])
+def test_a_sweep_takes_only_a_shipped_set_name(client, model):
+    r = client.post("/api/sweeps", json={**TINY, "model": model})
+    _refused(r, "model must be a shipped model set (paper, physical)")
+    assert client.get("/api/sweeps").json() == []
