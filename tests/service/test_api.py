@@ -169,7 +169,7 @@ def test_a_slow_answer_times_out_without_blocking_others(make_app):
             r = c.get("/api/landscape", params={"theta_w": 33, "step": 10})
             assert r.status_code == 503 and "retry later" in r.json()["detail"]
             assert c.get("/api/robots").status_code == 200
-        fut = app.state.landscapes._inflight.get((entry.robot.description_hash, 33.0, 0.0, "exact", 10.0))
+        fut = app.state.landscapes._inflight.get(app.state.landscapes.check(entry, 33.0, 0.0, "exact", 10.0))
         if fut is not None:
             fut.result(timeout=60)
         ok = c.get("/api/landscape", params={"theta_w": 33, "step": 10})
