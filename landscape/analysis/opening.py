@@ -43,6 +43,10 @@ TRANSIENT_WINDOW_S = (0.2, 0.6)
 """Window after an opening's start in which the overshoot and the tilt are read, s."""
 SWING_WINDOW_S = 0.35
 """Window before an opening in which the body's fastest roll times the leg's last swing, s."""
+LEG_HELD_S = (0.45, 0.25)
+"""Window before the first opening while the lab's protocol holds the leg at its first command, s."""
+LEG_STILL_S = (1.1, 0.8)
+"""Window before the first opening before the lab's protocol starts the leg, s."""
 SIM_OPENING_S = 1.0
 """Simulated time after the opening's start: the hold window and the transient lie inside it, s."""
 
@@ -133,6 +137,11 @@ class RecordedOpening:
         log's 10 Hz resolution). The lab's protocol starts the leg and the wings at fixed times, so this lead,
         and with it the phase of the first attempt, is the same in every trial: the first attempt's phase is
         not random on the robot.
+    leg_hold_roll_deg : float
+        How far the body's roll moved while the leg was held at its first command (negative) before the opening:
+        the median roll ``LEG_HELD_S`` before the opening minus the median ``LEG_STILL_S`` before it, before the
+        leg started, degrees; nan with the leg still. A body resting on a curved back rolls with its CoM; one
+        resting on a flat face does not.
     leg_swing_s : float
         When the body rolled fastest in the ``SWING_WINDOW_S`` before the opening, s before it (positive): the
         body's reaction to the leg's last swing, which times the swing itself to the IMU's 50 Hz rather than the
@@ -146,6 +155,7 @@ class RecordedOpening:
     response: OpeningResponse
     leg_lead_s: float = math.nan
     leg_swing_s: float = math.nan
+    leg_hold_roll_deg: float = math.nan
 
 
 def recorded_first_openings(data_dir: str | Path) -> list[RecordedOpening]:
@@ -163,11 +173,25 @@ def recorded_first_openings(data_dir: str | Path) -> list[RecordedOpening]:
         resp = opening_response(rec.t_s, rec.pitch_deg, rec.roll_deg, start)
         ups = rec.leg_up_s[rec.leg_up_s <= start + 1e-9]
         lead = start - float(ups[-1]) if len(ups) else math.nan
-        swing = _fastest_roll_before_s(rec.t_s, rec.roll_deg, start) if rec.theta_l_deg > 0 else math.nan
-        out.append(
-            RecordedOpening(rec.name, rec.theta_w_cmd_deg, rec.theta_l_deg, rec.trial, resp, lead, swing)
+        moving = rec.theta_l_deg > 0
+        swing = _fastest_roll_before_s(rec.t_s, rec.roll_deg, start) if moving else math.nan
+        held = _window_median(rec.t_s, rec.roll_deg, start, LEG_HELD_S) - _window_median(
+            rec.t_s, rec.roll_deg, start, LEG_STILL_S
         )
+        out.append(
+            RecordedOpening(
+                rec.name, rec.theta_w_cmd_deg, rec.theta_l_deg, rec.trial, resp, lead, swing,
+                held if moving else math.nan,
+            )
+        )  # fmt: skip
     return out
+
+
+def _window_median(t_s, values, start_s: float, before_s: tuple[float, float]) -> float:
+    """Median of ``values`` from ``before_s[0]`` to ``before_s[1]`` seconds before ``start_s``; nan if empty."""
+    t = np.asarray(t_s, dtype=np.float64) - start_s
+    sel = (t >= -before_s[0]) & (t <= -before_s[1])
+    return float(np.median(np.asarray(values, dtype=np.float64)[sel])) if sel.any() else math.nan
 
 
 def _fastest_roll_before_s(t_s, roll_deg, start_s: float) -> float:

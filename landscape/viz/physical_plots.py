@@ -108,17 +108,20 @@ def first_openings_markdown(openings: Sequence) -> str:
     for o in openings:
         cells.setdefault((o.theta_w_cmd_deg, o.theta_l_deg), []).append(o)
     lines = [
-        "| wing command | leg | n | leg command's lead | body's fastest roll before | overshoot | rise | "
-        "lateral tilt [range] |",
-        "|---|---|---|---|---|---|---|---|",
+        "| wing command | leg | n | leg command's lead | roll, leg held | body's fastest roll before | overshoot "
+        "| rise | lateral tilt [range] |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for (w, leg), os_ in sorted(cells.items()):
         lead = [o.leg_lead_s for o in os_ if math.isfinite(o.leg_lead_s)]
         swing = [o.leg_swing_s for o in os_ if math.isfinite(o.leg_swing_s)]
+        held = [o.leg_hold_roll_deg for o in os_ if math.isfinite(o.leg_hold_roll_deg)]
         tilt = [o.response.tilt_deg for o in os_]
         lines.append(
             f"| {w:g}° | {leg:g}° | {len(os_)} | "
             + (f"{float(np.median(lead)):.1f} s" if lead else "–")
+            + " | "
+            + (f"{float(np.median(held)):+.2f}°" if held else "–")
             + " | "
             + (f"{float(np.median(swing)):.2f} s" if swing else "–")
             + f" | {float(np.median([o.response.overshoot_deg for o in os_])):+.1f}° | "

@@ -1074,6 +1074,7 @@ def _opening_tables(out: Path, data_dir, robots: list[str], commands: list[float
             "leg_deg": o.theta_l_deg,
             "leg_lead_s": o.leg_lead_s,
             "leg_swing_s": o.leg_swing_s,
+            "leg_hold_roll_deg": o.leg_hold_roll_deg,
         }
         | asdict(o.response)
         for o in op.recorded_first_openings(data_dir)

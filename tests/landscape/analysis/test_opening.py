@@ -98,6 +98,11 @@ def test_the_protocol_fixes_the_first_attempts_phase():
     # the body's reaction to the leg's last swing, timed by the IMU: 0.13 s before the opening (median)
     swings = [o.leg_swing_s for o in rows if o.theta_l_deg > 0]
     assert 0.11 <= float(np.median(swings)) <= 0.15 and all(0 < x <= op.SWING_WINDOW_S for x in swings)
+    # the leg held at its first (negative) command rolls the resting body negative, the more the larger it is
+    held = {
+        leg: np.median([o.leg_hold_roll_deg for o in rows if o.theta_l_deg == leg]) for leg in (15, 30, 45)
+    }
+    assert held[45.0] < held[30.0] < held[15.0] < 0
 
 
 @needs_data
