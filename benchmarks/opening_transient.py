@@ -25,10 +25,11 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from geometry.errors import UsageError
 from landscape.analysis.calibration import candidate_set, parse_vary
 from landscape.analysis.opening import recorded_first_openings, simulated_opening
 from landscape.analysis.physical import measured_plateaus_deg
-from landscape.analysis.validation import cell_phases, simulates_commands
+from landscape.analysis.validation import cell_phases, parse_cells, simulates_commands
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -50,8 +51,15 @@ def main(argv=None) -> int:
     ap.add_argument("--vary", action="append", default=[], help="TABLE.KEY=V1,V2: variants of the first set")
     args = ap.parse_args(argv)
     models = args.models.split(",")
+    with tempfile.TemporaryDirectory(prefix="opening_transient_") as tmp:
+        try:
+            return _run(args, models, Path(tmp))
+        except UsageError as exc:  # bad cells, sets or --vary: one line, as the landscape command does
+            ap.exit(2, f"{ap.prog}: error: {exc}\n")
+
+
+def _run(args, models: list[str], tmp: Path) -> int:
     variants = {}
-    tmp = Path(tempfile.mkdtemp(prefix="opening_transient_"))
     for key, values in (parse_vary(args.vary) if args.vary else {}).items():
         for v in values:
             name = f"{models[0]}+{key}={v:g}"
@@ -59,12 +67,12 @@ def main(argv=None) -> int:
                 candidate_set(models[0], {key: v}, name, tmp / f"v{len(variants)}.toml").source
             )
     plateau = measured_plateaus_deg(args.data)
-    wanted = (
-        None if args.cells is None else {tuple(float(x) for x in c.split(":")) for c in args.cells.split(",")}
-    )
+    openings = recorded_first_openings(args.data)
+    available = {(o.theta_w_cmd_deg, o.theta_l_deg) for o in openings}
+    wanted = set(parse_cells(args.cells, available))
     cells = defaultdict(list)
-    for o in recorded_first_openings(args.data):
-        if wanted is None or (o.theta_w_cmd_deg, o.theta_l_deg) in wanted:
+    for o in openings:
+        if (o.theta_w_cmd_deg, o.theta_l_deg) in wanted:
             cells[(o.theta_w_cmd_deg, o.theta_l_deg)].append(o.response)
     runs = {m: m for m in models} | variants
     jobs = [(c, m) for c in sorted(cells) for m in runs]

@@ -185,7 +185,7 @@ def _with_sectors(barrier: Barrier, minimum: Minimum, grid: _SectorGrid, connect
     return replace(barrier, pitch_wise=sectors[0], roll_wise=sectors[1])
 
 
-def _posed(robot: Robot, theta_w_deg, theta_l_deg, wing_joints_deg: dict[str, float] | None) -> Pose:
+def posed(robot: Robot, theta_w_deg, theta_l_deg, wing_joints_deg: dict[str, float] | None) -> Pose:
     """The robot at (theta_w, theta_l), or with each wing joint at its own angle (``wing_joints_deg``, the leg
     joints at theta_l), labelled with theta_w and theta_l."""
     if not wing_joints_deg:
@@ -202,11 +202,14 @@ def start_orientation(
     *,
     start_pitch_deg: float | None = None,
     start_roll_deg: float | None = None,
+    wing_joints_deg: dict[str, float] | None = None,
 ) -> tuple[float, float]:
     """The orientation barrier searches start from, degrees.
 
     With ``start_pitch_deg``/``start_roll_deg``: the minimum reached by descent from there. Otherwise the
-    metastable state of a slow opening from rest (a robot with joints), or descent from pitch = roll = 0.
+    metastable state of a slow opening from rest (a robot with joints), or descent from pitch = roll = 0. A pose
+    with each wing joint at its own angle (``wing_joints_deg``) opens slowly to the smallest of them, then
+    descends on ``pose``.
     """
     if start_pitch_deg is not None or start_roll_deg is not None:
         p = 0.0 if start_pitch_deg is None else float(start_pitch_deg)
@@ -216,6 +219,8 @@ def start_orientation(
                 f"start pitch and roll must be finite degrees in [-180, 180]; got ({p!r}, {r!r})"
             )
         return local_descent(pose, p, r)
+    if wing_joints_deg:
+        return local_descent(pose, *metastable_orientation(robot, min(wing_joints_deg.values()), theta_l_deg))
     if robot.has_joints:
         return metastable_orientation(robot, theta_w_deg, theta_l_deg)
     return local_descent(pose, 0.0, 0.0)
@@ -346,13 +351,10 @@ def compute(
     warm_up()
     timing = {}
     t0 = time.perf_counter()
-    pose = _posed(robot, theta_w_deg, theta_l_deg, wing_joints_deg)
+    pose = posed(robot, theta_w_deg, theta_l_deg, wing_joints_deg)
     _check_com_inside(pose)
     timing["pose"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    if start_deg is None and wing_joints_deg and start_pitch_deg is None and start_roll_deg is None:
-        opened = metastable_orientation(robot, min(wing_joints_deg.values()), theta_l_deg)
-        start_deg = local_descent(pose, *opened)
     if start_deg is None:
         start_deg = start_orientation(
             robot,
@@ -361,6 +363,7 @@ def compute(
             theta_l_deg,
             start_pitch_deg=start_pitch_deg,
             start_roll_deg=start_roll_deg,
+            wing_joints_deg=wing_joints_deg,
         )
     timing["start"] = time.perf_counter() - t0
     t0 = time.perf_counter()
@@ -571,11 +574,11 @@ def barrier_map(
     grid = barrier_method(method).SECTORS  # only the grid method needs each pose's whole grid
     check_memory(step_deg, memory_budget_bytes)
     n_workers = map_workers(len(ws) * len(ls_), workers)
-    starts = sweep_starts(robot, ws, ls_)
     joints = wing_joints_deg or {}
     if joints and set(joints) != set(ws):
         raise UsageError(f"wing_joints_deg needs one entry per theta_w {ws}; got {sorted(joints)}")
-    tasks = [(w, leg, None if joints else starts[(w, leg)]) for w in ws for leg in ls_]
+    starts = {} if joints else sweep_starts(robot, ws, ls_)  # wing joints of their own: compute's own starts
+    tasks = [(w, leg, starts.get((w, leg))) for w in ws for leg in ls_]
     warm_up()  # load the kernels once, before any fork, so the workers inherit them
     task = dict(
         robot=robot,

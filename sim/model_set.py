@@ -129,6 +129,13 @@ class ModelSet:
             )
         return dict(zip(names, plateaus.tolist(), strict=True))
 
+    def wing_joints_by_theta_w(self, joint_names, theta_w_deg) -> dict[float, dict[str, float]] | None:
+        """:meth:`wing_joints_deg` at each wing command of a list (a barrier map's ``wing_joints_deg``); None for
+        an idealised set (every wing joint at theta_w)."""
+        if self.measured is None:
+            return None
+        return {float(w): self.wing_joints_deg(joint_names, w) for w in theta_w_deg}
+
     def actuation(
         self,
         theta_w_deg: float,

@@ -104,13 +104,8 @@ def opening_response(
     t = np.asarray(t_s, dtype=np.float64) - float(start_s)
     p = np.asarray(pitch_deg, dtype=np.float64)
     r = np.asarray(roll_deg, dtype=np.float64)
-
-    def median(lo: float, hi: float) -> float:
-        sel = (t >= lo) & (t <= hi)
-        return float(np.median(p[sel])) if sel.any() else math.nan
-
-    rest = median(-REST_WINDOW_S, -1e-12)
-    hold = median(*HOLD_WINDOW_S)
+    rest = _median_between(t, p, -REST_WINDOW_S, -1e-12)
+    hold = _median_between(t, p, *HOLD_WINDOW_S)
     win = (t >= TRANSIENT_WINDOW_S[0]) & (t <= TRANSIENT_WINDOW_S[1])
     overshoot = float(p[win].max()) - hold if win.any() else math.nan
     tilt = math.nan
@@ -173,38 +168,37 @@ def recorded_first_openings(data_dir: str | Path) -> list[RecordedOpening]:
         resp = opening_response(rec.t_s, rec.pitch_deg, rec.roll_deg, start)
         ups = rec.leg_up_s[rec.leg_up_s <= start + 1e-9]
         lead = start - float(ups[-1]) if len(ups) else math.nan
-        moving = rec.theta_l_deg > 0
-        swing = _fastest_roll_before_s(rec.t_s, rec.roll_deg, start) if moving else math.nan
-        held = _window_median(rec.t_s, rec.roll_deg, start, LEG_HELD_S) - _window_median(
-            rec.t_s, rec.roll_deg, start, LEG_STILL_S
-        )
+        swing = held = math.nan
+        if rec.theta_l_deg > 0:
+            t = rec.t_s - start
+            swing = _fastest_roll_before_s(t, rec.roll_deg)
+            held = _median_between(t, rec.roll_deg, -LEG_HELD_S[0], -LEG_HELD_S[1]) - _median_between(
+                t, rec.roll_deg, -LEG_STILL_S[0], -LEG_STILL_S[1]
+            )
         out.append(
             RecordedOpening(
-                rec.name, rec.theta_w_cmd_deg, rec.theta_l_deg, rec.trial, resp, lead, swing,
-                held if moving else math.nan,
+                rec.name, rec.theta_w_cmd_deg, rec.theta_l_deg, rec.trial, resp, lead, swing, held
             )
-        )  # fmt: skip
+        )
     return out
 
 
-def _window_median(t_s, values, start_s: float, before_s: tuple[float, float]) -> float:
-    """Median of ``values`` from ``before_s[0]`` to ``before_s[1]`` seconds before ``start_s``; nan if empty."""
-    t = np.asarray(t_s, dtype=np.float64) - start_s
-    sel = (t >= -before_s[0]) & (t <= -before_s[1])
+def _median_between(t, values, lo: float, hi: float) -> float:
+    """Median of ``values`` at the times ``t`` in [lo, hi] (times from the opening's start, s); nan if none."""
+    sel = (t >= lo) & (t <= hi)
     return float(np.median(np.asarray(values, dtype=np.float64)[sel])) if sel.any() else math.nan
 
 
-def _fastest_roll_before_s(t_s, roll_deg, start_s: float) -> float:
-    """How long before ``start_s`` the roll changed fastest within ``SWING_WINDOW_S`` (midpoint of the steepest
-    sample pair), s; nan with fewer than three samples there.
+def _fastest_roll_before_s(t, roll_deg) -> float:
+    """How long before the opening (``t``: times from its start, s) the roll changed fastest within
+    ``SWING_WINDOW_S`` (midpoint of the steepest sample pair), s; nan with fewer than three samples there.
 
     Examples
     --------
     >>> t = np.arange(-0.5, 0.0, 0.02)
-    >>> round(_fastest_roll_before_s(t, np.where(t < -0.13, 0.0, 1.0), 0.0), 3)
+    >>> round(_fastest_roll_before_s(t, np.where(t < -0.13, 0.0, 1.0)), 3)
     0.13
     """
-    t = np.asarray(t_s, dtype=np.float64) - start_s
     sel = (t >= -SWING_WINDOW_S) & (t < 0)
     if sel.sum() < 3:
         return math.nan
@@ -327,15 +321,16 @@ def hold_pitch_frames(
 
 def per_servo_hold_deg(robot, measured, commands_deg: Sequence[float]) -> dict[float, float]:
     """The model's metastable pitch with each wing servo at its own measured plateau
-    (:meth:`sim.actuation.MeasuredActuation.wing_plateaus_deg`), degrees: :func:`landscape.computation.compute`
-    with ``wing_joints_deg`` (a slow opening to the smallest plateau, then descent)."""
-    from landscape.computation import compute
+    (:meth:`sim.actuation.MeasuredActuation.wing_plateaus_deg`), degrees: the start of
+    :func:`landscape.computation.compute` with those ``wing_joints_deg`` (a slow opening to the smallest
+    plateau, then descent)."""
+    from landscape.computation import posed, start_orientation
 
     out = {}
     for c in commands_deg:
         vals = dict(zip(robot.joint_map.wing, measured.wing_plateaus_deg(c).tolist(), strict=True))
-        comp = compute(robot, theta_w_deg=c, theta_l_deg=0.0, wing_joints_deg=vals, landscape_grid=False)
-        out[float(c)] = float(comp.start_deg[0])
+        pose = posed(robot, c, 0.0, vals)
+        out[float(c)] = float(start_orientation(robot, pose, c, 0.0, wing_joints_deg=vals)[0])
     return out
 
 
@@ -343,8 +338,11 @@ def plateau_hold_deg(robot, data_dir: str | Path, commands_deg: Sequence[float])
     """The model's metastable pitch with every wing joint at the measured plateau of each command, degrees."""
     from landscape.minima import metastable_orientation
 
-    plateau = measured_plateaus_deg(data_dir)
-    return {float(c): float(metastable_orientation(robot, plateau[c], 0.0)[0]) for c in commands_deg}
+    try:
+        plateau = measured_plateaus_deg(data_dir)
+    except PhysicalDataError:  # no per-attempt record: the command itself, as resting_pitch_table does
+        plateau = {}
+    return {float(c): float(metastable_orientation(robot, plateau.get(c, c), 0.0)[0]) for c in commands_deg}
 
 
 def support_links(pose, pitch_deg: float, roll_deg: float, *, tol_m: float = 2e-4) -> list[str]:

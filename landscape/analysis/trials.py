@@ -508,7 +508,11 @@ def landscape_barriers(
     pairs = sorted(set(pairs))
     if not pairs:
         return {}
-    starts = sweep_starts(robot, sorted({w for w, _ in pairs}), sorted({x for _, x in pairs}))
+    joints_of = wing_joints_deg or {}
+    shared = [(w, x) for w, x in pairs if not joints_of.get(w)]  # the others find their starts in compute
+    starts = (
+        sweep_starts(robot, sorted({w for w, _ in shared}), sorted({x for _, x in shared})) if shared else {}
+    )
     out = {}
     it = pairs
     if progress:
@@ -519,14 +523,14 @@ def landscape_barriers(
         it = tqdm(pairs, desc="barriers", unit="pose", file=sys.stderr, disable=None)
     for w, leg in it:
         vals = []
-        joints = (wing_joints_deg or {}).get(w)
+        joints = joints_of.get(w)
         for method in ("exact", "grid"):
             c = compute(
                 robot,
                 theta_w_deg=w,
                 theta_l_deg=leg,
                 step_deg=step_deg,
-                start_deg=None if joints else starts[(w, leg)],
+                start_deg=starts.get((w, leg)),
                 method=method,
                 wing_joints_deg=joints,
             )

@@ -17,9 +17,9 @@ from landscape.cli.options import (
     grid_step,
     memory_budget_bytes,
     method_option,
-    model_wing_joints,
     parse_values,
     pose_model_option,
+    pose_model_set,
     robot_from,
     robot_options,
     writable_dir,
@@ -116,7 +116,8 @@ def compute(
     if out:
         writable_dir(out, "--out")
     robot = robot_from(kw, theta_w_deg=theta_w)
-    wing_joints = model_wing_joints(pose_model, robot, theta_w)
+    ms = pose_model_set(pose_model, robot)
+    wing_joints = ms.wing_joints_deg(robot.joint_map.wing, theta_w) if ms else None
     c = run(
         robot,
         wing_joints_deg=wing_joints,
@@ -203,8 +204,8 @@ def barrier_map(theta_w, theta_l, step, method, pose_model, out, **kw):
     grid_step(step)
     writable_dir(out, "--out")
     robot = robot_from(kw, theta_w_deg=ws)
-    joints = {w: model_wing_joints(pose_model, robot, w) for w in ws}
-    joints = joints if all(joints.values()) else None
+    ms = pose_model_set(pose_model, robot)
+    joints = ms.wing_joints_by_theta_w(robot.joint_map.wing, ws) if ms else None
     t0 = time.perf_counter()
     with tqdm(
         total=len(ws) * len(ls_), desc="barrier-map", unit="pose", file=sys.stderr, disable=None

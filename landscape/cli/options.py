@@ -419,12 +419,22 @@ pose_model_option = click.option(
 """``--model``: the model set whose wing-servo plateaus pose the robot in ``compute`` and ``barrier-map``."""
 
 
-def model_wing_joints(pose_model: str | None, robot, theta_w_deg: float) -> dict[str, float] | None:
-    """The wing joints' angles (degrees) a model set holds at the wing command ``theta_w_deg``
-    (:meth:`sim.model_set.ModelSet.wing_joints_deg`); None without a set. Imports the model sets (and with them
-    pybullet) only when a set is named."""
+def pose_model_set(pose_model: str | None, robot):
+    """The model set ``--model`` names for posing the robot's wings (:meth:`sim.model_set.ModelSet.wing_joints_deg`),
+    or None; imports the model sets (and with them pybullet) only when a set is named.
+
+    Raises
+    ------
+    UsageError
+        If a set is named for a robot without joints (a ``--mesh`` body), or it cannot be loaded.
+    """
     if pose_model is None:
         return None
+    if not robot.has_joints:
+        raise UsageError(
+            f"--model {pose_model} poses wing joints, but {robot.name} is a rigid body without joints; "
+            "drop --model or give a robot URDF"
+        )
     from sim.model_set import load_model_set
 
-    return load_model_set(pose_model).wing_joints_deg(robot.joint_map.wing, theta_w_deg)
+    return load_model_set(pose_model)

@@ -77,7 +77,6 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
 
     The model's hold is its metastable pitch with the wing joints at the measured plateau, or, for a model set
     with a measured actuation profile (--model physical), each wing servo at its own measured plateau."""
-    import math
 
     from landscape.analysis import opening as op
     from landscape.analysis import physical as ph
@@ -96,19 +95,15 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
 
         r = load_robot(robot, None, joints=joints)
         ms = load_model_set(model_set)
-        plateaus = [
-            row.theta_w_measured_deg if math.isfinite(row.theta_w_measured_deg) else row.theta_w_cmd_deg
-            for row in rows
-        ]
-        model = ph.model_plateau_pitch_deg(r, plateaus)
         commands = [row.theta_w_cmd_deg for row in rows]
+        rest = metastable_orientation(r, 0.0, 0.0)
+        equal = op.plateau_hold_deg(r, data, commands)  # every wing joint at the measured plateau
+        model = [equal[c] - rest[0] for c in commands]
         if ms.measured is not None:
             hold = op.per_servo_hold_deg(r, ms.measured, commands)
             how = f"each wing servo at its own measured plateau (model set {ms.name})"
         else:
-            hold = op.plateau_hold_deg(r, data, commands)
-            how = "every wing joint at the measured plateau"
-        rest = metastable_orientation(r, 0.0, 0.0)
+            hold, how = equal, "every wing joint at the measured plateau"
         frames = op.hold_pitch_frames(data, hold, rest[0])
         closed_on = ", ".join(op.support_links(r.pose(0.0, 0.0), *rest))
         click.echo(f"model: {r.name} ({r.source}); pitch at each measured plateau minus pitch at theta_w = 0")
@@ -125,9 +120,10 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
         click.echo(hold_frames_markdown(frames))
         click.echo(f"the model rests with the wings closed on: {closed_on}")
     click.echo(
-        "\nfirst opening of every trial: the leg command's last rise before it (servo log, 10 Hz), the pitch "
-        "overshoot past the hold, the rise time to half the hold, the lateral tilt asin(cos p sin r) of largest "
-        "magnitude 0.2-0.6 s after the opening starts (medians)"
+        "\nfirst opening of every trial: the leg command's last rise before it (servo log, 10 Hz), the body's "
+        "roll while the leg is held at its first command before it, when the body rolled fastest before it (the "
+        "leg's swing), the pitch overshoot past the hold, the rise time to half the hold, the lateral tilt "
+        "asin(cos p sin r) of largest magnitude 0.2-0.6 s after the opening starts (medians)"
     )
     click.echo(first_openings_markdown(op.recorded_first_openings(data)))
     lat = ph.lateralisation(ph.physical_trials(data))

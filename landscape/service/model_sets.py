@@ -53,8 +53,9 @@ def map_wing_joints_deg(model: str | None, robot, theta_w_deg: list[float]) -> d
     """:func:`wing_joints_deg` per theta_w of a barrier map (its ``wing_joints_deg``); None when the set poses
     every wing joint at theta_w (no set, or an idealised one)."""
     ms = shipped_model_set(model)
-    joints = {w: _joints(ms, robot, w) for w in theta_w_deg}
-    return joints if joints and all(joints.values()) else None
+    if ms is None:
+        return None
+    return ms.wing_joints_by_theta_w(robot.joint_map.wing if robot.has_joints else (), theta_w_deg)
 
 
 def _joints(ms, robot, theta_w_deg: float) -> dict[str, float] | None:

@@ -624,7 +624,7 @@ def _set_wing_joints(rows: list[dict], robot, theta_w_deg: set[float]):
         return None, f"Wings posed with every joint at θw (model set {name}, idealised)."
     if stored and ms.model_set_hash != stored:
         return None, f"Wings posed with every joint at θw (model set {name} changed since the trials ran)."
-    joints = {w: ms.wing_joints_deg(robot.joint_map.wing, w) for w in theta_w_deg}
+    joints = ms.wing_joints_by_theta_w(robot.joint_map.wing, sorted(theta_w_deg))
     return joints, f"Each wing servo posed at its measured plateau (model set {name}), as the trials ran."
 
 
@@ -1018,16 +1018,23 @@ def section_validation(
             )
         )
     if data_dir is not None:
+        from dataclasses import asdict
+
         from geometry.robots import load_robot
+        from landscape.analysis import opening as op
+        from landscape.minima import metastable_orientation
 
         rows = ph.resting_pitch_table(data_dir)
-        out_rows = []
+        commands = [x.theta_w_cmd_deg for x in rows]
+        out_rows, frames = [], []
         robots = {str(doc.get("robot")) for doc in docs if doc.get("robot")}
         models = {}
-        for r in sorted(robots):
+        for r in sorted(robots):  # each robot's holds once: relative to its rest here, in frames below
             rb = load_robot(r)
-            plateaus = [x.theta_w_measured_deg for x in rows]
-            models[rb.name] = ph.model_plateau_pitch_deg(rb, plateaus)
+            rest = metastable_orientation(rb, 0.0, 0.0)[0]
+            hold = op.plateau_hold_deg(rb, data_dir, commands)
+            models[rb.name] = [hold[c] - rest for c in commands]
+            frames += [{"robot": rb.name} | asdict(x) for x in op.hold_pitch_frames(data_dir, hold, rest)]
         for i, x in enumerate(rows):
             row = {
                 "wing_command_deg": x.theta_w_cmd_deg,
@@ -1048,25 +1055,17 @@ def section_validation(
                 _write_csv(out / "validation" / "resting_pitch.csv", out_rows),
             )
         )
-        tables += _opening_tables(out, data_dir, sorted(robots), [x.theta_w_cmd_deg for x in rows])
+        tables += _opening_tables(out, data_dir, frames)
     return Section("validation", title, tuple(paras), tuple(figures), tuple(tables))
 
 
-def _opening_tables(out: Path, data_dir, robots: list[str], commands: list[float]) -> list[Table]:
-    """The hold pitch of first openings in the IMU's frame beside each robot model's (every wing joint at the
-    measured plateau), and every recorded first opening (:mod:`landscape.analysis.opening`)."""
+def _opening_tables(out: Path, data_dir, frames: list[dict]) -> list[Table]:
+    """The hold pitch of first openings in the IMU's frame beside each robot model's (``frames``: rows of
+    :func:`landscape.analysis.opening.hold_pitch_frames` with their robot), and every recorded first opening."""
     from dataclasses import asdict
 
-    from geometry.robots import load_robot
     from landscape.analysis import opening as op
-    from landscape.minima import metastable_orientation
 
-    frames = []
-    for r in robots:
-        rb = load_robot(r)
-        hold = op.plateau_hold_deg(rb, data_dir, commands)
-        rows = op.hold_pitch_frames(data_dir, hold, metastable_orientation(rb, 0.0, 0.0)[0])
-        frames += [{"robot": rb.name} | asdict(x) for x in rows]
     first = [
         {
             "trial": o.name,
@@ -1087,7 +1086,8 @@ def _opening_tables(out: Path, data_dir, robots: list[str], commands: list[float
             _write_csv(out / "validation" / "hold_frames.csv", frames),
         ),
         Table(
-            "First opening of every recorded trial: the leg command's lead, the pitch overshoot, the rise time and "
+            "First opening of every recorded trial: the leg command's lead, the body's roll while the leg is held "
+            "and when it rolled fastest before the opening (the leg's swing), the pitch overshoot, the rise time and "
             "the lateral tilt asin(cos p sin r) of largest magnitude 0.2-0.6 s after the opening starts",
             _write_csv(out / "validation" / "first_openings.csv", first),
         ),

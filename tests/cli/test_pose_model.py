@@ -76,3 +76,14 @@ def test_an_idealised_set_poses_every_joint_at_theta_w(capsys):
     assert main(["compute", "--theta-w", "74", "--json"]) == 0
     plain = json.loads(capsys.readouterr().out)
     assert with_set["barrier"] == plain["barrier"] and with_set["wing_joints_deg"] is None
+
+
+def test_a_rigid_body_takes_no_model_set(tmp_path, capsys):
+    import trimesh
+
+    mesh = tmp_path / "box.stl"
+    trimesh.creation.box(extents=(0.1, 0.06, 0.04)).export(mesh)
+    assert main(["compute", "--mesh", str(mesh), "--model", "physical"]) == 2
+    err = capsys.readouterr().err
+    assert "--model physical poses wing joints, but box is a rigid body without joints" in err
+    assert len(err.strip().splitlines()) == 1
