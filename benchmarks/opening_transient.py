@@ -4,14 +4,21 @@ Per physical cell (wing command x leg amplitude), the first opening of each reco
 first openings of each model set (random first-attempt phases, the validation's, no noise), measured by the same
 code (``landscape.analysis.opening``): the pitch overshoot past the hold, the rise time, and the lateral tilt of
 largest magnitude 0.2-0.6 s after the opening starts (``asin(cos p sin r)``, degrees; positive towards positive
-roll). Medians over the trials; in brackets, the median |tilt|.
+roll). Medians over the trials; in brackets, the median |tilt|. A second table gives the hold's wobble: the
+standard deviations of pitch and tilt 0.5-0.95 s after the opening starts, while the wings are held open.
+
+With ``--phase P`` every simulated first opening starts at leg phase P (the lab's protocol fixes it; ``landscape
+physical kinematics`` times it at about 0.17) instead of the validation's random phases (without noise the
+openings of a cell are then alike: ``--trials 1``).
 
 With ``--vary TABLE.KEY=V1,V2`` (repeatable) each value is also tried on its own in a copy of the first set
 (``landscape.analysis.calibration.candidate_set``), one key at a time, and a last table gives each variant's
-median |tilt| per cell beside the robot's; ``--cells 60:30,60:45`` limits the cells.
+median |tilt| and hold wobble per cell beside the robot's; ``--with TABLE.KEY=V`` (repeatable) sets a key in
+every variant (e.g. a damping while the stiffness varies); ``--cells 60:30,60:45`` limits the cells.
 
 Run:  PYTHONPATH=. .venv/bin/python benchmarks/opening_transient.py [--data DIR] [--robot URDF]
-      [--models paper,physical] [--trials 5] [--seed 0] [--cells W:L,...] [--vary TABLE.KEY=V1,V2 ...]
+      [--models paper,physical] [--trials 5] [--seed 0] [--cells W:L,...] [--phase P]
+      [--vary TABLE.KEY=V1,V2 ...] [--with TABLE.KEY=V ...]
 """
 
 from __future__ import annotations
@@ -40,6 +47,12 @@ def summary(responses) -> str:
     return f"{over:+.1f}° / {np.median(tilt):+.1f}° ({np.median(np.abs(tilt)):.1f}°)"
 
 
+def wobble(responses) -> str:
+    p = np.median([r.wobble_pitch_deg for r in responses])
+    t = np.median([r.wobble_tilt_deg for r in responses])
+    return f"{p:.1f}° / {t:.1f}°"
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--data", default=str(ROOT.parent / "shared/ref/physical_robot"))
@@ -48,8 +61,14 @@ def main(argv=None) -> int:
     ap.add_argument("--trials", type=int, default=5, help="simulated first openings per cell and set")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--cells", default=None, help="only these cells, WING:LEG,... [default: all]")
+    ap.add_argument("--phase", type=float, default=None, help="every first opening at this leg phase in [0, 1)")
     ap.add_argument("--vary", action="append", default=[], help="TABLE.KEY=V1,V2: variants of the first set")
+    ap.add_argument(
+        "--with", dest="fixed", action="append", default=[], help="TABLE.KEY=V: set in every variant"
+    )
     args = ap.parse_args(argv)
+    if args.phase is not None and not 0.0 <= args.phase < 1.0:
+        ap.exit(2, f"{ap.prog}: error: --phase must lie in [0, 1); got {args.phase!r}\n")
     models = args.models.split(",")
     with tempfile.TemporaryDirectory(prefix="opening_transient_") as tmp:
         try:
@@ -59,12 +78,20 @@ def main(argv=None) -> int:
 
 
 def _run(args, models: list[str], tmp: Path) -> int:
+    fixed = {}
+    for key, values in (parse_vary(args.fixed) if args.fixed else {}).items():
+        if len(values) != 1:
+            raise UsageError(f"--with {key} takes one value; vary it with --vary")
+        fixed[key] = values[0]
+    if fixed and not args.vary:
+        raise UsageError("--with sets a key in the --vary variants; give at least one --vary")
+    tag = "".join(f"+{k}={v:g}" for k, v in fixed.items())
     variants = {}
     for key, values in (parse_vary(args.vary) if args.vary else {}).items():
         for v in values:
-            name = f"{models[0]}+{key}={v:g}"
+            name = f"{models[0]}{tag}+{key}={v:g}"
             variants[name] = str(
-                candidate_set(models[0], {key: v}, name, tmp / f"v{len(variants)}.toml").source
+                candidate_set(models[0], fixed | {key: v}, name, tmp / f"v{len(variants)}.toml").source
             )
     plateau = measured_plateaus_deg(args.data)
     openings = recorded_first_openings(args.data)
@@ -80,14 +107,18 @@ def _run(args, models: list[str], tmp: Path) -> int:
     with tqdm(total=len(jobs) * args.trials, unit="trial", file=sys.stderr) as bar:
         for (w, leg), m in jobs:
             wing = w if simulates_commands(runs[m]) else plateau[w]
-            for k, ph in enumerate(cell_phases(w, leg, args.trials, args.seed)):
+            phases = cell_phases(w, leg, args.trials, args.seed)
+            if args.phase is not None:
+                phases = [args.phase] * len(phases)
+            for k, ph in enumerate(phases):
                 sims[(w, leg, m)].append(
                     simulated_opening(
                         wing, leg, phase=ph, seed=args.seed + k, robot=args.robot, model_set=runs[m]
                     )
                 )
                 bar.update()
-    print(f"robot {Path(args.robot).name}; {args.trials} simulated first openings a cell and set; "
+    at = "the validation's random phases" if args.phase is None else f"phase {args.phase:g}"
+    print(f"robot {Path(args.robot).name}; {args.trials} simulated first openings a cell and set at {at}; "
           "overshoot / signed tilt (median |tilt|), medians")  # fmt: skip
     head = ["wing cmd", "leg", "robot (n)"] + models
     print("| " + " | ".join(head) + " |")
@@ -107,19 +138,24 @@ def _run(args, models: list[str], tmp: Path) -> int:
         if ratio[m]:
             print(f"{m}: robot's median |tilt| / simulated, cells with the leg moving: median "
                   f"{np.median(ratio[m]):.1f}x (range {min(ratio[m]):.1f}-{max(ratio[m]):.1f}x)")  # fmt: skip
+    print("\nhold wobble, 0.5-0.95 s: standard deviation of pitch / of tilt, medians")
+    print("| " + " | ".join(head) + " |")
+    print("|" + "---|" * len(head))
+    for (w, leg), rec in sorted(cells.items()):
+        row = [f"{w:g}°", f"{leg:g}°", f"{wobble(rec)} ({len(rec)})"] + [wobble(sims[(w, leg, m)]) for m in models]
+        print("| " + " | ".join(row) + " |")
     if variants:
         keys = sorted(cells)
-        print("\nmedian |tilt| of the first opening, robot and each variant")
+        print("\nmedian |tilt| of the first opening; hold wobble: pitch / tilt standard deviation; robot and variants")
         print("| set | " + " | ".join(f"{w:g}°/{leg:g}°" for w, leg in keys) + " |")
         print("|" + "---|" * (len(keys) + 1))
-        print(
-            "| robot | "
-            + " | ".join(f"{np.median(np.abs([r.tilt_deg for r in cells[c]])):.1f}°" for c in keys)
-            + " |"
-        )
-        for m in [models[0], *variants]:
-            vals = [np.median(np.abs([r.tilt_deg for r in sims[(*c, m)]])) for c in keys]
-            print(f"| {m} | " + " | ".join(f"{v:.1f}°" for v in vals) + " |")
+        for m, runs_of in [("robot", lambda c: cells[c])] + [
+            (m, lambda c, m=m: sims[(*c, m)]) for m in [models[0], *variants]
+        ]:
+            vals = [
+                f"{np.median(np.abs([r.tilt_deg for r in runs_of(c)])):.1f}°; {wobble(runs_of(c))}" for c in keys
+            ]
+            print(f"| {m} | " + " | ".join(vals) + " |")
     return 0
 
 

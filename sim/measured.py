@@ -349,13 +349,16 @@ def _row(values) -> str:
     return "[" + ", ".join(f"{v:g}" for v in values) + "]"
 
 
-def measured_actuation_toml(data_dir: str | Path) -> str:
+def measured_actuation_toml(data_dir: str | Path, *, servo_sides: str = "as-labelled") -> str:
     """The ``[actuation]`` block of a ``profile = "measured"`` model set, fitted to the lab's traces.
 
     Parameters
     ----------
     data_dir : path
         Directory holding ``motor_pulse_v2.mat`` and ``vib_pulse_v2.mat`` (the physical robot's data).
+    servo_sides : {"as-labelled", "mirrored"}
+        Which wing joints the lab's left servos drive (``sim.model_set.SERVO_SIDES``); "mirrored" writes
+        ``servo_sides = "mirrored"``.
 
     Returns
     -------
@@ -380,13 +383,13 @@ def measured_actuation_toml(data_dir: str | Path) -> str:
         f"wing_command_deg = {_row(wing['command_deg'])}",
         f"leg_command_deg = {_row(leg['command_deg'])}",
     ]
-    joints = dict(
-        zip(
-            WING_SERVOS,
-            ("wing_pitch_left", "wing_pitch_right", "wing_roll_left", "wing_roll_right"),
-            strict=True,
-        )
-    )
+    joints = ("wing_pitch_left", "wing_pitch_right", "wing_roll_left", "wing_roll_right")
+    if servo_sides == "mirrored":
+        lines.append('servo_sides = "mirrored"  # the lab\'s left servos drive the model\'s right joints')
+        joints = ("wing_pitch_right", "wing_pitch_left", "wing_roll_right", "wing_roll_left")
+    elif servo_sides != "as-labelled":
+        raise ValueError(f"servo_sides must be 'as-labelled' or 'mirrored'; got {servo_sides!r}")
+    joints = dict(zip(WING_SERVOS, joints, strict=True))
     for servo in WING_SERVOS:
         rec = wing["servos"][servo]
         errs = ", ".join(f"{e:.2f}" for e in rec["max_error_deg"])

@@ -32,7 +32,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -49,8 +49,22 @@ PROFILES = ("idealised", "measured")
 _TOP = {"name", "version", "description", "actuation", "contact", "compliance"}
 _COMPLIANCE = {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad"}
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
-_MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg"}
+_MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg", "servo_sides"}
+SERVO_SIDES = ("as-labelled", "mirrored")
+"""How a measured set's servos (the lab's LP, RP, LR, RR) drive the robot's wing joints (the joint map's left
+pitch, right pitch, left roll, right roll): as labelled, or mirrored (the lab's left servos drive the model's
+right joints; the side the robot rolls over to favours mirrored, README "The physical robot")."""
 _SERVOS = ("LP", "RP", "LR", "RR")
+OPTIONAL_KEYS = frozenset(
+    {
+        "contact.rolling_friction",
+        "contact.spinning_friction",
+        "compliance.wing_stiffness_n_m_rad",
+        "compliance.wing_damping_n_m_s_rad",
+    }
+)
+"""Dotted keys a set may omit (and a calibration candidate may add): rolling and spinning friction, and the
+``[compliance]`` table's (its stiffness is required once the table is there)."""
 _CONTACT = {
     "lateral_friction",
     "restitution",
@@ -258,7 +272,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     act = data["actuation"]
     measured_profile = isinstance(act, dict) and act.get("profile") == "measured"
     keys = _MEASURED if measured_profile else _ACTUATION
-    act = _check_keys(act, keys, keys, f"{where} [actuation]")
+    act = _check_keys(act, keys, keys - {"servo_sides"}, f"{where} [actuation]")
     if act["profile"] not in PROFILES:
         raise ModelSetError(
             f"{where} [actuation]: profile must be one of {', '.join(PROFILES)}; got {act['profile']!r}"
@@ -315,6 +329,17 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
             },
             "leg": {"knots_s": measured.leg_knots_s, "knots_deg": measured.leg_knots_deg},
         }
+        sides = act.get("servo_sides", SERVO_SIDES[0])
+        if sides not in SERVO_SIDES:
+            raise ModelSetError(f"{wa}: servo_sides must be one of {', '.join(SERVO_SIDES)}; got {sides!r}")
+        if sides == "mirrored":  # enters the hash only when set, so the sets of before keep their hashes
+            act_canon["servo_sides"] = sides
+            swap = (1, 0, 3, 2)  # (LP, RP, LR, RR) -> the joints (right pitch, left pitch, right roll, left roll)
+            measured = replace(
+                measured,
+                wing_knots_s=tuple(measured.wing_knots_s[i] for i in swap),
+                wing_knots_deg=tuple(measured.wing_knots_deg[i] for i in swap),
+            )
     else:
         measured = None
         timing = {

@@ -61,19 +61,20 @@ def parse_vary(items: Sequence[str]) -> dict[str, list[float]]:
 
 
 def candidate_set(base: str | Path, overrides: dict[str, float], name: str, path: str | Path):
-    """Write the base model set with ``overrides`` (dotted keys that the base already has) as ``path`` under
-    ``name`` and return it loaded (so it is validated like any set).
+    """Write the base model set with ``overrides`` (dotted keys that the base already has, or that any set may
+    add: ``sim.model_set.OPTIONAL_KEYS``) as ``path`` under ``name`` and return it loaded (so it is validated
+    like any set).
 
     Raises
     ------
     CalibrationError
-        If a key is not in the base set.
+        If a key is neither in the base set nor optional.
     ModelSetError
         If a value is out of the set's range.
     """
     import tomli_w
 
-    from sim.model_set import load_model_set, read_toml
+    from sim.model_set import OPTIONAL_KEYS, load_model_set, read_toml
 
     ms = load_model_set(base)
     data = read_toml(ms.source)
@@ -81,13 +82,17 @@ def candidate_set(base: str | Path, overrides: dict[str, float], name: str, path
         table, _, leaf = key.rpartition(".")
         node = data
         for part in table.split("."):
-            node = node.get(part) if isinstance(node, dict) else None
-        if not isinstance(node, dict) or leaf not in node:
+            if key in OPTIONAL_KEYS and isinstance(node, dict):  # an optional table the base may lack
+                node = node.setdefault(part, {})
+            else:
+                node = node.get(part) if isinstance(node, dict) else None
+        if not isinstance(node, dict) or (leaf not in node and key not in OPTIONAL_KEYS):
             raise CalibrationError(
                 f"--vary {key}: the base set '{ms.name}' ({ms.source}) has no such key; vary a key it has, "
-                "e.g. contact.lateral_friction"
+                f"e.g. contact.lateral_friction, or one a set may add ({', '.join(sorted(OPTIONAL_KEYS))})"
             )
-        node[leaf] = int(value) if isinstance(node[leaf], int) and float(value).is_integer() else float(value)
+        old = node.get(leaf)
+        node[leaf] = int(value) if isinstance(old, int) and float(value).is_integer() else float(value)
     changes = ", ".join(f"{k} = {v:g}" for k, v in overrides.items())
     data["name"] = name
     data["description"] = f"calibration candidate: '{ms.name}' with {changes}"

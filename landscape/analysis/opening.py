@@ -65,6 +65,8 @@ class OpeningResponse:
         Time to pass halfway from the rest to the hold, s.
     tilt_deg : float
         Signed lateral tilt of largest magnitude in the transient window, degrees.
+    wobble_pitch_deg, wobble_tilt_deg : float
+        Standard deviation of the pitch and of the lateral tilt in the hold window, degrees.
     """
 
     rest_pitch_deg: float
@@ -72,6 +74,8 @@ class OpeningResponse:
     overshoot_deg: float
     rise_s: float
     tilt_deg: float
+    wobble_pitch_deg: float = math.nan
+    wobble_tilt_deg: float = math.nan
 
 
 def lateral_tilt_deg(pitch_deg: ArrayLike, roll_deg: ArrayLike) -> NDArray[np.float64]:
@@ -98,8 +102,8 @@ def opening_response(
     >>> t = np.linspace(-0.5, 1.0, 151)
     >>> pitch = np.where(t < 0, 0.0, 60.0 * np.clip(t / 0.3, 0.0, 1.0)) + 10.0 * ((t > 0.3) & (t < 0.4))
     >>> r = opening_response(t, pitch, np.zeros_like(t), 0.0)
-    >>> r.hold_pitch_deg, r.overshoot_deg, round(r.rise_s, 2), r.tilt_deg
-    (60.0, 10.0, 0.15, 0.0)
+    >>> r.hold_pitch_deg, r.overshoot_deg, round(r.rise_s, 2), r.tilt_deg, r.wobble_pitch_deg
+    (60.0, 10.0, 0.15, 0.0, 0.0)
     """
     t = np.asarray(t_s, dtype=np.float64) - float(start_s)
     p = np.asarray(pitch_deg, dtype=np.float64)
@@ -112,13 +116,18 @@ def opening_response(
     if win.any():
         tl = lateral_tilt_deg(p[win], r[win])
         tilt = float(tl[np.argmax(np.abs(tl))])
+    held = (t >= HOLD_WINDOW_S[0]) & (t <= HOLD_WINDOW_S[1])
+    wobble_p = wobble_t = math.nan
+    if held.sum() >= 2:
+        wobble_p = float(np.std(p[held]))
+        wobble_t = float(np.std(lateral_tilt_deg(p[held], r[held])))
     rise = math.nan
     if np.isfinite(rest) and np.isfinite(hold):
         half = rest + 0.5 * (hold - rest)
         after = (t >= 0) & ((p >= half) if hold >= rest else (p <= half))
         if after.any():
             rise = float(t[np.flatnonzero(after)[0]])
-    return OpeningResponse(rest, hold, overshoot, rise, tilt)
+    return OpeningResponse(rest, hold, overshoot, rise, tilt, wobble_p, wobble_t)
 
 
 @dataclass(frozen=True)

@@ -142,17 +142,25 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
     default=None,
     help="Also write the block to this file [default: print only].",
 )
-def actuation_cmd(data, out):
+@click.option(
+    "--servo-sides",
+    type=click.Choice(["as-labelled", "mirrored"]),
+    default="as-labelled",
+    show_default=True,
+    help="Which wing joints the lab's left servos drive: the model's left ones, or its right ones (mirrored: "
+    "what sim/models/physical.toml ships; the side the robot rolls over to favours it).",
+)
+def actuation_cmd(data, out, servo_sides):
     """The measured actuation profile: piecewise-linear knots fitted to each wing servo's and the leg's recorded
     traces (motor_pulse_v2.mat, vib_pulse_v2.mat), printed as the [actuation] block of a model set (the block
-    sim/models/physical.toml ships), with each fit's largest error as comments."""
+    sim/models/physical.toml ships, with --servo-sides mirrored), with each fit's largest error as comments."""
     from sim.measured import measured_actuation_toml
 
     if out is not None:
         from landscape.cli.options import writable_file
 
         writable_file(out, "--out")
-    text = measured_actuation_toml(data)
+    text = measured_actuation_toml(data, servo_sides=servo_sides)
     click.echo(text, nl=not text.endswith("\n"))
     if out is not None:
         Path(out).write_text(text)

@@ -79,6 +79,25 @@ def test_a_bad_measured_set_is_refused(tmp_path, edit, match):
         load_model_set(f)
 
 
+def test_mirrored_servo_sides_put_the_labs_left_servos_on_the_models_right_joints(tmp_path):
+    mirrored = load_model_set("physical")
+    f = tmp_path / "labelled.toml"
+    line = 'servo_sides = "mirrored"'
+    assert line in PHYSICAL_TEXT
+    f.write_text(PHYSICAL_TEXT.replace(line, 'servo_sides = "as-labelled"'))
+    labelled = load_model_set(f)
+    m, a = mirrored.measured, labelled.measured
+    assert [m.wing_knots_deg[i] for i in (1, 0, 3, 2)] == list(a.wing_knots_deg)
+    assert [m.wing_knots_s[i] for i in (1, 0, 3, 2)] == list(a.wing_knots_s)
+    assert m.leg_knots_deg == a.leg_knots_deg and mirrored.model_set_hash != labelled.model_set_hash
+    # the default is as labelled, and it keeps the hash a set had before the key existed
+    f.write_text(PHYSICAL_TEXT.replace(line + "  # the lab's left servos drive the model's right joints\n", ""))
+    assert load_model_set(f).model_set_hash == labelled.model_set_hash
+    f.write_text(PHYSICAL_TEXT.replace(line, 'servo_sides = "left"'))
+    with pytest.raises(ModelSetError, match="servo_sides must be one of as-labelled, mirrored"):
+        load_model_set(f)
+
+
 def test_the_hash_covers_the_knots_and_the_contact_keys(tmp_path):
     base = load_model_set("physical").model_set_hash
     f = tmp_path / "a.toml"
@@ -132,7 +151,8 @@ def test_the_shipped_knots_reproduce_the_traces_and_regenerate():
     ms = load_model_set("physical")
     pulse = _loadmat(DATA / "motor_pulse_v2.mat")["pulse"]
     bound = {60.0: 3.0, 75.0: 3.0, 90.0: 7.5}  # at 90 deg the first cycle lags the periodic one by ~40 ms
-    for j, servo in enumerate(("LP", "RP", "LR", "RR")):
+    # physical.toml mirrors the servos onto the joints: the lab's LP drives the model's right pitch joint, ...
+    for servo, j in zip(("LP", "RP", "LR", "RR"), (1, 0, 3, 2), strict=True):
         for c, cmd in enumerate(ms.measured.wing_command_deg):
             ks, kd = ms.measured.wing_knots_s[j][c], ms.measured.wing_knots_deg[j][c]
             _, _, parts = _wing_samples(pulse, int(cmd), servo)
@@ -145,5 +165,5 @@ def test_the_shipped_knots_reproduce_the_traces_and_regenerate():
     assert all(400 < x["close_deg_s"] < 460 for x in s)
     leg = fit_leg_profiles(DATA / "vib_pulse_v2.mat")
     assert max(leg["max_error_deg"]) < 2.5
-    text = measured_actuation_toml(DATA)
+    text = measured_actuation_toml(DATA, servo_sides="mirrored")
     assert text in PHYSICAL_TEXT  # the shipped block is what the function generates

@@ -40,6 +40,23 @@ def test_a_candidate_is_the_base_set_with_the_overrides_only(tmp_path):
         ca.candidate_set("paper", {"contact.lateral_friction": -1.0}, "c", tmp_path / "e.toml")
 
 
+def test_candidate_set_adds_an_optional_table_the_base_lacks(tmp_path):
+    """Compliance is an optional table: a candidate may add it (calibrating wing compliance from a rigid set), and
+    the set's own rules still apply (the stiffness is required once the table is there)."""
+    ms = ca.candidate_set(
+        "paper",
+        {"compliance.wing_stiffness_n_m_rad": 2.0, "compliance.wing_damping_n_m_s_rad": 0.005},
+        "soft",
+        tmp_path / "soft.toml",
+    )
+    assert ms.compliance.wing_stiffness_n_m_rad == 2.0 and ms.compliance.wing_damping_n_m_s_rad == 0.005
+    assert ca.candidate_set("paper", {"contact.rolling_friction": 0.01}, "r", tmp_path / "r.toml").contact.rolling_friction == 0.01
+    with pytest.raises(ModelSetError, match="wing_stiffness_n_m_rad"):
+        ca.candidate_set("paper", {"compliance.wing_damping_n_m_s_rad": 0.005}, "d", tmp_path / "d.toml")
+    with pytest.raises(ca.CalibrationError, match="has no such key"):
+        ca.candidate_set("paper", {"compliance.wing_stifness": 1.0}, "t", tmp_path / "t.toml")
+
+
 @needs_data
 def test_calibrate_command_picks_the_likeliest_candidate_and_holds_cells_out(tmp_path, capsys):
     args = ["physical", "calibrate", "--data", str(DATA), "--base", "paper"]

@@ -42,10 +42,28 @@ def test_opening_response_reads_rest_hold_overshoot_rise_and_signed_tilt():
     )
 
 
+def test_wobble_is_the_spread_while_the_wings_hold():
+    """A hold that keeps rocking (pitch +-2 deg, roll +-10 deg at pitch 60, a square wave in the hold window) has
+    the standard deviations of those swings; a still one has none."""
+    t = np.arange(-0.5, 1.2, 0.01)
+    square = np.where(np.floor(t / 0.05) % 2 == 0, 1.0, -1.0)
+    held = (t >= 0.45) & (t <= 1.0)
+    pitch = np.where(t < 0.3, 0.0, 60.0) + np.where(held, 2.0 * square, 0.0)
+    roll = np.where(held, 10.0 * square, 0.0)
+    r = op.opening_response(t, pitch, roll, 0.0)
+    win = (t >= 0.5) & (t <= 0.95)
+    assert r.wobble_pitch_deg == pytest.approx(np.std(pitch[win]))
+    assert 1.9 < r.wobble_pitch_deg < 2.1
+    assert r.wobble_tilt_deg == pytest.approx(np.std(op.lateral_tilt_deg(pitch[win], roll[win])))
+    still = op.opening_response(t, np.where(t < 0.3, 0.0, 60.0), np.zeros_like(t), 0.0)
+    assert still.wobble_pitch_deg == 0.0 and still.wobble_tilt_deg == 0.0
+
+
 def test_opening_response_is_nan_where_a_window_is_empty():
     t = np.arange(0.0, 0.3, 0.01)  # no sample before the opening, none in the hold window
     r = op.opening_response(t, np.zeros_like(t), np.zeros_like(t), 0.0)
     assert math.isnan(r.rest_pitch_deg) and math.isnan(r.hold_pitch_deg) and math.isnan(r.rise_s)
+    assert math.isnan(r.wobble_pitch_deg) and math.isnan(r.wobble_tilt_deg)
     assert r.tilt_deg == 0.0
 
 
