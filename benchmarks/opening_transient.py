@@ -61,7 +61,9 @@ def main(argv=None) -> int:
     ap.add_argument("--trials", type=int, default=5, help="simulated first openings per cell and set")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--cells", default=None, help="only these cells, WING:LEG,... [default: all]")
-    ap.add_argument("--phase", type=float, default=None, help="every first opening at this leg phase in [0, 1)")
+    ap.add_argument(
+        "--phase", type=float, default=None, help="every first opening at this leg phase in [0, 1)"
+    )
     ap.add_argument("--vary", action="append", default=[], help="TABLE.KEY=V1,V2: variants of the first set")
     ap.add_argument(
         "--with", dest="fixed", action="append", default=[], help="TABLE.KEY=V: set in every variant"
@@ -142,18 +144,23 @@ def _run(args, models: list[str], tmp: Path) -> int:
     print("| " + " | ".join(head) + " |")
     print("|" + "---|" * len(head))
     for (w, leg), rec in sorted(cells.items()):
-        row = [f"{w:g}°", f"{leg:g}°", f"{wobble(rec)} ({len(rec)})"] + [wobble(sims[(w, leg, m)]) for m in models]
+        row = [f"{w:g}°", f"{leg:g}°", f"{wobble(rec)} ({len(rec)})"] + [
+            wobble(sims[(w, leg, m)]) for m in models
+        ]
         print("| " + " | ".join(row) + " |")
     if variants:
         keys = sorted(cells)
-        print("\nmedian |tilt| of the first opening; hold wobble: pitch / tilt standard deviation; robot and variants")
+        print(
+            "\nmedian |tilt| of the first opening; hold wobble: pitch / tilt standard deviation; robot and variants"
+        )
         print("| set | " + " | ".join(f"{w:g}°/{leg:g}°" for w, leg in keys) + " |")
         print("|" + "---|" * (len(keys) + 1))
         for m, runs_of in [("robot", lambda c: cells[c])] + [
             (m, lambda c, m=m: sims[(*c, m)]) for m in [models[0], *variants]
         ]:
             vals = [
-                f"{np.median(np.abs([r.tilt_deg for r in runs_of(c)])):.1f}°; {wobble(runs_of(c))}" for c in keys
+                f"{np.median(np.abs([r.tilt_deg for r in runs_of(c)])):.1f}°; {wobble(runs_of(c))}"
+                for c in keys
             ]
             print(f"| {m} | " + " | ".join(vals) + " |")
     return 0

@@ -385,7 +385,7 @@ def measured_actuation_toml(data_dir: str | Path, *, servo_sides: str = "as-labe
     ]
     joints = ("wing_pitch_left", "wing_pitch_right", "wing_roll_left", "wing_roll_right")
     if servo_sides == "mirrored":
-        lines.append('servo_sides = "mirrored"  # the lab\'s left servos drive the model\'s right joints')
+        lines.append("servo_sides = \"mirrored\"  # the lab's left servos drive the model's right joints")
         joints = ("wing_pitch_right", "wing_pitch_left", "wing_roll_right", "wing_roll_left")
     elif servo_sides != "as-labelled":
         raise ValueError(f"servo_sides must be 'as-labelled' or 'mirrored'; got {servo_sides!r}")

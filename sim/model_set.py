@@ -334,7 +334,12 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
             raise ModelSetError(f"{wa}: servo_sides must be one of {', '.join(SERVO_SIDES)}; got {sides!r}")
         if sides == "mirrored":  # enters the hash only when set, so the sets of before keep their hashes
             act_canon["servo_sides"] = sides
-            swap = (1, 0, 3, 2)  # (LP, RP, LR, RR) -> the joints (right pitch, left pitch, right roll, left roll)
+            swap = (
+                1,
+                0,
+                3,
+                2,
+            )  # (LP, RP, LR, RR) -> the joints (right pitch, left pitch, right roll, left roll)
             measured = replace(
                 measured,
                 wing_knots_s=tuple(measured.wing_knots_s[i] for i in swap),

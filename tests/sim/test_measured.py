@@ -91,7 +91,9 @@ def test_mirrored_servo_sides_put_the_labs_left_servos_on_the_models_right_joint
     assert [m.wing_knots_s[i] for i in (1, 0, 3, 2)] == list(a.wing_knots_s)
     assert m.leg_knots_deg == a.leg_knots_deg and mirrored.model_set_hash != labelled.model_set_hash
     # the default is as labelled, and it keeps the hash a set had before the key existed
-    f.write_text(PHYSICAL_TEXT.replace(line + "  # the lab's left servos drive the model's right joints\n", ""))
+    f.write_text(
+        PHYSICAL_TEXT.replace(line + "  # the lab's left servos drive the model's right joints\n", "")
+    )
     assert load_model_set(f).model_set_hash == labelled.model_set_hash
     f.write_text(PHYSICAL_TEXT.replace(line, 'servo_sides = "left"'))
     with pytest.raises(ModelSetError, match="servo_sides must be one of as-labelled, mirrored"):

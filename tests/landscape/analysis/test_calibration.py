@@ -50,7 +50,12 @@ def test_candidate_set_adds_an_optional_table_the_base_lacks(tmp_path):
         tmp_path / "soft.toml",
     )
     assert ms.compliance.wing_stiffness_n_m_rad == 2.0 and ms.compliance.wing_damping_n_m_s_rad == 0.005
-    assert ca.candidate_set("paper", {"contact.rolling_friction": 0.01}, "r", tmp_path / "r.toml").contact.rolling_friction == 0.01
+    assert (
+        ca.candidate_set(
+            "paper", {"contact.rolling_friction": 0.01}, "r", tmp_path / "r.toml"
+        ).contact.rolling_friction
+        == 0.01
+    )
     with pytest.raises(ModelSetError, match="wing_stiffness_n_m_rad"):
         ca.candidate_set("paper", {"compliance.wing_damping_n_m_s_rad": 0.005}, "d", tmp_path / "d.toml")
     with pytest.raises(ca.CalibrationError, match="has no such key"):
