@@ -81,7 +81,7 @@ def main(argv=None) -> int:
 
 def _run(args, models: list[str], tmp: Path) -> int:
     fixed = {}
-    for key, values in (parse_vary(args.fixed) if args.fixed else {}).items():
+    for key, values in (parse_vary(args.fixed, "--with") if args.fixed else {}).items():
         if len(values) != 1:
             raise UsageError(f"--with {key} takes one value; vary it with --vary")
         fixed[key] = values[0]
@@ -109,9 +109,11 @@ def _run(args, models: list[str], tmp: Path) -> int:
     with tqdm(total=len(jobs) * args.trials, unit="trial", file=sys.stderr) as bar:
         for (w, leg), m in jobs:
             wing = w if simulates_commands(runs[m]) else plateau[w]
-            phases = cell_phases(w, leg, args.trials, args.seed)
-            if args.phase is not None:
-                phases = [args.phase] * len(phases)
+            phases = (
+                cell_phases(w, leg, args.trials, args.seed)
+                if args.phase is None
+                else [args.phase] * args.trials
+            )
             for k, ph in enumerate(phases):
                 sims[(w, leg, m)].append(
                     simulated_opening(
@@ -155,11 +157,10 @@ def _run(args, models: list[str], tmp: Path) -> int:
         )
         print("| set | " + " | ".join(f"{w:g}°/{leg:g}°" for w, leg in keys) + " |")
         print("|" + "---|" * (len(keys) + 1))
-        for m, runs_of in [("robot", lambda c: cells[c])] + [
-            (m, lambda c, m=m: sims[(*c, m)]) for m in [models[0], *variants]
-        ]:
+        rows = {"robot": cells} | {m: {c: sims[(*c, m)] for c in keys} for m in [models[0], *variants]}
+        for m, by_cell in rows.items():
             vals = [
-                f"{np.median(np.abs([r.tilt_deg for r in runs_of(c)])):.1f}°; {wobble(runs_of(c))}"
+                f"{np.median(np.abs([r.tilt_deg for r in by_cell[c]])):.1f}°; {wobble(by_cell[c])}"
                 for c in keys
             ]
             print(f"| {m} | " + " | ".join(vals) + " |")

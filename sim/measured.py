@@ -29,6 +29,8 @@ from numpy.typing import NDArray
 
 from geometry.errors import UsageError
 
+from .model_set import MIRRORED, SERVO_SIDES
+
 WING_SERVOS = ("LP", "RP", "LR", "RR")
 """The lab's wing servos, in the order of the default joint map's wing joints (wing_pitch_left,
 wing_pitch_right, wing_roll_left, wing_roll_right)."""
@@ -383,12 +385,12 @@ def measured_actuation_toml(data_dir: str | Path, *, servo_sides: str = "as-labe
         f"wing_command_deg = {_row(wing['command_deg'])}",
         f"leg_command_deg = {_row(leg['command_deg'])}",
     ]
+    if servo_sides not in SERVO_SIDES:
+        raise ValueError(f"servo_sides must be one of {', '.join(SERVO_SIDES)}; got {servo_sides!r}")
     joints = ("wing_pitch_left", "wing_pitch_right", "wing_roll_left", "wing_roll_right")
     if servo_sides == "mirrored":
         lines.append("servo_sides = \"mirrored\"  # the lab's left servos drive the model's right joints")
-        joints = ("wing_pitch_right", "wing_pitch_left", "wing_roll_right", "wing_roll_left")
-    elif servo_sides != "as-labelled":
-        raise ValueError(f"servo_sides must be 'as-labelled' or 'mirrored'; got {servo_sides!r}")
+        joints = tuple(joints[MIRRORED.index(k)] for k in range(len(joints)))  # servo k drives this joint
     joints = dict(zip(WING_SERVOS, joints, strict=True))
     for servo in WING_SERVOS:
         rec = wing["servos"][servo]

@@ -55,6 +55,8 @@ SERVO_SIDES = ("as-labelled", "mirrored")
 pitch, right pitch, left roll, right roll): as labelled, or mirrored (the lab's left servos drive the model's
 right joints; the side the robot rolls over to favours mirrored, README "The physical robot")."""
 _SERVOS = ("LP", "RP", "LR", "RR")
+MIRRORED = (1, 0, 3, 2)
+"""Mirrored sides: the servo (index into LP, RP, LR, RR) that drives each of the joint map's wing joints."""
 OPTIONAL_KEYS = frozenset(
     {
         "contact.rolling_friction",
@@ -334,16 +336,10 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
             raise ModelSetError(f"{wa}: servo_sides must be one of {', '.join(SERVO_SIDES)}; got {sides!r}")
         if sides == "mirrored":  # enters the hash only when set, so the sets of before keep their hashes
             act_canon["servo_sides"] = sides
-            swap = (
-                1,
-                0,
-                3,
-                2,
-            )  # (LP, RP, LR, RR) -> the joints (right pitch, left pitch, right roll, left roll)
             measured = replace(
                 measured,
-                wing_knots_s=tuple(measured.wing_knots_s[i] for i in swap),
-                wing_knots_deg=tuple(measured.wing_knots_deg[i] for i in swap),
+                wing_knots_s=tuple(measured.wing_knots_s[i] for i in MIRRORED),
+                wing_knots_deg=tuple(measured.wing_knots_deg[i] for i in MIRRORED),
             )
     else:
         measured = None

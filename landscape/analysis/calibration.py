@@ -30,8 +30,9 @@ class CalibrationError(UsageError):
     """A bad ``--vary`` specification or calibration setting."""
 
 
-def parse_vary(items: Sequence[str]) -> dict[str, list[float]]:
-    """``['contact.lateral_friction=0.5,1', ...]`` -> ``{'contact.lateral_friction': [0.5, 1.0], ...}``.
+def parse_vary(items: Sequence[str], option: str = "--vary") -> dict[str, list[float]]:
+    """``['contact.lateral_friction=0.5,1', ...]`` -> ``{'contact.lateral_friction': [0.5, 1.0], ...}``;
+    ``option`` names the option in the error messages.
 
     Examples
     --------
@@ -44,19 +45,19 @@ def parse_vary(items: Sequence[str]) -> dict[str, list[float]]:
         key = key.strip()
         if not sep or "." not in key or not values.strip():
             raise CalibrationError(
-                f"--vary {item!r} is not TABLE.KEY=V1,V2,...; give e.g. --vary contact.lateral_friction=0.5,1"
+                f"{option} {item!r} is not TABLE.KEY=V1,V2,...; give e.g. {option} contact.lateral_friction=0.5,1"
             )
         try:
             vals = [float(v) for v in values.split(",")]
         except ValueError:
-            raise CalibrationError(f"--vary {item!r}: the values must be numbers, e.g. 0.5,1") from None
+            raise CalibrationError(f"{option} {item!r}: the values must be numbers, e.g. 0.5,1") from None
         if not all(map(math.isfinite, vals)):
-            raise CalibrationError(f"--vary {item!r}: the values must be finite numbers")
+            raise CalibrationError(f"{option} {item!r}: the values must be finite numbers")
         if key in out:
-            raise CalibrationError(f"--vary {key} is given twice; list all its values in one --vary")
+            raise CalibrationError(f"{option} {key} is given twice; list all its values in one {option}")
         out[key] = vals
     if not out:
-        raise CalibrationError("nothing to calibrate; give at least one --vary TABLE.KEY=V1,V2,...")
+        raise CalibrationError(f"nothing to calibrate; give at least one {option} TABLE.KEY=V1,V2,...")
     return out
 
 

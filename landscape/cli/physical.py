@@ -144,7 +144,7 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
 )
 @click.option(
     "--servo-sides",
-    type=click.Choice(["as-labelled", "mirrored"]),
+    type=click.Choice(["as-labelled", "mirrored"]),  # sim.model_set.SERVO_SIDES (imported lazily)
     default="as-labelled",
     show_default=True,
     help="Which wing joints the lab's left servos drive: the model's left ones, or its right ones (mirrored: "
