@@ -5,7 +5,13 @@ first openings of each model set (random first-attempt phases, the validation's,
 code (``landscape.analysis.opening``): the pitch overshoot past the hold, the rise time, and the lateral tilt of
 largest magnitude 0.2-0.6 s after the opening starts (``asin(cos p sin r)``, degrees; positive towards positive
 roll). Medians over the trials; in brackets, the median |tilt|. A second table gives the hold's wobble: the
-standard deviations of pitch and tilt 0.5-0.95 s after the opening starts, while the wings are held open.
+standard deviations of pitch and tilt 0.5-0.95 s after the opening starts, while the wings are held open. A
+third gives, for the robot and every set and variant, where the hold has left the body when the wings start
+closing: the median signed tilt 0.95-1.05 s after the opening starts (in brackets the median |tilt|) and how many
+first openings rolled past a tilt of 45 deg within 1.4 s, with the median time; beside them the rigid model's
+roll-wise saddle as a tilt (``landscape.compute`` at the measured plateau, leg centred) and the difference between
+the robot's recorded tilt and the tilt its gyro alone gives (``gyro_tilt_deviation_deg``, median and largest:
+whether the recorded rocking is the body's or the IMU fusion's).
 
 With ``--phase P`` every simulated first opening starts at leg phase P (the lab's protocol fixes it; ``landscape
 physical kinematics`` times it at about 0.17) instead of the validation's random phases (without noise the
@@ -51,6 +57,23 @@ def wobble(responses) -> str:
     p = np.median([r.wobble_pitch_deg for r in responses])
     t = np.median([r.wobble_tilt_deg for r in responses])
     return f"{p:.1f}° / {t:.1f}°"
+
+
+def closing(responses) -> str:
+    c = np.array([r.closing_tilt_deg for r in responses])
+    rolled = [r.rolled_s for r in responses if np.isfinite(r.rolled_s)]
+    at = f" at {np.median(rolled):.2f} s" if rolled else ""
+    return f"{np.median(c):+.1f}° ({np.median(np.abs(c)):.1f}°); {len(rolled)}/{len(responses)}{at}"
+
+
+def saddle_tilt_deg(robot: str, theta_w_deg: float) -> float:
+    """The rigid model's roll-wise saddle as a lateral tilt, degrees (every wing joint at ``theta_w_deg``)."""
+    import landscape
+    from geometry.robots import load_robot
+    from landscape.analysis.opening import lateral_tilt_deg
+
+    b = landscape.compute(load_robot(robot), theta_w_deg=theta_w_deg, method="exact").barrier.righting
+    return float(lateral_tilt_deg(b.saddle_pitch_deg, b.saddle_roll_deg))
 
 
 def main(argv=None) -> int:
@@ -99,10 +122,11 @@ def _run(args, models: list[str], tmp: Path) -> int:
     openings = recorded_first_openings(args.data)
     available = {(o.theta_w_cmd_deg, o.theta_l_deg) for o in openings}
     wanted = set(parse_cells(args.cells, available))
-    cells = defaultdict(list)
+    cells, gyro = defaultdict(list), defaultdict(list)
     for o in openings:
         if (o.theta_w_cmd_deg, o.theta_l_deg) in wanted:
             cells[(o.theta_w_cmd_deg, o.theta_l_deg)].append(o.response)
+            gyro[(o.theta_w_cmd_deg, o.theta_l_deg)].append(o.gyro_deviation_deg)
     runs = {m: m for m in models} | variants
     jobs = [(c, m) for c in sorted(cells) for m in runs]
     sims = defaultdict(list)
@@ -150,8 +174,21 @@ def _run(args, models: list[str], tmp: Path) -> int:
             wobble(sims[(w, leg, m)]) for m in models
         ]
         print("| " + " | ".join(row) + " |")
+    keys = sorted(cells)
+    saddle = {w: saddle_tilt_deg(args.robot, plateau[w]) for w in sorted({w for w, _ in keys})}
+    print("\nwhen the wings start closing: signed tilt 0.95-1.05 s, median (median |tilt|); first openings rolled "
+          "past 45° within 1.4 s, median time; robot's recorded tilt against its gyro's, -0.3 to 1.05 s, median "
+          "(largest) difference; the rigid model's roll-wise saddle as a tilt (leg centred, every wing joint at "
+          "the measured plateau)")  # fmt: skip
+    head3 = ["wing cmd", "leg", "saddle", "robot (n)", "gyro", *runs]
+    print("| " + " | ".join(head3) + " |")
+    print("|" + "---|" * len(head3))
+    for w, leg in keys:
+        g = gyro[(w, leg)]
+        row = [f"{w:g}°", f"{leg:g}°", f"{saddle[w]:.1f}°", f"{closing(cells[(w, leg)])} ({len(cells[(w, leg)])})",
+               f"{np.nanmedian(g):.1f}° ({np.nanmax(g):.1f}°)"] + [closing(sims[(w, leg, m)]) for m in runs]  # fmt: skip
+        print("| " + " | ".join(row) + " |")
     if variants:
-        keys = sorted(cells)
         print(
             "\nmedian |tilt| of the first opening; hold wobble: pitch / tilt standard deviation; robot and variants"
         )

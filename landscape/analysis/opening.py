@@ -10,7 +10,15 @@ wing command), so the physical robot's recordings and the simulation's traces ar
 - *rise*: the time from the opening's start until the pitch first passes halfway from the rest to the hold;
 - *tilt*: the signed lateral tilt ``asin(u_y) = asin(cos p sin r)`` of largest magnitude in
   ``TRANSIENT_WINDOW_S``, degrees (``u``: world-up in the body frame, ``geometry/frames.py``). Unlike the Euler
-  roll it stays a tilt near pitch 90 deg, where the roll angle is ill-defined; positive towards positive roll.
+  roll it stays a tilt near pitch 90 deg, where the roll angle is ill-defined; positive towards positive roll;
+- *wobble*: the standard deviation of the pitch and of the tilt in the hold window;
+- *tilt at closing*: the median signed tilt in ``CLOSING_WINDOW_S`` (0.95-1.05 s), just before the wings start
+  closing (the measured profiles start closing 1.04-1.06 s after the opening starts): how far the hold has
+  rocked the body sideways when the wings take their support away;
+- *rolled*: the first time after the opening's start at which the lateral tilt reaches ``ROLLED_TILT_DEG``
+  (45 deg), within ``SIM_OPENING_S``: past the roll-wise saddle (the lab URDF's lies at a tilt of 29, 17 and 10 deg
+  at the measured plateaus 59.1, 73.6 and 82.1 deg), the body is rolling over. Not world-up's sign: the recorded frame is the IMU's, pitched
+  about 11 deg against the body's, which at the 90 deg command puts the held body past pitch 90 deg.
 
 The recorded pitch is the IMU's, whose mounting on the body is not known; the simulated pitch is the body
 frame's. :func:`hold_pitch_frames` therefore compares the recorded hold with the model's in two ways: relative
@@ -34,6 +42,7 @@ from landscape.analysis.physical import (
     HOLD_WINDOW_S,
     REST_WINDOW_S,
     PhysicalDataError,
+    Recording,
     measured_plateaus_deg,
     read_recording,
     trial_files,
@@ -47,8 +56,14 @@ LEG_HELD_S = (0.45, 0.25)
 """Window before the first opening while the lab's protocol holds the leg at its first command, s."""
 LEG_STILL_S = (1.1, 0.8)
 """Window before the first opening before the lab's protocol starts the leg, s."""
-SIM_OPENING_S = 1.0
-"""Simulated time after the opening's start: the hold window and the transient lie inside it, s."""
+ROLLED_TILT_DEG = 45.0
+"""Lateral tilt beyond which the body counts as rolling over, degrees."""
+CLOSING_WINDOW_S = (0.95, 1.05)
+"""Window after an opening's start, just before the wings start closing, in which the tilt at closing is read, s."""
+SIM_OPENING_S = 1.4
+"""Time after the opening's start that is simulated and searched for the body rolling over: the transient, the
+hold and the wings' closing (the robot's first-attempt roll-overs at 60 deg pass a tilt of 45 deg about 1.1 s after
+the opening starts) lie inside it, s."""
 
 
 @dataclass(frozen=True)
@@ -67,6 +82,11 @@ class OpeningResponse:
         Signed lateral tilt of largest magnitude in the transient window, degrees.
     wobble_pitch_deg, wobble_tilt_deg : float
         Standard deviation of the pitch and of the lateral tilt in the hold window, degrees.
+    closing_tilt_deg : float
+        Median signed lateral tilt in ``CLOSING_WINDOW_S``, degrees.
+    rolled_s : float
+        First time after the start at which the lateral tilt reaches ``ROLLED_TILT_DEG``, within
+        ``SIM_OPENING_S``, s; nan if it does not.
     """
 
     rest_pitch_deg: float
@@ -76,6 +96,8 @@ class OpeningResponse:
     tilt_deg: float
     wobble_pitch_deg: float = math.nan
     wobble_tilt_deg: float = math.nan
+    closing_tilt_deg: float = math.nan
+    rolled_s: float = math.nan
 
 
 def lateral_tilt_deg(pitch_deg: ArrayLike, roll_deg: ArrayLike) -> NDArray[np.float64]:
@@ -94,8 +116,8 @@ def lateral_tilt_deg(pitch_deg: ArrayLike, roll_deg: ArrayLike) -> NDArray[np.fl
 def opening_response(
     t_s: ArrayLike, pitch_deg: ArrayLike, roll_deg: ArrayLike, start_s: float
 ) -> OpeningResponse:
-    """Rest, hold, overshoot, rise and tilt of the opening that starts at ``start_s`` (module docstring); nan
-    where a window holds no sample.
+    """Rest, hold, overshoot, rise, tilt, wobble, tilt at closing and the time rolled over of the opening that starts
+    at ``start_s`` (module docstring); nan where a window holds no sample.
 
     Examples
     --------
@@ -104,6 +126,8 @@ def opening_response(
     >>> r = opening_response(t, pitch, np.zeros_like(t), 0.0)
     >>> r.hold_pitch_deg, r.overshoot_deg, round(r.rise_s, 2), r.tilt_deg, r.wobble_pitch_deg
     (60.0, 10.0, 0.15, 0.0, 0.0)
+    >>> r.closing_tilt_deg, r.rolled_s
+    (0.0, nan)
     """
     t = np.asarray(t_s, dtype=np.float64) - float(start_s)
     p = np.asarray(pitch_deg, dtype=np.float64)
@@ -121,13 +145,17 @@ def opening_response(
     if held.sum() >= 2:
         wobble_p = float(np.std(p[held]))
         wobble_t = float(np.std(lateral_tilt_deg(p[held], r[held])))
+    tilt_all = lateral_tilt_deg(p, r)
+    closing = _median_between(t, tilt_all, *CLOSING_WINDOW_S)
+    over = (t >= 0) & (t <= SIM_OPENING_S) & (np.abs(tilt_all) >= ROLLED_TILT_DEG)
+    rolled = float(t[np.flatnonzero(over)[0]]) if over.any() else math.nan
     rise = math.nan
     if np.isfinite(rest) and np.isfinite(hold):
         half = rest + 0.5 * (hold - rest)
         after = (t >= 0) & ((p >= half) if hold >= rest else (p <= half))
         if after.any():
             rise = float(t[np.flatnonzero(after)[0]])
-    return OpeningResponse(rest, hold, overshoot, rise, tilt, wobble_p, wobble_t)
+    return OpeningResponse(rest, hold, overshoot, rise, tilt, wobble_p, wobble_t, closing, rolled)
 
 
 @dataclass(frozen=True)
@@ -141,6 +169,8 @@ class RecordedOpening:
         log's 10 Hz resolution). The lab's protocol starts the leg and the wings at fixed times, so this lead,
         and with it the phase of the first attempt, is the same in every trial: the first attempt's phase is
         not random on the robot.
+    gyro_deviation_deg : float
+        :func:`gyro_tilt_deviation_deg` of the opening: how far the recorded tilt strays from the gyro's.
     leg_hold_roll_deg : float
         How far the body's roll moved while the leg was held at its first command (negative) before the opening:
         the median roll ``LEG_HELD_S`` before the opening minus the median ``LEG_STILL_S`` before it, before the
@@ -160,6 +190,7 @@ class RecordedOpening:
     leg_lead_s: float = math.nan
     leg_swing_s: float = math.nan
     leg_hold_roll_deg: float = math.nan
+    gyro_deviation_deg: float = math.nan
 
 
 def recorded_first_openings(data_dir: str | Path) -> list[RecordedOpening]:
@@ -186,10 +217,63 @@ def recorded_first_openings(data_dir: str | Path) -> list[RecordedOpening]:
             )
         out.append(
             RecordedOpening(
-                rec.name, rec.theta_w_cmd_deg, rec.theta_l_deg, rec.trial, resp, lead, swing, held
-            )
+                rec.name,
+                rec.theta_w_cmd_deg,
+                rec.theta_l_deg,
+                rec.trial,
+                resp,
+                lead,
+                swing,
+                held,
+                gyro_tilt_deviation_deg(rec, start),
+            )  # fmt: skip
         )
     return out
+
+
+def gyro_tilt_deviation_deg(
+    rec: Recording, start_s: float, *, window_s: tuple[float, float] = (-REST_WINDOW_S, CLOSING_WINDOW_S[1])
+) -> float:
+    """Largest difference between the recorded lateral tilt and the tilt of the orientation the gyro alone
+    gives, over ``window_s`` after ``start_s`` (degrees; nan without gyro samples there).
+
+    The recorded orientation is the IMU's fusion, which leans on the accelerometer for gravity's direction; the
+    leg's swing accelerates the body, and a fused tilt could follow that rather than the body. Integrating the
+    IMU's own angular rates from the recorded orientation at the window's start gives the rotation the body
+    made, free of that: a small deviation says the recorded rocking is the body's.
+
+    Examples
+    --------
+    A body rolling at 1 rad/s about its x axis, recorded and measured alike:
+
+    >>> from scipy.spatial.transform import Rotation
+    >>> t = np.arange(-0.3, 1.06, 0.01)
+    >>> q = Rotation.from_rotvec(np.outer(t + 0.3, [1.0, 0.0, 0.0])).as_quat()
+    >>> rec = Recording("x", 60.0, 0.0, 1, t, np.zeros_like(t), np.degrees(t + 0.3), np.cos(t + 0.3),
+    ...                 np.zeros(1), quat_xyzw=q, gyro_t_s=t, gyro_rad_s=np.tile([1.0, 0.0, 0.0], (len(t), 1)))
+    >>> round(gyro_tilt_deviation_deg(rec, 0.0), 6)
+    0.0
+    """
+    from scipy.spatial.transform import Rotation
+
+    lo, hi = start_s + window_s[0], start_s + window_s[1]
+    gt, w = rec.gyro_t_s, rec.gyro_rad_s
+    sel = np.flatnonzero((gt >= lo) & (gt <= hi))
+    qsel = np.flatnonzero((rec.t_s >= lo) & (rec.t_s <= hi))
+    if len(sel) < 2 or len(qsel) < 2:
+        return math.nan
+    rot = Rotation.from_quat(rec.quat_xyzw[qsel[0]])
+    t_prev = float(rec.t_s[qsel[0]])
+    gyro_t, gyro_up = [t_prev], [rot.inv().apply([0.0, 0.0, 1.0])]
+    for k in sel:  # each rate held from the previous sample's time to its own
+        rot = rot * Rotation.from_rotvec(w[k] * (float(gt[k]) - t_prev))
+        t_prev = float(gt[k])
+        gyro_t.append(t_prev)
+        gyro_up.append(rot.inv().apply([0.0, 0.0, 1.0]))
+    gyro_tilt = np.degrees(np.arcsin(np.clip(np.array(gyro_up)[:, 1], -1.0, 1.0)))
+    rec_tilt = lateral_tilt_deg(rec.pitch_deg[qsel], rec.roll_deg[qsel])
+    worst = np.abs(rec_tilt - np.interp(rec.t_s[qsel], gyro_t, gyro_tilt)).max()
+    return float(worst)
 
 
 def _median_between(t, values, lo: float, hi: float) -> float:

@@ -89,6 +89,10 @@ class Recording:
     leg_up_s : ndarray of shape (J,)
         When the leg command turns positive (servo column 1 rises above 0), s from the first opening; empty
         with the leg still. The servo log is written at 10 Hz, so these times are known to 0.1 s.
+    quat_xyzw : ndarray of shape (N, 4)
+        The orientation quaternions behind ``pitch_deg`` and ``roll_deg`` (body to world, x, y, z, w).
+    gyro_t_s, gyro_rad_s : ndarray of shape (G,) and (G, 3)
+        The IMU's angular rate in its own frame and its times from the first opening; empty without ``gyro``.
     """
 
     name: str
@@ -101,6 +105,9 @@ class Recording:
     up_z: NDArray[np.float64]
     openings_s: NDArray[np.float64]
     leg_up_s: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0))
+    quat_xyzw: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 4)))
+    gyro_t_s: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0))
+    gyro_rad_s: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
 
 
 def _data_dir(data_dir: str | Path) -> Path:
@@ -173,6 +180,7 @@ def read_recording(path: str | Path) -> Recording:
         with h5py.File(path, "r") as f:
             quat = np.asarray(f["quat"][()], dtype=np.float64).T
             servo = np.asarray(f["servo"][()], dtype=np.float64).T
+            gyro = np.asarray(f["gyro"][()], dtype=np.float64).T if "gyro" in f else np.zeros((0, 5))
     except (OSError, KeyError) as exc:
         raise PhysicalDataError(
             f"'{path}' is not a lab trial file (HDF5 with 'quat' and 'servo'): {exc}"
@@ -197,9 +205,11 @@ def read_recording(path: str | Path) -> Recording:
     leg_up = servo[1:, 0][(leg_cmd[1:] > 0) & (leg_cmd[:-1] <= 0)]
     pitch, roll = pitch_roll_from_quat_deg(quat[:, 1:5])
     up_z = 1.0 - 2.0 * (quat[:, 1] ** 2 + quat[:, 2] ** 2)
+    if gyro.ndim != 2 or gyro.shape[1] < 4:
+        gyro = np.zeros((0, 5))
     return Recording(
         path.name, float(w[0]), float(theta_l), trial, quat[:, 0] - t0, pitch, roll, up_z, rises - t0,
-        leg_up - t0,
+        leg_up - t0, quat[:, 1:5], gyro[:, 0] - t0, gyro[:, 1:4],
     )  # fmt: skip
 
 

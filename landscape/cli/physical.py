@@ -123,7 +123,9 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
         "\nfirst opening of every trial: the leg command's last rise before it (servo log, 10 Hz), the body's "
         "roll while the leg is held at its first command before it, when the body rolled fastest before it (the "
         "leg's swing), the pitch overshoot past the hold, the rise time to half the hold, the lateral tilt "
-        "asin(cos p sin r) of largest magnitude 0.2-0.6 s after the opening starts (medians)"
+        "asin(cos p sin r) of largest magnitude 0.2-0.6 s after the opening starts, the tilt when the wings start "
+        "closing (0.95-1.05 s), the openings that rolled past a tilt of 45 deg within 1.4 s, and how far the "
+        "recorded tilt strays from the tilt the gyro alone gives, -0.3 to 1.05 s (medians)"
     )
     click.echo(first_openings_markdown(op.recorded_first_openings(data)))
     lat = ph.lateralisation(ph.physical_trials(data))

@@ -103,20 +103,25 @@ def hold_frames_markdown(rows: Sequence) -> str:
 
 def first_openings_markdown(openings: Sequence) -> str:
     """Markdown table of the recorded first openings per cell (:class:`~landscape.analysis.opening.RecordedOpening`):
-    medians of the leg command's lead, the overshoot, the rise and the lateral tilt (with its range)."""
+    medians of the leg command's lead, the overshoot, the rise and the lateral tilt (with its range), the tilt when
+    the wings start closing (with its range), how many rolled past a tilt of 45 deg (median time) and how far the
+    recorded tilt strays from the gyro's (median)."""
     cells: dict[tuple[float, float], list] = {}
     for o in openings:
         cells.setdefault((o.theta_w_cmd_deg, o.theta_l_deg), []).append(o)
     lines = [
         "| wing command | leg | n | leg command's lead | roll, leg held | body's fastest roll before | overshoot "
-        "| rise | lateral tilt [range] |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| rise | lateral tilt [range] | tilt at closing [range] | rolled past 45° | gyro against recorded tilt |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for (w, leg), os_ in sorted(cells.items()):
         lead = [o.leg_lead_s for o in os_ if math.isfinite(o.leg_lead_s)]
         swing = [o.leg_swing_s for o in os_ if math.isfinite(o.leg_swing_s)]
         held = [o.leg_hold_roll_deg for o in os_ if math.isfinite(o.leg_hold_roll_deg)]
         tilt = [o.response.tilt_deg for o in os_]
+        closing = [o.response.closing_tilt_deg for o in os_]
+        rolled = [o.response.rolled_s for o in os_ if math.isfinite(o.response.rolled_s)]
+        gyro = [o.gyro_deviation_deg for o in os_ if math.isfinite(o.gyro_deviation_deg)]
         lines.append(
             f"| {w:g}° | {leg:g}° | {len(os_)} | "
             + (f"{float(np.median(lead)):.1f} s" if lead else "–")
@@ -126,7 +131,12 @@ def first_openings_markdown(openings: Sequence) -> str:
             + (f"{float(np.median(swing)):.2f} s" if swing else "–")
             + f" | {float(np.median([o.response.overshoot_deg for o in os_])):+.1f}° | "
             f"{float(np.median([o.response.rise_s for o in os_])):.2f} s | {float(np.median(tilt)):+.1f}° "
-            f"[{min(tilt):+.1f}, {max(tilt):+.1f}] |"
+            f"[{min(tilt):+.1f}, {max(tilt):+.1f}] | {float(np.median(closing)):+.1f}° "
+            f"[{min(closing):+.1f}, {max(closing):+.1f}] | {len(rolled)}/{len(os_)}"
+            + (f" at {float(np.median(rolled)):.2f} s" if rolled else "")
+            + " | "
+            + (f"{float(np.median(gyro)):.1f}°" if gyro else "–")
+            + " |"
         )
     return "\n".join(lines)
 

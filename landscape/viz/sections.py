@@ -1074,6 +1074,7 @@ def _opening_tables(out: Path, data_dir, frames: list[dict]) -> list[Table]:
             "leg_lead_s": o.leg_lead_s,
             "leg_swing_s": o.leg_swing_s,
             "leg_hold_roll_deg": o.leg_hold_roll_deg,
+            "gyro_deviation_deg": o.gyro_deviation_deg,
         }
         | asdict(o.response)
         for o in op.recorded_first_openings(data_dir)
@@ -1088,7 +1089,9 @@ def _opening_tables(out: Path, data_dir, frames: list[dict]) -> list[Table]:
         Table(
             "First opening of every recorded trial: the leg command's lead, the body's roll while the leg is held "
             "and when it rolled fastest before the opening (the leg's swing), the pitch overshoot, the rise time and "
-            "the lateral tilt asin(cos p sin r) of largest magnitude 0.2-0.6 s after the opening starts",
+            "the lateral tilt asin(cos p sin r) of largest magnitude 0.2-0.6 s after the opening starts, the tilt "
+            "when the wings start closing (0.95-1.05 s), when it rolled past a tilt of 45 deg and how far the "
+            "recorded tilt strays from the gyro's",
             _write_csv(out / "validation" / "first_openings.csv", first),
         ),
     ]

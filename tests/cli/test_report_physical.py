@@ -86,7 +86,7 @@ def test_report_with_validation_adds_the_simulated_against_physical_section(caps
     with open(out / "validation" / "first_openings.csv", newline="") as f:
         first = list(csv.DictReader(f))
     assert len(first) == 60 and {r["leg_lead_s"] for r in first if float(r["leg_deg"]) == 0} == {"nan"}
-    assert "leg_swing_s" in first[0]
+    assert {"leg_swing_s", "closing_tilt_deg", "rolled_s", "gyro_deviation_deg"} <= set(first[0])
     code, _, err = run(
         capsys, "report", "--db", db, "--out", out, "--validation", tmp_path
     )  # no validation.json

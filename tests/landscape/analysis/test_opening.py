@@ -67,6 +67,52 @@ def test_opening_response_is_nan_where_a_window_is_empty():
     assert r.tilt_deg == 0.0
 
 
+def test_tilt_at_closing_and_the_roll_over_time():
+    """A body whose tilt grows at 60 deg/s from 0.6 s (pitch 0, so tilt = roll): at closing (0.95-1.05 s) the
+    median is the tilt at about 1.0 s, 24 deg; it passes 45 deg at 0.6 + 45/60 s. One that never tilts has
+    neither."""
+    t = np.arange(-0.5, 2.0, 0.01)
+    roll = np.where(t < 0.6, 0.0, 60.0 * (t - 0.6))
+    r = op.opening_response(t, np.zeros_like(t), roll, 0.0)
+    assert r.closing_tilt_deg == pytest.approx(24.0, abs=0.31)  # the window's samples, 10 ms apart
+    assert r.rolled_s == pytest.approx(0.6 + 45.0 / 60.0, abs=0.011)
+    # beyond SIM_OPENING_S a roll-over does not count: the search ends where the simulation does
+    late = op.opening_response(t, np.zeros_like(t), np.where(t < 1.2, 0.0, 200.0 * (t - 1.2)), 0.0)
+    assert math.isnan(late.rolled_s) and late.closing_tilt_deg == 0.0
+    flat = op.opening_response(t, np.zeros_like(t), np.zeros_like(t), 0.0)
+    assert flat.closing_tilt_deg == 0.0 and math.isnan(flat.rolled_s)
+
+
+def _recording(t, rot, gyro_rad_s):
+    from landscape.analysis.physical import Recording
+
+    q = rot.as_quat()
+    up = rot.inv().apply([0.0, 0.0, 1.0])
+    pitch = np.degrees(np.arcsin(np.clip(-up[:, 0], -1, 1)))
+    roll = np.degrees(np.arctan2(up[:, 1], up[:, 2]))
+    return Recording("x", 60.0, 30.0, 1, t, pitch, roll, up[:, 2], np.zeros(1), quat_xyzw=q, gyro_t_s=t,
+                     gyro_rad_s=gyro_rad_s)  # fmt: skip
+
+
+def test_gyro_deviation_is_zero_when_the_fusion_follows_the_body_and_finds_a_fused_tilt():
+    """Pitched 60 deg and rocking about the body's x axis: a gyro measuring that rate agrees with the recorded
+    orientation to integration error; a fusion that adds 10 deg of tilt the gyro never saw is found."""
+    from scipy.spatial.transform import Rotation
+
+    t = np.arange(-0.5, 1.5, 0.004)
+    angle = 0.2 * np.sin(2 * np.pi * 1.25 * t)  # +-11.5 deg at 1.25 Hz
+    rate = 0.2 * 2 * np.pi * 1.25 * np.cos(2 * np.pi * 1.25 * t)
+    base = Rotation.from_euler("y", 60.0, degrees=True)
+    body = base * Rotation.from_rotvec(np.outer(angle, [1.0, 0.0, 0.0]))
+    gyro = np.column_stack([rate, np.zeros_like(t), np.zeros_like(t)])
+    assert op.gyro_tilt_deviation_deg(_recording(t, body, gyro), 0.0) < 0.2
+    fused = base * Rotation.from_rotvec(np.outer(angle + np.radians(10.0) * (t > 0.5), [1.0, 0.0, 0.0]))
+    assert op.gyro_tilt_deviation_deg(_recording(t, fused, gyro), 0.0) == pytest.approx(5.0, abs=0.3)
+    no_gyro = _recording(t, body, gyro)
+    object.__setattr__(no_gyro, "gyro_t_s", np.zeros(0))
+    assert math.isnan(op.gyro_tilt_deviation_deg(no_gyro, 0.0))
+
+
 def test_simulated_opening_of_the_symmetric_robot_holds_at_its_minimum_without_tilt():
     """Built-in robot, leg still, paper set: the body comes to rest at the landscape's metastable pitch (to the
     contact's penetration) and, mirror-symmetric, does not tilt sideways."""
@@ -124,6 +170,25 @@ def test_the_protocol_fixes_the_first_attempts_phase():
 
 
 @needs_data
+def test_the_robot_rolls_over_from_the_tilt_its_hold_built_and_the_gyro_confirms_it():
+    """At 60 deg with the leg at 30-45 deg the robot is tilted about 20 deg to + roll when its wings start to
+    close and 9 of 10 first openings roll past 45 deg about 1.1 s after they start; with the leg still it stays
+    level. Its gyro alone gives the same tilt to a few degrees where the rocking is moderate."""
+    rows = op.recorded_first_openings(DATA)
+    cell = {}
+    for o in rows:
+        cell.setdefault((o.theta_w_cmd_deg, o.theta_l_deg), []).append(o)
+    moving = cell[(60.0, 30.0)] + cell[(60.0, 45.0)]
+    assert 15.0 < np.median([o.response.closing_tilt_deg for o in moving]) < 30.0
+    rolled = [o.response.rolled_s for o in moving if np.isfinite(o.response.rolled_s)]
+    assert len(rolled) == 9 and all(1.0 < x < 1.25 for x in rolled)
+    still = cell[(60.0, 0.0)] + cell[(75.0, 0.0)]
+    assert all(abs(o.response.closing_tilt_deg) < 2.0 and math.isnan(o.response.rolled_s) for o in still)
+    assert all(o.gyro_deviation_deg < 1.5 for o in still)
+    assert np.median([o.gyro_deviation_deg for o in moving]) < 5.0
+
+
+@needs_data
 @pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
 def test_kinematics_command_prints_both_frames_the_support_and_the_first_openings(capsys):
     from landscape.cli import main
@@ -135,4 +200,29 @@ def test_kinematics_command_prints_both_frames_the_support_and_the_first_opening
     assert "IMU mounting (recorded minus model, mean over the commands): 11.5°" in out
     assert "the model rests with the wings closed on: base_link, motor3, motor4" in out
     assert "| 60° | 45° | 5 | 0.2 s |" in out and "| 60° | 0° | 5 | – |" in out
+    assert "| +8.2° [-5.3, +10.2] | +20.9° [+4.5, +38.7] | 4/5 at 1.13 s | 2.7° |" in out
     assert main(args[:-2] + ["--model", "nosuchset"]) == 2
+
+
+@needs_data
+@pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
+def test_opening_transient_benchmark_prints_the_closing_table(capsys):
+    """benchmarks/opening_transient.py, one cell and one simulated opening: the third table puts the robot's tilt
+    at closing, its gyro check and the rigid saddle beside the set's; a bad cell is one line and exit 2."""
+    import importlib.util
+
+    from tests.conftest import REPO
+
+    spec = importlib.util.spec_from_file_location(
+        "opening_transient", REPO / "benchmarks/opening_transient.py"
+    )
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    argv = ["--data", str(DATA), "--robot", str(LAB_URDF), "--models", "physical", "--trials", "1"]
+    assert mod.main([*argv, "--phase", "0.17", "--cells", "60:30"]) == 0
+    out = capsys.readouterr().out
+    assert "| wing cmd | leg | saddle | robot (n) | gyro | physical |" in out
+    assert "| 60° | 30° | 29.0° | +20.9° (20.9°); 4/5 at 1.13 s (5) | 2.7° (3.7°) | " in out
+    with pytest.raises(SystemExit) as exc:
+        mod.main([*argv, "--cells", "61:30"])
+    assert exc.value.code == 2
