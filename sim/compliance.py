@@ -1,4 +1,5 @@
-"""Compliant wings: the joint that carries each wing yields like a spring and damper (issue #15, section 2).
+"""Compliant wings: the joint that carries each wing yields like a spring and damper (issue #15, section 2), or
+like a soft servo that also integrates its error.
 
 The source paper suspected that the thin wings and their mounts deform under the body's weight and make the
 physical robot easier to right. With a :class:`Compliance`, the wing joints (the pitch and the roll servo of each
@@ -8,6 +9,12 @@ back. The torque is computed once per servo command period and held through pybu
 update that stays accurate while ``sqrt(k / I) * period`` and ``c * period / I`` stay below ``MAX_OMEGA_PERIOD``
 (``I``: the moment of inertia of the joint's child link about its axis, a lower bound on what it moves), which :func:`check_stability` enforces. Without a
 compliance the model is exactly the rigid one.
+
+With ``wing_integral_time_s`` (``T_i``) the joint is a proportional-integral servo, as position servos with an
+integral gain are: the torque adds ``(k / T_i) * integral(target - q) dt``, so a steady load no longer sags the
+wing by ``load / k`` (the integral takes it over within a few ``T_i``) while a load that changes faster than
+that still meets the soft spring ``k``. The integral is clamped so that its torque never exceeds the effort limit
+(no wind-up while the servo is saturated).
 """
 
 from __future__ import annotations
@@ -35,16 +42,24 @@ class Compliance:
         Rotational stiffness, N·m/rad (> 0).
     wing_damping_n_m_s_rad : float
         Rotational damping, N·m·s/rad (>= 0).
+    wing_integral_time_s : float or None
+        Integral time ``T_i`` of a proportional-integral servo, s (> 0); None: no integral (a spring).
     """
 
     wing_stiffness_n_m_rad: float
     wing_damping_n_m_s_rad: float = 0.0
+    wing_integral_time_s: float | None = None
 
     def __post_init__(self):
-        k, c = self.wing_stiffness_n_m_rad, self.wing_damping_n_m_s_rad
-        for name, v in (("wing_stiffness_n_m_rad", k), ("wing_damping_n_m_s_rad", c)):
+        k, c, ti = self.wing_stiffness_n_m_rad, self.wing_damping_n_m_s_rad, self.wing_integral_time_s
+        checks = [("wing_stiffness_n_m_rad", k), ("wing_damping_n_m_s_rad", c)]
+        for name, v in checks + ([("wing_integral_time_s", ti)] if ti is not None else []):
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
                 raise ComplianceError(f"{name} must be a finite number; got {v!r}")
+        if ti is not None and ti <= 0:
+            raise ComplianceError(
+                f"wing_integral_time_s must be > 0 (omit it for a spring without integral); got {ti!r}"
+            )
         if k <= 0:
             raise ComplianceError(
                 f"wing_stiffness_n_m_rad must be > 0 (omit [compliance] for rigid wings); got {k!r}"
@@ -77,6 +92,12 @@ def check_stability(comp: Compliance, inertia_kg_m2: float, period_s: float) -> 
             f"wing_stiffness_n_m_rad {k:g} is too stiff for the {period_s * 1e3:g} ms servo period: "
             f"sqrt(k/I)*period = {wt:.3g} > {MAX_OMEGA_PERIOD:g} with the wing's I = {inertia_kg_m2:.2g} kg m^2; "
             f"give k <= {k_max:.3g} N m/rad"
+        )
+    ti = comp.wing_integral_time_s
+    if ti is not None and period_s / ti > MAX_OMEGA_PERIOD:
+        raise ComplianceError(
+            f"wing_integral_time_s {ti:g} is too short for the {period_s * 1e3:g} ms servo period; "
+            f"give at least {period_s / MAX_OMEGA_PERIOD:.3g} s"
         )
     if c * period_s / inertia_kg_m2 > MAX_OMEGA_PERIOD:
         c_max = MAX_OMEGA_PERIOD * inertia_kg_m2 / period_s

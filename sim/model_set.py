@@ -47,7 +47,7 @@ MODELS_DIR = Path(__file__).resolve().parent / "models"
 DEFAULT_MODEL_SET = "paper"
 PROFILES = ("idealised", "measured")
 _TOP = {"name", "version", "description", "actuation", "contact", "compliance"}
-_COMPLIANCE = {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad"}
+_COMPLIANCE = {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad", "wing_integral_time_s"}
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
 _MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg", "servo_sides"}
 SERVO_SIDES = ("as-labelled", "mirrored")
@@ -63,6 +63,7 @@ OPTIONAL_KEYS = frozenset(
         "contact.spinning_friction",
         "compliance.wing_stiffness_n_m_rad",
         "compliance.wing_damping_n_m_s_rad",
+        "compliance.wing_integral_time_s",
     }
 )
 """Dotted keys a set may omit (and a calibration candidate may add): rolling and spinning friction, and the
@@ -104,7 +105,7 @@ class ModelSet:
         The per-joint knots of a ``profile = "measured"`` set.
     compliance : Compliance or None
         Compliant wing roots, from an optional ``[compliance]`` table (``wing_stiffness_n_m_rad``, optional
-        ``wing_damping_n_m_s_rad``; :mod:`sim.compliance`); None: rigid wings.
+        ``wing_damping_n_m_s_rad`` and ``wing_integral_time_s``; :mod:`sim.compliance`); None: rigid wings.
     """
 
     name: str
@@ -373,6 +374,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
                 _number(comp, "wing_damping_n_m_s_rad", wc, allow_zero=True)
                 if "wing_damping_n_m_s_rad" in comp
                 else 0.0,
+                _number(comp, "wing_integral_time_s", wc) if "wing_integral_time_s" in comp else None,
             )
         except ComplianceError as exc:
             raise ModelSetError(f"{wc}: {exc}") from None
@@ -380,6 +382,8 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
             "wing_stiffness_n_m_rad": compliance.wing_stiffness_n_m_rad,
             "wing_damping_n_m_s_rad": compliance.wing_damping_n_m_s_rad,
         }
+        if compliance.wing_integral_time_s is not None:  # sets without it keep their hashes
+            canonical["compliance"]["wing_integral_time_s"] = compliance.wing_integral_time_s
     digest = hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()[:16]
     ms = ModelSet(
         data["name"],

@@ -236,6 +236,9 @@ class World:
         self.leg_joints = [names[n] for n in jm.leg]
         self.driven = self.wing_joints + self.leg_joints
         self._soft = list(range(len(jm.wing))) if self.compliance is not None else []
+        self._integral = np.zeros(len(self._soft))  # a PI servo's integrated error per soft joint, rad s
+        self._last_err = np.zeros(len(self._soft))
+        self._elapsed_s = self._last_drive_s = 0.0
         self._stiff = [k for k in range(len(self.driven)) if k not in self._soft]
         self.max_force_n_m = np.array(
             [pb.getJointInfo(self.body, j, physicsClientId=cid)[10] for j in self.driven]
@@ -340,13 +343,25 @@ class World:
         )
 
     def _drive_soft(self, target_rad, speed_rad_s) -> None:
-        k, c = self.compliance.wing_stiffness_n_m_rad, self.compliance.wing_damping_n_m_s_rad
+        comp = self.compliance
+        k, c = comp.wing_stiffness_n_m_rad, comp.wing_damping_n_m_s_rad
         joints = [self.driven[i] for i in self._soft]
         states = pb.getJointStates(self.body, joints, physicsClientId=self.cid)
-        tau = [
-            float(np.clip(k * (target_rad[i] - q) + c * (speed_rad_s[i] - v), -lim, lim))
-            for i, (q, v, *_), lim in zip(self._soft, states, self.max_force_n_m[self._soft], strict=True)
-        ]
+        lim = self.max_force_n_m[self._soft]
+        err = np.array([target_rad[i] - q for i, (q, *_) in zip(self._soft, states, strict=True)])
+        torque = k * err + c * np.array(
+            [speed_rad_s[i] - s[1] for i, s in zip(self._soft, states, strict=True)]
+        )
+        if comp.wing_integral_time_s is not None:
+            # the error at the last command, held since then, integrated (left rectangles: one long interval,
+            # such as settling's, adds what was known when it began); the integral's torque clamped at the
+            # effort limit (no wind-up)
+            ki = k / comp.wing_integral_time_s
+            dt = self._elapsed_s - self._last_drive_s
+            self._integral = np.clip(self._integral + self._last_err * dt, -lim / ki, lim / ki)
+            torque = torque + ki * self._integral
+        self._last_drive_s, self._last_err = self._elapsed_s, err
+        tau = np.clip(torque, -lim, lim).tolist()
         pb.setJointMotorControlArray(
             self.body, joints, pb.TORQUE_CONTROL, forces=tau, physicsClientId=self.cid
         )
@@ -367,6 +382,7 @@ class World:
     def advance(self, n_steps: int) -> None:
         """Advance ``n_steps`` physics steps of ``dt_s`` (a multiple of ``substeps``)."""
         assert n_steps % self.substeps == 0, (n_steps, self.substeps)
+        self._elapsed_s += n_steps * self.dt_s
         for _ in range(n_steps // self.substeps):
             pb.stepSimulation(physicsClientId=self.cid)
 
