@@ -22,6 +22,7 @@ from landscape.analysis.validation import (
     DEFAULT_CV,
     HELD_OUT_LEGS_DEG,
     Validation,
+    simulates_commands,
     validate,
 )
 
@@ -105,7 +106,9 @@ def candidate_set(base: str | Path, overrides: dict[str, float], name: str, path
 
 @dataclass(frozen=True)
 class Candidate:
-    """One candidate's score on the fit cells."""
+    """One candidate's score on the fit cells: the log-likelihood of the recorded outcomes and, when openings
+    are scored, of the recorded first openings (``landscape.analysis.opening.opening_log_likelihood``; nan
+    otherwise). Candidates rank by ``score``, their sum."""
 
     name: str
     overrides: dict
@@ -113,8 +116,17 @@ class Candidate:
     log_likelihood: float
     agree: int
     cells: int
+    opening_log_likelihood: float = math.nan
 
-    CSV_COLUMNS = ("name", "overrides", "model_set_hash", "log_likelihood", "agree", "cells")
+    CSV_COLUMNS = (
+        "name", "overrides", "model_set_hash", "log_likelihood", "agree", "cells", "opening_log_likelihood",
+    )  # fmt: skip
+
+    @property
+    def score(self) -> float:
+        """The outcomes' log-likelihood plus the openings' where they were scored."""
+        o = self.opening_log_likelihood
+        return self.log_likelihood + (o if math.isfinite(o) else 0.0)
 
 
 @dataclass(frozen=True)
@@ -144,13 +156,19 @@ def calibrate(
     workers: int | None = None,
     progress: bool = True,
     on_candidate: Callable[[Candidate, int, int], None] | None = None,
+    openings: bool = False,
+    opening_phase: float | None = None,
 ) -> Calibration:
     """Grid-search ``vary`` on the fit cells, then validate the best candidate on every cell.
 
     ``trials`` simulated trials per fit cell and candidate; ``validate_trials`` per cell for the final
-    validation. ``on_candidate(candidate, index, total)`` is called as each candidate finishes.
+    validation. ``on_candidate(candidate, index, total)`` is called as each candidate finishes. With
+    ``openings`` each candidate also simulates one first opening per fit cell at ``opening_phase`` (default:
+    the protocol's, ``landscape.analysis.opening.PROTOCOL_PHASE``; no noise) and adds its log-likelihood under
+    the cell's recorded first openings to the score: how the body moves, not only whether it rights.
     """
-    from landscape.analysis.physical import physical_trials
+    from landscape.analysis.opening import PROTOCOL_PHASE, recorded_first_openings
+    from landscape.analysis.physical import measured_plateaus_deg, physical_trials
 
     out_dir = Path(out_dir)
     fit_legs = {float(x) for x in fit_legs_deg}
@@ -163,6 +181,14 @@ def calibrate(
     fit_cells = [c for c in cells if c[1] in fit_legs]
     if not fit_cells:
         raise CalibrationError(f"no recorded cell has a leg amplitude in --fit-legs {sorted(fit_legs)}")
+    phase = PROTOCOL_PHASE if opening_phase is None else float(opening_phase)
+    if not 0.0 <= phase < 1.0:
+        raise CalibrationError(f"the openings' phase must lie in [0, 1); got {phase!r}")
+    recorded = {}
+    if openings:
+        for o in recorded_first_openings(data_dir):
+            recorded.setdefault((o.theta_w_cmd_deg, o.theta_l_deg), []).append(o.response)
+        plateau = measured_plateaus_deg(data_dir)
     keys = list(vary)
     combos = list(itertools.product(*(vary[k] for k in keys)))
     scored = []
@@ -176,11 +202,14 @@ def calibrate(
             workers=workers, progress=progress,
         )  # fmt: skip
         k, n = v.agree_counts["all"]
-        cand = Candidate(name, overrides, ms.model_set_hash, v.log_likelihood["all"], k, n)
+        opening_ll = math.nan
+        if openings:
+            opening_ll = _openings_log_likelihood(ms.source, fit_cells, recorded, plateau, phase, seed, robot)
+        cand = Candidate(name, overrides, ms.model_set_hash, v.log_likelihood["all"], k, n, opening_ll)
         scored.append(cand)
         if on_candidate is not None:
             on_candidate(cand, i + 1, len(combos))
-    scored.sort(key=lambda c: -c.log_likelihood)
+    scored.sort(key=lambda c: -c.score)
     best = scored[0]
     best_file = out_dir / "best.toml"
     ms = candidate_set(base, best.overrides, f"{Path(str(base)).stem}-calibrated", best_file)
@@ -189,3 +218,17 @@ def calibrate(
         trials=validate_trials, cv=cv, seed=seed + 1, duration_s=duration_s, workers=workers, progress=progress,
     )  # fmt: skip
     return Calibration(str(base), tuple(fit_cells), tuple(scored), str(best_file), v)
+
+
+def _openings_log_likelihood(model_set, cells, recorded, plateau, phase, seed, robot) -> float:
+    """Sum over ``cells`` of one simulated first opening's log-likelihood under the cell's recorded ones."""
+    from landscape.analysis.opening import opening_log_likelihood, simulated_opening
+
+    measured = simulates_commands(model_set)
+    total = 0.0
+    for w, leg in cells:
+        sim = simulated_opening(
+            w if measured else plateau[w], leg, phase=phase, seed=seed, robot=robot, model_set=model_set
+        )
+        total += opening_log_likelihood(recorded[(w, leg)], sim)
+    return total

@@ -60,6 +60,12 @@ ROLLED_TILT_DEG = 45.0
 """Lateral tilt beyond which the body counts as rolling over, degrees."""
 CLOSING_WINDOW_S = (0.95, 1.05)
 """Window after an opening's start, just before the wings start closing, in which the tilt at closing is read, s."""
+PROTOCOL_PHASE = 0.17
+"""The first attempt's leg phase under the lab's protocol (``landscape physical kinematics``: the leg's midline
+crossing about 0.13 s before the first opening, phi_1 about 0.16, IQR 0.14-0.17)."""
+OPENING_SD_FLOOR_DEG = 1.0
+"""Smallest spread of a recorded measure in :func:`opening_log_likelihood`, degrees: five trials can agree more
+closely than the model can be asked to."""
 SIM_OPENING_S = 1.4
 """Time after the opening's start that is simulated and searched for the body rolling over: the transient, the
 hold and the wings' closing (the robot's first-attempt roll-overs at 60 deg pass a tilt of 45 deg about 1.1 s after
@@ -156,6 +162,46 @@ def opening_response(
         if after.any():
             rise = float(t[np.flatnonzero(after)[0]])
     return OpeningResponse(rest, hold, overshoot, rise, tilt, wobble_p, wobble_t, closing, rolled)
+
+
+def opening_log_likelihood(recorded: Sequence[OpeningResponse], simulated: OpeningResponse) -> float:
+    """Log-likelihood of one simulated opening under one cell's recorded openings: how the body moves, where
+    the outcome likelihood only asks whether it rights.
+
+    Three continuous measures, each a normal density with the recorded trials' mean and standard deviation
+    (at least ``OPENING_SD_FLOOR_DEG``): the hold's pitch wobble, the hold's tilt wobble and the signed tilt at
+    closing. One binary measure: whether the body rolled past ``ROLLED_TILT_DEG`` within ``SIM_OPENING_S``,
+    with the recorded fraction (Laplace's rule, ``(k + 1) / (n + 2)``). A measure the simulation leaves nan (a
+    body that rolled over and righted before the window) counts the tilt at closing as ``ROLLED_TILT_DEG`` on
+    the side of the largest tilt and a wobble as five standard deviations off; a measure nan in every recorded
+    trial is skipped.
+
+    Examples
+    --------
+    >>> still = OpeningResponse(0.0, 60.0, 1.0, 0.2, 1.0, 0.5, 0.3, 0.0)
+    >>> rocking = OpeningResponse(0.0, 60.0, 5.0, 0.2, 8.0, 2.5, 6.8, 21.0, 1.1)
+    >>> opening_log_likelihood([still] * 5, still) > opening_log_likelihood([still] * 5, rocking)
+    True
+    """
+    ll = 0.0
+    for field_ in ("wobble_pitch_deg", "wobble_tilt_deg", "closing_tilt_deg"):
+        values = np.array([getattr(r, field_) for r in recorded], dtype=np.float64)
+        values = values[np.isfinite(values)]
+        if not len(values):
+            continue
+        mu, sd = float(values.mean()), max(float(values.std()), OPENING_SD_FLOOR_DEG)
+        x = getattr(simulated, field_)
+        if not math.isfinite(x):
+            x = (
+                math.copysign(ROLLED_TILT_DEG, simulated.tilt_deg)
+                if field_ == "closing_tilt_deg"
+                else mu + 5 * sd
+            )
+        ll += -0.5 * ((x - mu) / sd) ** 2 - math.log(sd * math.sqrt(2 * math.pi))
+    k = sum(math.isfinite(r.rolled_s) for r in recorded)
+    p = (k + 1) / (len(recorded) + 2)
+    ll += math.log(p if math.isfinite(simulated.rolled_s) else 1 - p)
+    return float(ll)
 
 
 @dataclass(frozen=True)

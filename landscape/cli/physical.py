@@ -308,6 +308,19 @@ def validate_cmd(
     show_default=True,
     help="Leg amplitudes (degrees) of the fit cells; the others (15, 45) are held out.",
 )
+@click.option(
+    "--openings/--outcomes-only",
+    default=False,
+    show_default=True,
+    help="Also score how each candidate's first opening moves against the robot's (the hold's wobble, the tilt "
+    "at closing, the roll past 45°; one opening per fit cell at --opening-phase), not only its outcomes.",
+)
+@click.option(
+    "--opening-phase",
+    type=click.FloatRange(0.0, 1.0, max_open=True),
+    default=None,
+    help="Leg phase of the scored openings [default: the protocol's, 0.17].",
+)
 @validation_cv_option
 @validation_seed_option
 @validation_duration_option
@@ -322,11 +335,13 @@ def validate_cmd(
 )
 @no_progress_option
 def calibrate_cmd(
-    data, robot, base, vary, trials, validate_trials, fit_legs, cv, seed, duration, workers, out, no_progress
-):
+    data, robot, base, vary, trials, validate_trials, fit_legs, openings, opening_phase, cv, seed, duration,
+    workers, out, no_progress,
+):  # fmt: skip
     """Fit a model set to the physical outcomes: every combination of the --vary values is simulated on the fit
-    cells and scored by the log-likelihood of the recorded outcomes; the best is written as best.toml and
-    validated on every cell, the held-out cells reported on their own."""
+    cells and scored by the log-likelihood of the recorded outcomes (with --openings also of the recorded first
+    openings); the best is written as best.toml and validated on every cell, the held-out cells reported on
+    their own."""
     from dataclasses import asdict
 
     from landscape.analysis.calibration import calibrate, parse_vary
@@ -340,8 +355,10 @@ def calibrate_cmd(
 
     def done(c, i, n):
         changes = ", ".join(f"{k} = {v:g}" for k, v in c.overrides.items())
+        opening = f", openings {c.opening_log_likelihood:.2f} (score {c.score:.2f})" if openings else ""
         click.echo(
             f"[{i}/{n}] {c.name} ({changes}): log-likelihood {c.log_likelihood:.2f}, {c.agree}/{c.cells} agree"
+            + opening
         )
 
     cal = calibrate(
@@ -359,6 +376,8 @@ def calibrate_cmd(
         workers=workers,
         progress=not no_progress,
         on_candidate=done,
+        openings=openings,
+        opening_phase=opening_phase,
     )
     best = cal.candidates[0]
     click.echo(f"\nbest: {best.name} ({best.overrides}) -> {cal.best_file}; validated on every cell:\n")

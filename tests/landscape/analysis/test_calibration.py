@@ -2,6 +2,7 @@
 `landscape physical calibrate` end to end on the built-in robot (needs ../shared's physical data)."""
 
 import json
+import math
 
 import pytest
 
@@ -83,3 +84,19 @@ def test_calibrate_command_picks_the_likeliest_candidate_and_holds_cells_out(tmp
     )
     assert main(args[:-5] + ["--fit-legs", "0,15", "--out", str(tmp_path)]) == 2
     assert "held-out" in capsys.readouterr().err
+
+
+@needs_data
+def test_calibrate_with_openings_ranks_by_outcomes_plus_openings(tmp_path, capsys):
+    """--openings: each candidate also gets the log-likelihood of its first openings under the robot's (one per
+    fit cell); candidates rank by the sum, which is printed and stored."""
+    args = ["physical", "calibrate", "--data", str(DATA), "--base", "paper", "--openings"]
+    args += ["--vary", "contact.lateral_friction=0.5,1", "--trials", "1", "--validate-trials", "1"]
+    args += ["--duration", "2", "--out", str(tmp_path), "--no-progress", "--workers", "1"]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "openings -" in out and "(score -" in out
+    doc = json.loads((tmp_path / "calibration.json").read_text())
+    scores = [c["log_likelihood"] + c["opening_log_likelihood"] for c in doc["candidates"]]
+    assert scores == sorted(scores, reverse=True) and all(math.isfinite(s) for s in scores)
+    assert main(args[:-5] + ["--opening-phase", "1.2", "--out", str(tmp_path)]) == 2

@@ -226,3 +226,26 @@ def test_opening_transient_benchmark_prints_the_closing_table(capsys):
     with pytest.raises(SystemExit) as exc:
         mod.main([*argv, "--cells", "61:30"])
     assert exc.value.code == 2
+
+
+def test_opening_log_likelihood_prefers_the_recorded_behaviour():
+    """Against a robot that rocks and rolls at closing (the 60°/30° cell's pattern), a simulated opening that does
+    the same scores higher than one that sits still, and one that sits still scores higher against a still robot;
+    a simulation that rolled over before the hold (nan wobble and closing tilt) is penalised, not skipped."""
+    rng = np.random.default_rng(0)
+
+    def opening(wp, wt, close, rolled):
+        return op.OpeningResponse(0.0, 60.0, 3.0, 0.2, 8.0, wp, wt, close, rolled)
+
+    rocking = [
+        opening(2.5 + rng.normal(0, 0.3), 6.8 + rng.normal(0, 1), 21 + rng.normal(0, 5), 1.1)
+        for _ in range(5)
+    ]
+    still = [opening(0.5, 0.3 + 0.1 * k, rng.normal(0, 0.5), math.nan) for k in range(5)]
+    like_rocking, like_still = opening(2.4, 7.0, 20.0, 1.12), opening(0.4, 0.3, 0.2, math.nan)
+    assert (
+        op.opening_log_likelihood(rocking, like_rocking) > op.opening_log_likelihood(rocking, like_still) + 5
+    )
+    assert op.opening_log_likelihood(still, like_still) > op.opening_log_likelihood(still, like_rocking) + 5
+    early = op.OpeningResponse(0.0, 60.0, 40.0, 0.2, 60.0, math.nan, math.nan, math.nan, 0.4)
+    assert op.opening_log_likelihood(still, early) < op.opening_log_likelihood(still, like_rocking)
