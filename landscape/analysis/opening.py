@@ -66,6 +66,9 @@ crossing about 0.13 s before the first opening, phi_1 about 0.16, IQR 0.14-0.17)
 OPENING_SD_FLOOR_DEG = 1.0
 """Smallest spread of a recorded measure in :func:`opening_log_likelihood`, degrees: five trials can agree more
 closely than the model can be asked to."""
+OPENING_Z_CAP = 4.0
+"""Largest deviation, in standard deviations, that one measure of one opening counts in
+:func:`opening_log_likelihood`."""
 SIM_OPENING_S = 1.4
 """Time after the opening's start that is simulated and searched for the body rolling over: the transient, the
 hold and the wings' closing (the robot's first-attempt roll-overs at 60 deg pass a tilt of 45 deg about 1.1 s after
@@ -169,12 +172,13 @@ def opening_log_likelihood(recorded: Sequence[OpeningResponse], simulated: Openi
     the outcome likelihood only asks whether it rights.
 
     Three continuous measures, each a normal density with the recorded trials' mean and standard deviation
-    (at least ``OPENING_SD_FLOOR_DEG``): the hold's pitch wobble, the hold's tilt wobble and the signed tilt at
-    closing. One binary measure: whether the body rolled past ``ROLLED_TILT_DEG`` within ``SIM_OPENING_S``,
-    with the recorded fraction (Laplace's rule, ``(k + 1) / (n + 2)``). A measure the simulation leaves nan (a
-    body that rolled over and righted before the window) counts the tilt at closing as ``ROLLED_TILT_DEG`` on
-    the side of the largest tilt and a wobble as five standard deviations off; a measure nan in every recorded
-    trial is skipped.
+    (at least ``OPENING_SD_FLOOR_DEG``): the hold's pitch wobble, the hold's tilt wobble and the magnitude of the
+    tilt at closing (the side is the validation's to judge: one simulated opening at one phase goes to one
+    side). Each measure's squared deviation counts at most ``OPENING_Z_CAP`` standard deviations, so that one
+    opening far off in one cell cannot outweigh every other cell and the outcomes. One binary measure: whether
+    the body rolled past ``ROLLED_TILT_DEG`` within ``SIM_OPENING_S``, with the recorded fraction (Laplace's
+    rule, ``(k + 1) / (n + 2)``). A measure the simulation leaves nan (a body that rolled over and righted
+    before the window) counts as ``OPENING_Z_CAP`` off; a measure nan in every recorded trial is skipped.
 
     Examples
     --------
@@ -184,20 +188,20 @@ def opening_log_likelihood(recorded: Sequence[OpeningResponse], simulated: Openi
     True
     """
     ll = 0.0
-    for field_ in ("wobble_pitch_deg", "wobble_tilt_deg", "closing_tilt_deg"):
-        values = np.array([getattr(r, field_) for r in recorded], dtype=np.float64)
+    measures = {
+        "wobble_pitch_deg": lambda r: r.wobble_pitch_deg,
+        "wobble_tilt_deg": lambda r: r.wobble_tilt_deg,
+        "closing_tilt_deg": lambda r: abs(r.closing_tilt_deg),
+    }
+    for get in measures.values():
+        values = np.array([get(r) for r in recorded], dtype=np.float64)
         values = values[np.isfinite(values)]
         if not len(values):
             continue
         mu, sd = float(values.mean()), max(float(values.std()), OPENING_SD_FLOOR_DEG)
-        x = getattr(simulated, field_)
-        if not math.isfinite(x):
-            x = (
-                math.copysign(ROLLED_TILT_DEG, simulated.tilt_deg)
-                if field_ == "closing_tilt_deg"
-                else mu + 5 * sd
-            )
-        ll += -0.5 * ((x - mu) / sd) ** 2 - math.log(sd * math.sqrt(2 * math.pi))
+        x = get(simulated)
+        z2 = min(((x - mu) / sd) ** 2, OPENING_Z_CAP**2) if math.isfinite(x) else OPENING_Z_CAP**2
+        ll += -0.5 * z2 - math.log(sd * math.sqrt(2 * math.pi))
     k = sum(math.isfinite(r.rolled_s) for r in recorded)
     p = (k + 1) / (len(recorded) + 2)
     ll += math.log(p if math.isfinite(simulated.rolled_s) else 1 - p)
