@@ -344,11 +344,14 @@ def calibrate_cmd(
     their own."""
     from dataclasses import asdict
 
+    from geometry.errors import UsageError
     from landscape.analysis.calibration import calibrate, parse_vary
     from landscape.cli.options import robot_urdf_arg, writable_dir
     from landscape.params import parse_values
     from landscape.viz.files import json_text
 
+    if opening_phase is not None and not openings:
+        raise UsageError("--opening-phase sets the phase of the scored openings; give --openings as well")
     writable_dir(out, "--out")
     Path(out).mkdir(parents=True, exist_ok=True)
     grid = parse_vary(vary)

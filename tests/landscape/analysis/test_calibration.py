@@ -100,3 +100,6 @@ def test_calibrate_with_openings_ranks_by_outcomes_plus_openings(tmp_path, capsy
     scores = [c["log_likelihood"] + c["opening_log_likelihood"] for c in doc["candidates"]]
     assert scores == sorted(scores, reverse=True) and all(math.isfinite(s) for s in scores)
     assert main(args[:-5] + ["--opening-phase", "1.2", "--out", str(tmp_path)]) == 2
+    plain = [a for a in args if a != "--openings"]
+    assert main([*plain, "--opening-phase", "0.3"]) == 2
+    assert "give --openings as well" in capsys.readouterr().err
