@@ -761,12 +761,3 @@ def lateralisation(trials: Iterable[PhysicalTrial]) -> Lateralisation:
     pos, n = sum(d > 0 for d in dirs), len(dirs)
     lo, hi = wilson_interval(pos, n)
     return Lateralisation(pos, n - pos, pos / n if n else math.nan, lo, hi)
-
-
-def model_plateau_pitch_deg(robot, theta_w_deg: Sequence[float], *, theta_l_deg: float = 0.0) -> list[float]:
-    """The model's metastable pitch at each wing angle minus its pitch at theta_w = 0, degrees (the same
-    reference as :func:`resting_pitch_table`): :func:`landscape.minima.metastable_orientation`."""
-    from landscape.minima import metastable_orientation
-
-    p0 = metastable_orientation(robot, 0.0, theta_l_deg)[0]
-    return [float(metastable_orientation(robot, float(tw), theta_l_deg)[0] - p0) for tw in theta_w_deg]

@@ -170,8 +170,14 @@ def test_resting_pitch_reproduces_the_issue_table():
 
 @needs_data
 def test_model_pitch_on_the_lab_urdf(lab_robot):
-    model = ph.model_plateau_pitch_deg(lab_robot, [59.1, 73.6, 82.1])
-    assert np.round(model, 1).tolist() == [65.2, 75.7, 81.4]
+    """Issue #15's model column: the metastable pitch with every wing joint at the measured plateau, minus the
+    rest at theta_w = 0 (as `landscape physical kinematics` and the report compute it)."""
+    from landscape.analysis.opening import plateau_hold_deg
+    from landscape.minima import metastable_orientation
+
+    rest = metastable_orientation(lab_robot, 0.0, 0.0)[0]
+    hold = plateau_hold_deg(lab_robot, DATA, (60.0, 75.0, 90.0))
+    assert [round(hold[c] - rest, 1) for c in (60.0, 75.0, 90.0)] == [65.2, 75.7, 81.4]
 
 
 @needs_data
