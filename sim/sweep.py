@@ -33,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from geometry import JointMap
+from geometry.errors import UsageError
 
 from .actuation import Actuation
 from .model import default_robot_urdf, sim_model
@@ -592,6 +593,8 @@ class _Sweep:
         if isinstance(exc, BrokenProcessPool):
             queue.appendleft(spec)
             return
+        if isinstance(exc, UsageError):  # the spec's own input refused on the worker (e.g. an unstable set)
+            raise exc
         if exc is not None:
             raise SweepAborted(
                 f"trial (theta_w {spec.theta_w_deg:g}, theta_l {spec.theta_l_deg:g}, cv {spec.cv:g}, "

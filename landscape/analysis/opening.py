@@ -16,9 +16,10 @@ wing command), so the physical robot's recordings and the simulation's traces ar
   closing (the measured profiles start closing 1.04-1.06 s after the opening starts): how far the hold has
   rocked the body sideways when the wings take their support away;
 - *rolled*: the first time after the opening's start at which the lateral tilt reaches ``ROLLED_TILT_DEG``
-  (45 deg), within ``SIM_OPENING_S``: past the roll-wise saddle (the lab URDF's lies at a tilt of 29, 17 and 10 deg
-  at the measured plateaus 59.1, 73.6 and 82.1 deg), the body is rolling over. Not world-up's sign: the recorded frame is the IMU's, pitched
-  about 11 deg against the body's, which at the 90 deg command puts the held body past pitch 90 deg.
+  (45 deg), within ``SIM_OPENING_S``: past the roll-wise saddle (the lab URDF's lies at a tilt of 29, 17 and
+  10 deg at the measured plateaus 59.1, 73.6 and 82.1 deg), the body is rolling over. Not world-up's sign: the
+  recorded frame is the IMU's, pitched about 11 deg against the body's, which at the 90 deg command puts the held
+  body past pitch 90 deg.
 
 The recorded pitch is the IMU's, whose mounting on the body is not known; the simulated pitch is the body
 frame's. :func:`hold_pitch_frames` therefore compares the recorded hold with the model's in two ways: relative
@@ -188,12 +189,12 @@ def opening_log_likelihood(recorded: Sequence[OpeningResponse], simulated: Openi
     True
     """
     ll = 0.0
-    measures = {
-        "wobble_pitch_deg": lambda r: r.wobble_pitch_deg,
-        "wobble_tilt_deg": lambda r: r.wobble_tilt_deg,
-        "closing_tilt_deg": lambda r: abs(r.closing_tilt_deg),
-    }
-    for get in measures.values():
+    measures = (
+        lambda r: r.wobble_pitch_deg,
+        lambda r: r.wobble_tilt_deg,
+        lambda r: abs(r.closing_tilt_deg),
+    )
+    for get in measures:
         values = np.array([get(r) for r in recorded], dtype=np.float64)
         values = values[np.isfinite(values)]
         if not len(values):
@@ -276,7 +277,7 @@ def recorded_first_openings(data_dir: str | Path) -> list[RecordedOpening]:
                 swing,
                 held,
                 gyro_tilt_deviation_deg(rec, start),
-            )  # fmt: skip
+            )
         )
     return out
 
@@ -322,8 +323,7 @@ def gyro_tilt_deviation_deg(
         gyro_up.append(rot.inv().apply([0.0, 0.0, 1.0]))
     gyro_tilt = np.degrees(np.arcsin(np.clip(np.array(gyro_up)[:, 1], -1.0, 1.0)))
     rec_tilt = lateral_tilt_deg(rec.pitch_deg[qsel], rec.roll_deg[qsel])
-    worst = np.abs(rec_tilt - np.interp(rec.t_s[qsel], gyro_t, gyro_tilt)).max()
-    return float(worst)
+    return float(np.abs(rec_tilt - np.interp(rec.t_s[qsel], gyro_t, gyro_tilt)).max())
 
 
 def _median_between(t, values, lo: float, hi: float) -> float:

@@ -7,6 +7,7 @@ turns into one line on stderr and exit status 2.
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 
 import click
 
@@ -438,3 +439,16 @@ def pose_model_set(pose_model: str | None, robot):
     from sim.model_set import load_model_set
 
     return load_model_set(pose_model)
+
+
+@contextmanager
+def sweep_errors():
+    """Run a sweep's library call: a sweep that stopped before its end (:class:`sim.sweep.SweepAborted`: workers
+    kept dying, or a trial raised) is one line and exit status 1, not a bug report; what finished is stored and
+    rerunning the command resumes it."""
+    from sim.sweep import SweepAborted
+
+    try:
+        yield
+    except SweepAborted as exc:
+        raise click.ClickException(str(exc).splitlines()[0]) from None

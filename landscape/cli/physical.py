@@ -12,6 +12,7 @@ from landscape.cli.options import (
     model_set_option,
     no_progress_option,
     robot_option,
+    sweep_errors,
     validation_cv_option,
     validation_duration_option,
     validation_seed_option,
@@ -240,22 +241,23 @@ def validate_cmd(
     ms = load_model_set(model_set)
     Path(out).mkdir(parents=True, exist_ok=True)
     db = Path(out) / f"trials_{ms.name}_{ms.model_set_hash}.sqlite"
-    v, summary = validate(
-        data,
-        db=db,
-        robot=robot_urdf_arg(robot),
-        model_set=model_set,
-        trials=trials,
-        cv=cv,
-        seed=seed,
-        cells=cells,
-        duration_s=duration,
-        dt_s=dt,
-        joint_map=joints,
-        workers=workers,
-        progress=not no_progress,
-        phase=phase,
-    )
+    with sweep_errors():
+        v, summary = validate(
+            data,
+            db=db,
+            robot=robot_urdf_arg(robot),
+            model_set=model_set,
+            trials=trials,
+            cv=cv,
+            seed=seed,
+            cells=cells,
+            duration_s=duration,
+            dt_s=dt,
+            joint_map=joints,
+            workers=workers,
+            progress=not no_progress,
+            phase=phase,
+        )
     click.echo(
         f"{summary.total} simulated trials: {summary.skipped} already in {db}, ran {summary.ran} in "
         f"{summary.wall_s:.1f} s ({summary.cpu_s:.0f} trial CPU-s)"
@@ -364,24 +366,25 @@ def calibrate_cmd(
             + opening
         )
 
-    cal = calibrate(
-        data,
-        out_dir=out,
-        vary=grid,
-        base=base,
-        robot=robot_urdf_arg(robot),
-        trials=trials,
-        validate_trials=validate_trials,
-        cv=cv,
-        seed=seed,
-        fit_legs_deg=parse_values(fit_legs, "fit-legs"),
-        duration_s=duration,
-        workers=workers,
-        progress=not no_progress,
-        on_candidate=done,
-        openings=openings,
-        opening_phase=opening_phase,
-    )
+    with sweep_errors():
+        cal = calibrate(
+            data,
+            out_dir=out,
+            vary=grid,
+            base=base,
+            robot=robot_urdf_arg(robot),
+            trials=trials,
+            validate_trials=validate_trials,
+            cv=cv,
+            seed=seed,
+            fit_legs_deg=parse_values(fit_legs, "fit-legs"),
+            duration_s=duration,
+            workers=workers,
+            progress=not no_progress,
+            on_candidate=done,
+            openings=openings,
+            opening_phase=opening_phase,
+        )
     best = cal.candidates[0]
     click.echo(f"\nbest: {best.name} ({best.overrides}) -> {cal.best_file}; validated on every cell:\n")
     rows = [c.__class__(**{**asdict(c), "overrides": json_text(c.overrides)}) for c in cal.candidates]

@@ -20,6 +20,7 @@ from landscape.cli.options import (
     parse_values,
     robot_option,
     robot_urdf_arg,
+    sweep_errors,
     wing_period_option,
     workers_option,
     writable_file,
@@ -346,7 +347,7 @@ def sweep(
 
     from landscape.viz.files import json_text
     from sim.store import KEY_COLUMNS, read_rows
-    from sim.sweep import SweepAborted, run_sweep, success_table, sweep_specs
+    from sim.sweep import run_sweep, success_table, sweep_specs
 
     if workers is not None and scheduler is not None:
         raise UsageError("give either --workers N (local processes) or --scheduler ADDRESS (Dask), not both")
@@ -381,10 +382,8 @@ def sweep(
         joint_map=joints,
         model_set=model_set,
     )
-    try:
+    with sweep_errors():
         summary = run_sweep(specs, db=db, workers=workers, scheduler=scheduler, progress=not no_progress)
-    except SweepAborted as exc:  # not the input's fault; what finished is stored, and rerunning resumes
-        raise click.ClickException(str(exc).splitlines()[0]) from None
     if as_json:
         click.echo(json_text(asdict(summary)))
         return

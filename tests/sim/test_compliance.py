@@ -106,3 +106,16 @@ def test_an_integrating_servo_takes_the_steady_load_over():
 def test_too_stiff_a_spring_is_refused_before_the_trial():
     with pytest.raises(ComplianceError, match="too stiff"):
         run_trial(75.0, 0.0, phase=0.5, cv=0.0, rng=1, duration_s=0.5, compliance=Compliance(1e4))
+
+
+def test_a_set_refused_on_a_worker_is_one_line_of_bad_input(tmp_path, capsys):
+    """The stability check runs on the worker that builds the world; its refusal reaches the user as the input
+    error it is (exit 2, one line), not as an aborted sweep or a bug report."""
+    from landscape.cli import main
+
+    f = _with_table(tmp_path, "wing_stiffness_n_m_rad = 1000.0\n")
+    args = ["sweep", "--theta-w", "74", "--theta-l", "30", "--cv", "0", "--trials", "1", "--duration", "0.5"]
+    args += ["--model", str(f), "--db", str(tmp_path / "t.sqlite"), "--workers", "2", "--no-progress"]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "too stiff for the 1 ms servo period" in err[0]
