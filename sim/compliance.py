@@ -84,24 +84,111 @@ def check_stability(comp: Compliance, inertia_kg_m2: float, period_s: float) -> 
     ...
     sim.compliance.ComplianceError: wing_stiffness_n_m_rad 1000 is too stiff for the 1 ms servo period: sqrt(k/I)*period = 4.61 > 0.5 with the wing's I = 4.7e-05 kg m^2; give k <= 11.8 N m/rad
     """
-    k, c = comp.wing_stiffness_n_m_rad, comp.wing_damping_n_m_s_rad
-    wt = math.sqrt(k / inertia_kg_m2) * period_s
-    if wt > MAX_OMEGA_PERIOD:
-        k_max = (MAX_OMEGA_PERIOD / period_s) ** 2 * inertia_kg_m2
-        raise ComplianceError(
-            f"wing_stiffness_n_m_rad {k:g} is too stiff for the {period_s * 1e3:g} ms servo period: "
-            f"sqrt(k/I)*period = {wt:.3g} > {MAX_OMEGA_PERIOD:g} with the wing's I = {inertia_kg_m2:.2g} kg m^2; "
-            f"give k <= {k_max:.3g} N m/rad"
-        )
+    _check_spring(
+        ("wing_stiffness_n_m_rad", comp.wing_stiffness_n_m_rad),
+        ("wing_damping_n_m_s_rad", comp.wing_damping_n_m_s_rad),
+        "the wing's",
+        inertia_kg_m2,
+        period_s,
+    )
     ti = comp.wing_integral_time_s
     if ti is not None and period_s / ti > MAX_OMEGA_PERIOD:
         raise ComplianceError(
             f"wing_integral_time_s {ti:g} is too short for the {period_s * 1e3:g} ms servo period; "
             f"give at least {period_s / MAX_OMEGA_PERIOD:.3g} s"
         )
+
+
+def _check_spring(stiffness, damping, whose: str, inertia_kg_m2: float, period_s: float) -> None:
+    """Refuse ``(name, k)`` and ``(name, c)`` on a body of ``inertia_kg_m2`` (``whose``: "the wing's") that the
+    explicit update held for ``period_s`` cannot follow (:data:`MAX_OMEGA_PERIOD`)."""
+    (k_name, k), (c_name, c) = stiffness, damping
+    wt = math.sqrt(k / inertia_kg_m2) * period_s
+    if wt > MAX_OMEGA_PERIOD:
+        k_max = (MAX_OMEGA_PERIOD / period_s) ** 2 * inertia_kg_m2
+        raise ComplianceError(
+            f"{k_name} {k:g} is too stiff for the {period_s * 1e3:g} ms servo period: sqrt(k/I)*period = "
+            f"{wt:.3g} > {MAX_OMEGA_PERIOD:g} with {whose} I = {inertia_kg_m2:.2g} kg m^2; give k <= {k_max:.3g} N m/rad"
+        )
     if c * period_s / inertia_kg_m2 > MAX_OMEGA_PERIOD:
         c_max = MAX_OMEGA_PERIOD * inertia_kg_m2 / period_s
         raise ComplianceError(
-            f"wing_damping_n_m_s_rad {c:g} is too high for the {period_s * 1e3:g} ms servo period with the "
-            f"wing's I = {inertia_kg_m2:.2g} kg m^2; give c <= {c_max:.3g} N m s/rad"
+            f"{c_name} {c:g} is too high for the {period_s * 1e3:g} ms servo period with {whose} I = "
+            f"{inertia_kg_m2:.2g} kg m^2; give c <= {c_max:.3g} N m s/rad"
         )
+
+
+@dataclass(frozen=True)
+class BodyTorsion:
+    """A body that twists about its long axis: the links that carry the wings turn against the rest of the body
+    (head, leg and base) about the base frame's x axis through its origin, on a spring and damper.
+
+    The robot's shell is thin. Under the body's weight the two wings carry equal and opposite moments about the
+    long axis, which cancel across the body, so a torsion spring does not sag the resting pose as a spring in
+    each wing joint does (README, "The physical robot"); a load that differs between the sides, such as the
+    leg's swing, twists it. :func:`sim.model.add_body_torsion` inserts the joint (``TORSION_JOINT``) and
+    :class:`sim.world.World` drives it with the torque ``-k q - c dq/dt``, computed once per servo command
+    period like the wing compliance.
+
+    Attributes
+    ----------
+    stiffness_n_m_rad : float
+        Torsional stiffness, N·m/rad (> 0).
+    damping_n_m_s_rad : float
+        Torsional damping, N·m·s/rad (>= 0).
+
+    Examples
+    --------
+    >>> BodyTorsion(0.05, 0.002).stiffness_n_m_rad
+    0.05
+    >>> BodyTorsion(0.0)
+    Traceback (most recent call last):
+    ...
+    sim.compliance.ComplianceError: body_torsion stiffness_n_m_rad must be > 0 (omit [body_torsion] for a rigid body); got 0.0
+    """
+
+    stiffness_n_m_rad: float
+    damping_n_m_s_rad: float = 0.0
+
+    def __post_init__(self):
+        for name, v in (
+            ("stiffness_n_m_rad", self.stiffness_n_m_rad),
+            ("damping_n_m_s_rad", self.damping_n_m_s_rad),
+        ):
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise ComplianceError(f"body_torsion {name} must be a finite number; got {v!r}")
+        if self.stiffness_n_m_rad <= 0:
+            raise ComplianceError(
+                "body_torsion stiffness_n_m_rad must be > 0 (omit [body_torsion] for a rigid body); "
+                f"got {self.stiffness_n_m_rad!r}"
+            )
+        if self.damping_n_m_s_rad < 0:
+            raise ComplianceError(
+                f"body_torsion damping_n_m_s_rad must be >= 0; got {self.damping_n_m_s_rad!r}"
+            )
+
+
+def check_torsion_stability(torsion: BodyTorsion, inertia_kg_m2: float, period_s: float) -> None:
+    """Refuse a torsion spring or damper the held explicit update cannot follow at ``period_s``
+    (``inertia_kg_m2``: the twist's effective moment of inertia, :meth:`sim.world.World.torsion_inertia_kg_m2`).
+
+    Raises
+    ------
+    ComplianceError
+        If ``sqrt(k / I) * period`` or ``c * period / I`` exceeds :data:`MAX_OMEGA_PERIOD`.
+
+    Examples
+    --------
+    >>> check_torsion_stability(BodyTorsion(0.1, 0.002), 3e-5, 1e-3)
+    >>> check_torsion_stability(BodyTorsion(100.0), 3e-5, 1e-3)
+    Traceback (most recent call last):
+    ...
+    sim.compliance.ComplianceError: body_torsion stiffness_n_m_rad 100 is too stiff for the 1 ms servo period: sqrt(k/I)*period = 1.83 > 0.5 with the twist's I = 3e-05 kg m^2; give k <= 7.5 N m/rad
+    """
+    _check_spring(
+        ("body_torsion stiffness_n_m_rad", torsion.stiffness_n_m_rad),
+        ("body_torsion damping_n_m_s_rad", torsion.damping_n_m_s_rad),
+        "the twist's",
+        inertia_kg_m2,
+        period_s,
+    )

@@ -330,6 +330,85 @@ def merge_fixed_links(root: ET._Element) -> list[str]:
         merged.append(child.get("name"))
 
 
+TORSION_JOINT = "body_torsion"
+"""Name of the revolute joint :func:`add_body_torsion` inserts (:class:`sim.compliance.BodyTorsion`)."""
+
+TORSION_LINK = "body_torsion_frame"
+"""Name of the massless link that carries the wing mounts behind ``TORSION_JOINT``."""
+
+TORSION_LIMIT_RAD = 0.6
+"""The inserted joint's range, +- rad: a twist beyond it means a broken body, not a soft one."""
+
+
+def add_body_torsion(root: ET._Element, wing_joints: tuple[str, ...]) -> list[str]:
+    """Let the part of the body that carries the wings twist against the rest, in place; return the re-hung
+    joints.
+
+    Every joint between the base link and a wing joint that starts at the base (the wing mounts; a wing joint
+    itself if it starts at the base) is re-hung from a new massless link ``TORSION_LINK``, which a revolute
+    joint ``TORSION_JOINT`` about the base frame's x axis, through its origin, carries. At zero twist every link
+    sits where it did, so geometry, mass and CoM are unchanged. The base keeps everything else (head, leg and
+    whatever is fixed to it).
+
+    Raises
+    ------
+    RobotDescriptionError
+        If the names are taken, or no wing joint hangs below the base.
+
+    Examples
+    --------
+    >>> urdf = ('<robot name="r"><link name="base"/><link name="m"/><link name="w"/><link name="h"/>'
+    ...         '<joint name="mount" type="fixed"><parent link="base"/><child link="m"/></joint>'
+    ...         '<joint name="wing" type="revolute"><parent link="m"/><child link="w"/></joint>'
+    ...         '<joint name="head" type="fixed"><parent link="base"/><child link="h"/></joint></robot>')
+    >>> root = ET.fromstring(urdf)
+    >>> add_body_torsion(root, ("wing",))
+    ['mount']
+    >>> j = root.find("joint[@name='body_torsion']")
+    >>> j.find("parent").get("link"), j.find("child").get("link"), j.find("axis").get("xyz")
+    ('base', 'body_torsion_frame', '1 0 0')
+    >>> root.find("joint[@name='mount']/parent").get("link"), root.find("joint[@name='head']/parent").get("link")
+    ('body_torsion_frame', 'base')
+    """
+    joints = {j.get("name"): j for j in root.findall("joint")}
+    links = {lk.get("name") for lk in root.findall("link")}
+    if TORSION_JOINT in joints or TORSION_LINK in links:
+        raise RobotDescriptionError(
+            f"the robot already has a joint '{TORSION_JOINT}' or link '{TORSION_LINK}'; rename it to use "
+            "[body_torsion]"
+        )
+    by_child = {j.find("child").get("link"): j for j in joints.values()}
+    children = {j.find("child").get("link") for j in joints.values()}
+    base = next(lk.get("name") for lk in root.findall("link") if lk.get("name") not in children)
+    rehang: list[str] = []
+    for name in wing_joints:
+        j = joints.get(name)
+        while j is not None and j.find("parent").get("link") != base:
+            j = by_child.get(j.find("parent").get("link"))
+        if j is not None and j.get("name") not in rehang:
+            rehang.append(j.get("name"))
+    if not rehang:
+        raise RobotDescriptionError(
+            f"no wing joint hangs below the base link '{base}'; [body_torsion] needs one"
+        )
+    frame = ET.Element("link", name=TORSION_LINK)
+    inertial = ET.SubElement(frame, "inertial")
+    ET.SubElement(inertial, "mass", value="0")
+    ET.SubElement(inertial, "inertia", ixx="0", ixy="0", ixz="0", iyy="0", iyz="0", izz="0")
+    joint = ET.Element("joint", name=TORSION_JOINT, type="revolute")
+    ET.SubElement(joint, "parent", link=base)
+    ET.SubElement(joint, "child", link=TORSION_LINK)
+    ET.SubElement(joint, "origin", xyz="0 0 0", rpy="0 0 0")
+    ET.SubElement(joint, "axis", xyz="1 0 0")
+    lim = f"{TORSION_LIMIT_RAD:g}"
+    ET.SubElement(joint, "limit", lower=f"-{lim}", upper=lim, effort="1000", velocity="1000")
+    root.append(frame)
+    root.append(joint)
+    for name in rehang:
+        joints[name].find("parent").set("link", TORSION_LINK)
+    return rehang
+
+
 def rest_pitch_deg(robot: Robot) -> float:
     """Pitch (degrees) of the lowest CoM at roll 0 near the upside-down pose, wings closed, leg centred.
 
@@ -352,6 +431,7 @@ def _build(
     max_vertices: int,
     joint_map: JointMap | None,
     merge_fixed: bool,
+    body_torsion: bool = False,
 ) -> SimModel:
     """The model (cached by the robot's description hash, so an edited URDF or mesh file is rebuilt)."""
     path = Path(path_str)
@@ -384,6 +464,7 @@ def _build(
             counts[name] = (hull.n_full, len(hull.vertices))
             max_gap = max(max_gap, hull.gap * scale)
             mesh_el.set("filename", MESH_PLACEHOLDER.format(name=name))
+    rehung = add_body_torsion(root, robot.joint_map.wing) if body_torsion else []
     merged = merge_fixed_links(root) if merge_fixed else []
     text = ET.tostring(root, encoding="unicode")
     h = hashlib.sha256(text.encode())
@@ -403,11 +484,12 @@ def _build(
         path,
     )
     log.info(
-        "sim model %s: hulls %s, max support gap %.3g mm, merged links %s",
+        "sim model %s: hulls %s, max support gap %.3g mm, merged links %s, twisting on %s",
         path.name,
         counts,
         max_gap * 1e3,
         merged,
+        rehung,
     )
     return model
 
@@ -419,6 +501,7 @@ def sim_model(
     max_vertices: int = HULL_MAX_VERTICES,
     joint_map: JointMap | None = None,
     merge_fixed: bool = False,
+    body_torsion: bool = False,
 ) -> SimModel:
     """The simulation model of a URDF robot (cached per process).
 
@@ -436,6 +519,9 @@ def sim_model(
     merge_fixed : bool
         Merge links on fixed joints into their parents (:func:`merge_fixed_links`): the same rigid body with
         fewer links, so each physics step is cheaper.
+    body_torsion : bool
+        Let the wing mounts twist against the rest of the body about the base's x axis
+        (:func:`add_body_torsion`; :class:`sim.compliance.BodyTorsion` gives the spring).
 
     Raises
     ------
@@ -448,5 +534,11 @@ def sim_model(
     path = Path(urdf) if urdf is not None else default_robot_urdf()
     description_hash = read_urdf(path).description_hash  # the cache key: any edited file is rebuilt
     return _build(
-        str(path.resolve()), description_hash, float(tol_m), int(max_vertices), joint_map, bool(merge_fixed)
+        str(path.resolve()),
+        description_hash,
+        float(tol_m),
+        int(max_vertices),
+        joint_map,
+        bool(merge_fixed),
+        bool(body_torsion),
     )

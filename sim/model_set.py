@@ -40,13 +40,14 @@ import numpy as np
 from geometry.errors import UsageError
 
 from .actuation import Actuation, MeasuredActuation
-from .compliance import Compliance, ComplianceError
+from .compliance import BodyTorsion, Compliance, ComplianceError
 from .world import MAX_ROLLING_FRICTION, Contact
 
 MODELS_DIR = Path(__file__).resolve().parent / "models"
 DEFAULT_MODEL_SET = "paper"
 PROFILES = ("idealised", "measured")
-_TOP = {"name", "version", "description", "actuation", "contact", "compliance"}
+_TOP = {"name", "version", "description", "actuation", "contact", "compliance", "body_torsion"}
+_TORSION = {"stiffness_n_m_rad", "damping_n_m_s_rad"}
 _COMPLIANCE = {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad", "wing_integral_time_s"}
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
 _MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg", "servo_sides"}
@@ -64,10 +65,12 @@ OPTIONAL_KEYS = frozenset(
         "compliance.wing_stiffness_n_m_rad",
         "compliance.wing_damping_n_m_s_rad",
         "compliance.wing_integral_time_s",
+        "body_torsion.stiffness_n_m_rad",
+        "body_torsion.damping_n_m_s_rad",
     }
 )
 """Dotted keys a set may omit (and a calibration candidate may add): rolling and spinning friction, and the
-``[compliance]`` table's (its stiffness is required once the table is there)."""
+``[compliance]`` and ``[body_torsion]`` tables' (their stiffness is required once the table is there)."""
 _CONTACT = {
     "lateral_friction",
     "restitution",
@@ -106,6 +109,10 @@ class ModelSet:
     compliance : Compliance or None
         Compliant wing roots, from an optional ``[compliance]`` table (``wing_stiffness_n_m_rad``, optional
         ``wing_damping_n_m_s_rad`` and ``wing_integral_time_s``; :mod:`sim.compliance`); None: rigid wings.
+    body_torsion : BodyTorsion or None
+        A body that twists about its long axis between the wing mounts and the rest, from an optional
+        ``[body_torsion]`` table (``stiffness_n_m_rad``, optional ``damping_n_m_s_rad``;
+        :class:`sim.compliance.BodyTorsion`); None: a rigid body.
     """
 
     name: str
@@ -121,6 +128,7 @@ class ModelSet:
     model_set_hash: str
     measured: MeasuredActuation | None = None
     compliance: Compliance | None = None
+    body_torsion: BodyTorsion | None = None
 
     def wing_joints_deg(self, joint_names, theta_w_deg: float) -> dict[str, float] | None:
         """The wing joints' angles (degrees) this set holds at the wing command ``theta_w_deg``: each servo at
@@ -267,7 +275,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     path = _resolve(name_or_file)
     data = read_toml(path)
     where = f"model set '{path}'"
-    _check_keys(data, _TOP, _TOP - {"description", "compliance"}, where)
+    _check_keys(data, _TOP, _TOP - {"description", "compliance", "body_torsion"}, where)
     if not isinstance(data["name"], str) or not data["name"].strip():
         raise ModelSetError(f"{where}: name must be a non-empty string; got {data['name']!r}")
     if isinstance(data["version"], bool) or not isinstance(data["version"], int) or data["version"] < 0:
@@ -384,6 +392,21 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         }
         if compliance.wing_integral_time_s is not None:  # sets without it keep their hashes
             canonical["compliance"]["wing_integral_time_s"] = compliance.wing_integral_time_s
+    torsion = None
+    if "body_torsion" in data:  # enters the hash only when present, so the sets of before keep their hashes
+        wt = f"{where} [body_torsion]"
+        tor = _check_keys(data["body_torsion"], _TORSION, {"stiffness_n_m_rad"}, wt)
+        try:
+            torsion = BodyTorsion(
+                _number(tor, "stiffness_n_m_rad", wt),
+                _number(tor, "damping_n_m_s_rad", wt, allow_zero=True) if "damping_n_m_s_rad" in tor else 0.0,
+            )
+        except ComplianceError as exc:
+            raise ModelSetError(f"{wt}: {exc}") from None
+        canonical["body_torsion"] = {
+            "stiffness_n_m_rad": torsion.stiffness_n_m_rad,
+            "damping_n_m_s_rad": torsion.damping_n_m_s_rad,
+        }
     digest = hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()[:16]
     ms = ModelSet(
         data["name"],
@@ -395,6 +418,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         model_set_hash=digest,
         measured=measured,
         compliance=compliance,
+        body_torsion=torsion,
         **timing,
     )
     try:

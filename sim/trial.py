@@ -447,8 +447,9 @@ def run_trial(
         trial (the phase map). None: attempts until ``duration_s``.
     model_set : sim.model_set.ModelSet, optional
         Model parameter set: its actuation timing and contact apply where ``actuation`` / ``contact`` are not
-        given (None: the shipped ``paper`` set, the same values as the defaults of :class:`Actuation` and
-        :class:`Contact`). Its name and hash are kept in the result.
+        given, its body torsion (:class:`sim.compliance.BodyTorsion`) always (None: the shipped ``paper`` set,
+        the same values as the defaults of :class:`Actuation` and :class:`Contact`). Its name and hash are kept
+        in the result.
     numerics : Numerics
         Hulls, servo period and sub-stepping (defaults: the converged configuration).
     compliance : sim.compliance.Compliance, optional
@@ -479,6 +480,7 @@ def run_trial(
         max_vertices=numerics.hull_max_vertices,
         joint_map=joint_map,
         merge_fixed=numerics.merge_fixed_links,
+        body_torsion=model_set.body_torsion is not None,
     )
     theta_w_deg, theta_l_deg, phase, cv = float(theta_w_deg), float(theta_l_deg), float(phase), float(cv)
     duration_s, dt_s = float(duration_s), float(default_dt_s(model.source) if dt_s is None else dt_s)
@@ -515,12 +517,23 @@ def run_trial(
         n_leg=len(model.joint_map.leg),
     )
     substeps = cmd.sub if numerics.engine_substeps else 1
-    world = World(model, dt_s=dt_s, substeps=substeps, contact=contact or model_set.contact, compliance=comp)
+    world = World(
+        model,
+        dt_s=dt_s,
+        substeps=substeps,
+        contact=contact or model_set.contact,
+        compliance=comp,
+        torsion=model_set.body_torsion,
+    )
     with world:
         if comp is not None:
             from .compliance import check_stability
 
             check_stability(comp, world.wing_inertia_kg_m2(), cmd.ctrl_s)
+        if model_set.body_torsion is not None:
+            from .compliance import check_torsion_stability
+
+            check_torsion_stability(model_set.body_torsion, world.torsion_inertia_kg_m2(), cmd.ctrl_s)
         _settle(world, model, cmd)
         run = _run(world, cmd, trace=trace)
     started = starts[starts <= run.t_end]

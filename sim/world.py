@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from .model import MESH_PLACEHOLDER, SimModel
+from .model import MESH_PLACEHOLDER, TORSION_JOINT, SimModel
 
 
 def _quiet_import_pybullet():
@@ -164,6 +164,9 @@ class World:
     compliance : sim.compliance.Compliance, optional
         Drive the wing joints through a spring and damper towards their commands instead of the stiff servo
         (:mod:`sim.compliance`).
+    torsion : sim.compliance.BodyTorsion, optional
+        Spring and damper of the body's twist; the model must have been built with ``body_torsion=True``
+        (:func:`sim.model.add_body_torsion`).
 
     Examples
     --------
@@ -180,9 +183,11 @@ class World:
         substeps: int = 1,
         contact: Contact | None = None,
         compliance=None,
+        torsion=None,
     ):
         self.model = model
         self.compliance = compliance
+        self.torsion = torsion
         self.dt_s = float(dt_s)
         self.substeps = int(substeps)
         self.contact = contact or Contact()
@@ -233,6 +238,9 @@ class World:
         }
         jm = self.model.joint_map
         self.wing_joints = [names[n] for n in jm.wing]
+        self.torsion_joint = names.get(TORSION_JOINT)
+        if self.torsion is not None and self.torsion_joint is None:
+            raise ValueError("a body torsion needs a model built with sim_model(..., body_torsion=True)")
         self.leg_joints = [names[n] for n in jm.leg]
         self.driven = self.wing_joints + self.leg_joints
         self._soft = list(range(len(jm.wing))) if self.compliance is not None else []
@@ -366,6 +374,31 @@ class World:
             self.body, joints, pb.TORQUE_CONTROL, forces=tau, physicsClientId=self.cid
         )
 
+    def _drive_torsion(self) -> None:
+        k, c = self.torsion.stiffness_n_m_rad, self.torsion.damping_n_m_s_rad
+        q, dq = pb.getJointState(self.body, self.torsion_joint, physicsClientId=self.cid)[:2]
+        pb.setJointMotorControl2(
+            self.body, self.torsion_joint, pb.TORQUE_CONTROL, force=-k * q - c * dq, physicsClientId=self.cid
+        )
+
+    def torsion_inertia_kg_m2(self) -> float:
+        """Effective moment of inertia of the body's twist, kg m² (nan without a torsion joint): the Schur
+        complement of the twist's entry of the joint-space mass matrix, base free, at the current pose."""
+        if self.torsion_joint is None:
+            return math.nan
+        cid = self.cid
+        movable = [
+            j
+            for j in range(self.n_joints)
+            if pb.getJointInfo(self.body, j, physicsClientId=cid)[2] != pb.JOINT_FIXED
+        ]
+        q = [pb.getJointState(self.body, j, physicsClientId=cid)[0] for j in movable]
+        m = np.asarray(pb.calculateMassMatrix(self.body, q, physicsClientId=cid), dtype=np.float64)
+        i = m.shape[0] - len(movable) + movable.index(self.torsion_joint)
+        rest = [k for k in range(m.shape[0]) if k != i]
+        coupling = m[i, rest]
+        return float(m[i, i] - coupling @ np.linalg.solve(m[np.ix_(rest, rest)], coupling))
+
     def wing_inertia_kg_m2(self) -> float:
         """The smallest moment of inertia of a wing joint's child link about the joint's axis, kg m² (a lower
         bound on what the joint moves; nan without a compliance)."""
@@ -384,6 +417,10 @@ class World:
         assert n_steps % self.substeps == 0, (n_steps, self.substeps)
         self._elapsed_s += n_steps * self.dt_s
         for _ in range(n_steps // self.substeps):
+            if (
+                self.torsion is not None
+            ):  # the twist's spring, renewed every stepSimulation call (settling too)
+                self._drive_torsion()
             pb.stepSimulation(physicsClientId=self.cid)
 
     def base_pose(self) -> tuple[tuple[float, float, float], tuple[float, float, float, float]]:
