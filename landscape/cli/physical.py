@@ -157,7 +157,7 @@ def actuation_cmd(data, out, servo_sides):
     """The measured actuation profile: piecewise-linear knots fitted to each wing servo's and the leg's recorded
     traces (motor_pulse_v2.mat, vib_pulse_v2.mat), printed as the [actuation] block of a model set (the block
     sim/models/physical.toml ships, with --servo-sides mirrored), with each fit's largest error as comments."""
-    from sim.measured import measured_actuation_toml
+    from landscape.analysis.measured import measured_actuation_toml
 
     if out is not None:
         from landscape.cli.options import writable_file

@@ -1,4 +1,4 @@
-"""Measured actuation (sim/measured.py, the measured profile of sim/actuation.py and the physical set)."""
+"""Measured actuation (landscape/analysis/measured.py, the measured profile of sim/actuation.py and the physical set)."""
 
 import os
 from pathlib import Path
@@ -142,7 +142,7 @@ def test_the_measured_profile_drives_the_joints():
 
 @needs_data
 def test_the_shipped_knots_reproduce_the_traces_and_regenerate():
-    from sim.measured import (
+    from landscape.analysis.measured import (
         _loadmat,
         _wing_samples,
         fit_leg_profiles,

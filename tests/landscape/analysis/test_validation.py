@@ -161,7 +161,7 @@ def test_validate_command_bad_input_is_one_line(tmp_path, capsys):
 
 @needs_data
 def test_actuation_command_prints_the_shipped_block(tmp_path, capsys):
-    from sim.measured import measured_actuation_toml
+    from landscape.analysis.measured import measured_actuation_toml
 
     assert main(["physical", "actuation", "--data", str(DATA), "--out", str(tmp_path / "a.toml")]) == 0
     out = capsys.readouterr().out
