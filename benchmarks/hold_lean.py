@@ -24,20 +24,13 @@ from geometry.errors import UsageError
 from landscape.analysis.opening import PROTOCOL_PHASE, cell_lean, recorded_leans, simulated_leans
 from landscape.analysis.physical import measured_plateaus_deg
 from landscape.analysis.validation import parse_cells, simulates_commands
+from landscape.viz.physical_plots import departure_text as departure
+from landscape.viz.physical_plots import lean_text as lean
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from sim_convergence import Progress  # noqa: E402  (the benchmarks' progress line, #17)
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def lean(value_deg: float, n: int) -> str:
-    return f"{value_deg:+.1f}° ({n})" if n else "– (0)"
-
-
-def departure(c) -> str:
-    at = f"{c.departure_s:.2f} s " if c.n_rolled else ""
-    return f"{at}({c.n_rolled}/{c.n_openings})"
 
 
 def main(argv=None) -> int:

@@ -84,6 +84,7 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
     from landscape.viz.physical_plots import (
         first_openings_markdown,
         hold_frames_markdown,
+        hold_leans_markdown,
         resting_pitch_markdown,
     )
 
@@ -129,6 +130,14 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
         "recorded tilt strays from the tilt the gyro alone gives, -0.3 to 1.05 s (medians)"
     )
     click.echo(first_openings_markdown(op.recorded_first_openings(data)))
+    click.echo(
+        "\nevery opening until the robot first rights, leg moving: the held body's median lateral tilt in each window "
+        "with the leg settled on one side (0.2 s after it gets there, 0.4-1.0 s after the opening starts; "
+        "windows in brackets) and, for the openings that roll over, when the tilt last rose through 5 deg before "
+        "passing 45 deg (median, s after the opening starts; rolled/openings)"
+    )
+    leans = op.recorded_leans(data)
+    click.echo(hold_leans_markdown([op.cell_lean(*cell, h) for cell, h in leans.items()]))
     lat = ph.lateralisation(ph.physical_trials(data))
     click.echo(
         f"\nroll-overs to + roll: {lat.positive} of {lat.positive + lat.negative} "

@@ -141,6 +141,44 @@ def first_openings_markdown(openings: Sequence) -> str:
     return "\n".join(lines)
 
 
+def lean_text(value_deg: float, n: int) -> str:
+    """A median lean and its number of windows, e.g. ``+7.8° (3)``; ``– (0)`` without a window."""
+    return f"{value_deg:+.1f}° ({n})" if n else "– (0)"
+
+
+def departure_text(cell) -> str:
+    """A :class:`~landscape.analysis.opening.CellLean`'s median departure and rolled/openings, e.g.
+    ``0.81 s (6/8)``; ``(0/3)`` if none rolled over."""
+    at = f"{cell.departure_s:.2f} s " if cell.n_rolled else ""
+    return f"{at}({cell.n_rolled}/{cell.n_openings})"
+
+
+def hold_leans_markdown(cells: Sequence) -> str:
+    """Markdown table of the recorded held body's lean with the leg on each side and the departure of the
+    openings that roll over, per cell (:class:`~landscape.analysis.opening.CellLean`).
+
+    Examples
+    --------
+    >>> from landscape.analysis.opening import CellLean
+    >>> print(hold_leans_markdown([CellLean(60.0, 30.0, 7.8, 3, -1.0, 7, 0.81, 6, 8),
+    ...                            CellLean(90.0, 45.0, math.nan, 0, math.nan, 0, 0.28, 5, 5)]))
+    | wing command | leg | lean, leg on + | lean, leg on − | roll-overs leave the level |
+    |---|---|---|---|---|
+    | 60° | 30° | +7.8° (3) | -1.0° (7) | 0.81 s (6/8) |
+    | 90° | 45° | – (0) | – (0) | 0.28 s (5/5) |
+    """
+    lines = [
+        "| wing command | leg | lean, leg on + | lean, leg on − | roll-overs leave the level |",
+        "|---|---|---|---|---|",
+    ]
+    for c in cells:
+        lines.append(
+            f"| {c.theta_w_cmd_deg:g}° | {c.theta_l_deg:g}° | {lean_text(c.plus_deg, c.n_plus)} | "
+            f"{lean_text(c.minus_deg, c.n_minus)} | {departure_text(c)} |"
+        )
+    return "\n".join(lines)
+
+
 def _frac(k: int, n: int, lo: float, hi: float) -> str:
     return f"{k}/{n} [{_pct(lo)}, {_pct(hi)}] %"
 

@@ -1079,6 +1079,7 @@ def _opening_tables(out: Path, data_dir, frames: list[dict]) -> list[Table]:
         | asdict(o.response)
         for o in op.recorded_first_openings(data_dir)
     ]
+    leans = [asdict(op.cell_lean(*cell, h)) for cell, h in op.recorded_leans(data_dir).items()]
     return [
         Table(
             "Hold pitch of first openings (leg still) in the IMU's frame and relative to each trial's rest, beside "
@@ -1093,6 +1094,12 @@ def _opening_tables(out: Path, data_dir, frames: list[dict]) -> list[Table]:
             "when the wings start closing (0.95-1.05 s), when it rolled past a tilt of 45 deg and how far the "
             "recorded tilt strays from the gyro's",
             _write_csv(out / "validation" / "first_openings.csv", first),
+        ),
+        Table(
+            "Every opening until the robot first rights, leg moving: the held body's median lateral tilt with the "
+            "leg settled on + and on - (windows counted), and when the openings that roll over leave the level "
+            "(the tilt last rising through 5 deg before passing 45 deg; median, s after the opening starts)",
+            _write_csv(out / "validation" / "hold_leans.csv", leans),
         ),
     ]
 

@@ -87,6 +87,11 @@ def test_report_with_validation_adds_the_simulated_against_physical_section(caps
         first = list(csv.DictReader(f))
     assert len(first) == 60 and {r["leg_lead_s"] for r in first if float(r["leg_deg"]) == 0} == {"nan"}
     assert {"leg_swing_s", "closing_tilt_deg", "rolled_s", "gyro_deviation_deg"} <= set(first[0])
+    with open(out / "validation" / "hold_leans.csv", newline="") as f:
+        leans = {(float(r["theta_w_cmd_deg"]), float(r["theta_l_deg"])): r for r in csv.DictReader(f)}
+    assert len(leans) == 9 and leans[(60.0, 30.0)]["n_plus"] == "3"
+    assert float(leans[(60.0, 30.0)]["plus_deg"]) > float(leans[(60.0, 30.0)]["minus_deg"]) + 5.0
+    assert 0.75 < float(leans[(75.0, 15.0)]["departure_s"]) < 0.85
     code, _, err = run(
         capsys, "report", "--db", db, "--out", out, "--validation", tmp_path
     )  # no validation.json

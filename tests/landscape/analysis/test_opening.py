@@ -201,6 +201,9 @@ def test_kinematics_command_prints_both_frames_the_support_and_the_first_opening
     assert "the model rests with the wings closed on: base_link, motor3, motor4" in out
     assert "| 60° | 45° | 5 | 0.2 s |" in out and "| 60° | 0° | 5 | – |" in out
     assert "| +8.2° [-5.3, +10.2] | +20.9° [+4.5, +38.7] | 4/5 at 1.13 s | 2.7° |" in out
+    # the lean table: to +roll with the leg on + only, and the roll-overs leave the hold before the wings close
+    assert "| 60° | 30° | +7.8° (3) | -1.0° (7) | 0.81 s (6/8) |" in out
+    assert "| 90° | 45° | – (0) | – (0) | 0.28 s (5/5) |" in out
     assert main(args[:-2] + ["--model", "nosuchset"]) == 2
 
 
