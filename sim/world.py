@@ -241,6 +241,10 @@ class World:
         self.torsion_joint = names.get(TORSION_JOINT)
         if self.torsion is not None and self.torsion_joint is None:
             raise ValueError("a body torsion needs a model built with sim_model(..., body_torsion=True)")
+        if self.torsion is None and self.torsion_joint is not None:  # it would be a free hinge
+            raise ValueError(
+                "a model built with body_torsion=True needs World(..., torsion=BodyTorsion(...))"
+            )
         self.leg_joints = [names[n] for n in jm.leg]
         self.driven = self.wing_joints + self.leg_joints
         self._soft = list(range(len(jm.wing))) if self.compliance is not None else []

@@ -77,9 +77,12 @@ def test_the_joint_changes_neither_mass_nor_pose():
         assert np.isnan(w0.torsion_inertia_kg_m2())
 
 
-def test_a_torsion_needs_the_twisting_model():
+def test_a_torsion_and_the_twisting_model_go_together():
     with pytest.raises(ValueError, match="body_torsion=True"):
         with World(sim_model(), dt_s=5e-4, torsion=BodyTorsion(0.05)):
+            pass
+    with pytest.raises(ValueError, match=r"torsion=BodyTorsion"):  # else the twist would be a free hinge
+        with World(sim_model(body_torsion=True), dt_s=5e-4):
             pass
 
 
