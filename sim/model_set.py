@@ -50,7 +50,9 @@ _TOP = {"name", "version", "description", "actuation", "contact", "compliance", 
 _TORSION = {"stiffness_n_m_rad", "damping_n_m_s_rad"}
 _COMPLIANCE = {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad", "wing_integral_time_s"}
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
-_MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg", "servo_sides"}
+_MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg", "servo_sides", "wing_extra_deg"}
+MAX_WING_EXTRA_DEG = 20.0
+"""Largest ``[actuation] wing_extra_deg``, degrees: a pose correction, not a new wing command."""
 SERVO_SIDES = ("as-labelled", "mirrored")
 """How a measured set's servos (the lab's LP, RP, LR, RR) drive the robot's wing joints (the joint map's left
 pitch, right pitch, left roll, right roll): as labelled, or mirrored (the lab's left servos drive the model's
@@ -67,6 +69,7 @@ OPTIONAL_KEYS = frozenset(
         "compliance.wing_integral_time_s",
         "body_torsion.stiffness_n_m_rad",
         "body_torsion.damping_n_m_s_rad",
+        "actuation.wing_extra_deg",
     }
 )
 """Dotted keys a set may omit (and a calibration candidate may add): rolling and spinning friction, and the
@@ -283,7 +286,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     act = data["actuation"]
     measured_profile = isinstance(act, dict) and act.get("profile") == "measured"
     keys = _MEASURED if measured_profile else _ACTUATION
-    act = _check_keys(act, keys, keys - {"servo_sides"}, f"{where} [actuation]")
+    act = _check_keys(act, keys, keys - {"servo_sides", "wing_extra_deg"}, f"{where} [actuation]")
     if act["profile"] not in PROFILES:
         raise ModelSetError(
             f"{where} [actuation]: profile must be one of {', '.join(PROFILES)}; got {act['profile']!r}"
@@ -350,6 +353,14 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
                 wing_knots_s=tuple(measured.wing_knots_s[i] for i in MIRRORED),
                 wing_knots_deg=tuple(measured.wing_knots_deg[i] for i in MIRRORED),
             )
+        if "wing_extra_deg" in act:  # likewise
+            extra = _number(act, "wing_extra_deg", wa, allow_zero=True)
+            if extra > MAX_WING_EXTRA_DEG:
+                raise ModelSetError(
+                    f"{wa}: wing_extra_deg must be in [0, {MAX_WING_EXTRA_DEG:g}]; got {extra!r}"
+                )
+            act_canon["wing_extra_deg"] = extra
+            measured = replace(measured, wing_knots_deg=wing_extra_knots_deg(measured.wing_knots_deg, extra))
     else:
         measured = None
         timing = {
@@ -467,6 +478,25 @@ def _commands(act: dict, key: str, where: str) -> tuple[float, ...]:
     if not ok or not (np.diff(v) > 0).all() or v[0] <= 0:
         raise ModelSetError(f"{where}: {key} must be increasing angles > 0 deg (at least two for the wing)")
     return tuple(float(x) for x in v)
+
+
+def wing_extra_knots_deg(wing_knots_deg, extra_deg: float) -> tuple:
+    """Measured wing knots opened ``extra_deg`` further at each row's plateau, in proportion to how far each knot
+    is open (``a * (1 + extra / plateau)`` for ``a > 0``; the closed knots stay): ``[actuation] wing_extra_deg``.
+
+    A pose correction. The body holds where its support (head and wing edges) puts it, and a set whose wings open
+    further holds it further over; the recorded pitch says the robot holds further over than the CAD at its
+    measured servo angles (README, "The physical robot"), whatever the part that does it.
+
+    Examples
+    --------
+    >>> wing_extra_knots_deg(((( -1.0, 30.0, 60.0, -1.0),),), 6.0)
+    (((-1.0, 33.0, 66.0, -1.0),),)
+    """
+    return tuple(
+        tuple(tuple(a * (1.0 + extra_deg / max(row)) if a > 0 else a for a in row) for row in servo)
+        for servo in wing_knots_deg
+    )
 
 
 def _measured(act: dict, where: str) -> MeasuredActuation:

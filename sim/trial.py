@@ -516,6 +516,7 @@ def run_trial(
         n_wing=len(model.joint_map.wing),
         n_leg=len(model.joint_map.leg),
     )
+    _check_wing_targets(cmd, model.theta_limits_deg["theta_w"], model_set, theta_w_deg)
     substeps = cmd.sub if numerics.engine_substeps else 1
     world = World(
         model,
@@ -567,6 +568,24 @@ def run_trial(
         model_set_hash=model_set.model_set_hash,
         side=run.side,
     )
+
+
+def _check_wing_targets(
+    cmd: _Commands, limits_deg: tuple[float, float], model_set, theta_w_deg: float
+) -> None:
+    """Refuse wing targets outside the wing joints' range (a measured profile's knots, e.g. opened further by
+    ``wing_extra_deg``, are not the command), rather than let pybullet's joint limit clamp them silently."""
+    if not cmd.n_ctrl or not cmd.n_wing:
+        return
+    wing = np.rad2deg(np.asarray(cmd.target_rad, dtype=np.float64)[:, : cmd.n_wing])
+    lo, hi = limits_deg
+    top, bottom = float(wing.max()), float(wing.min())
+    if top > hi + 1e-6 or bottom < lo - 1e-6:
+        raise JointLimitError(
+            f"model set '{model_set.name}' drives a wing joint to {top if top > hi else bottom:.2f} deg at wing "
+            f"command {theta_w_deg:g} deg, outside the robot's wing joint range [{lo:g}, {hi:g}] deg; choose a "
+            "smaller command or [actuation] wing_extra_deg"
+        )
 
 
 def _schedule(

@@ -100,6 +100,44 @@ def test_mirrored_servo_sides_put_the_labs_left_servos_on_the_models_right_joint
         load_model_set(f)
 
 
+def test_wing_extra_opens_each_plateau_further_and_keeps_the_closed_wings(tmp_path):
+    base = load_model_set("physical")
+    f = tmp_path / "extra.toml"
+    line = "servo_sides = \"mirrored\"  # the lab's left servos drive the model's right joints"
+    assert line in PHYSICAL_TEXT
+    f.write_text(PHYSICAL_TEXT.replace(line, line + "\nwing_extra_deg = 6.0", 1))
+    extra = load_model_set(f)
+    assert extra.model_set_hash != base.model_set_hash
+    for b_servo, e_servo in zip(base.measured.wing_knots_deg, extra.measured.wing_knots_deg, strict=True):
+        for b_row, e_row in zip(b_servo, e_servo, strict=True):
+            assert max(e_row) == pytest.approx(max(b_row) + 6.0)  # the plateau, 6 deg further open
+            assert e_row[0] == b_row[0] and e_row[-1] == b_row[-1] < 0  # closed stays closed
+            ratio = [e / b for e, b in zip(e_row, b_row, strict=True) if b > 0]
+            assert ratio == pytest.approx([1.0 + 6.0 / max(b_row)] * len(ratio))
+    # 0 changes the knots but not the meaning: the same profile under another hash
+    f.write_text(PHYSICAL_TEXT.replace(line, line + "\nwing_extra_deg = 0", 1))
+    assert load_model_set(f).measured == base.measured
+    for bad, match in (("25.0", r"wing_extra_deg must be in \[0, 20\]"), ("-1.0", "wing_extra_deg")):
+        f.write_text(PHYSICAL_TEXT.replace(line, line + "\nwing_extra_deg = " + bad, 1))
+        with pytest.raises(ModelSetError, match=match):
+            load_model_set(f)
+
+
+def test_a_profile_beyond_the_wing_joints_range_is_refused_not_clamped(tmp_path):
+    """physical's roll servo plateaus at 83.06 deg at command 90: 15 deg further passes the joints' 95 deg."""
+    from geometry.errors import JointLimitError
+
+    line = "servo_sides = \"mirrored\"  # the lab's left servos drive the model's right joints"
+    f = tmp_path / "extra.toml"
+    f.write_text(PHYSICAL_TEXT.replace(line, line + "\nwing_extra_deg = 15.0", 1))
+    ms = load_model_set(f)
+    with pytest.raises(
+        JointLimitError, match=r"to 98\.0\d deg at wing command 90 deg, outside .* \[-10, 95\]"
+    ):
+        run_trial(90.0, 0.0, phase=0.0, cv=0.0, rng=0, model_set=ms, duration_s=1.0)
+    run_trial(60.0, 0.0, phase=0.0, cv=0.0, rng=0, model_set=ms, duration_s=1.0)  # 74.1 deg at most: fine
+
+
 def test_the_hash_covers_the_knots_and_the_contact_keys(tmp_path):
     base = load_model_set("physical").model_set_hash
     f = tmp_path / "a.toml"
