@@ -52,7 +52,8 @@ _COMPLIANCE = {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad", "wing_integra
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
 _MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg", "servo_sides", "wing_extra_deg"}
 MAX_WING_EXTRA_DEG = 20.0
-"""Largest ``[actuation] wing_extra_deg``, degrees: a pose correction, not a new wing command."""
+"""Largest ``[actuation] wing_extra_deg`` (one number, or one per wing command), degrees: a pose correction, not a
+new wing command."""
 SERVO_SIDES = ("as-labelled", "mirrored")
 """How a measured set's servos (the lab's LP, RP, LR, RR) drive the robot's wing joints (the joint map's left
 pitch, right pitch, left roll, right roll): as labelled, or mirrored (the lab's left servos drive the model's
@@ -354,11 +355,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
                 wing_knots_deg=tuple(measured.wing_knots_deg[i] for i in MIRRORED),
             )
         if "wing_extra_deg" in act:  # likewise
-            extra = _number(act, "wing_extra_deg", wa, allow_zero=True)
-            if extra > MAX_WING_EXTRA_DEG:
-                raise ModelSetError(
-                    f"{wa}: wing_extra_deg must be in [0, {MAX_WING_EXTRA_DEG:g}]; got {extra!r}"
-                )
+            extra = _wing_extra(act["wing_extra_deg"], len(measured.wing_command_deg), wa)
             act_canon["wing_extra_deg"] = extra
             measured = replace(measured, wing_knots_deg=wing_extra_knots_deg(measured.wing_knots_deg, extra))
     else:
@@ -480,9 +477,26 @@ def _commands(act: dict, key: str, where: str) -> tuple[float, ...]:
     return tuple(float(x) for x in v)
 
 
-def wing_extra_knots_deg(wing_knots_deg, extra_deg: float) -> tuple:
+def _wing_extra(value, n_commands: int, where: str):
+    """``[actuation] wing_extra_deg``: one number, or one per wing command, each in [0, MAX_WING_EXTRA_DEG]."""
+    values = value if isinstance(value, list) else [value]
+    if isinstance(value, list) and len(values) != n_commands:
+        raise ModelSetError(
+            f"{where}: wing_extra_deg must be one number or one per wing command ({n_commands}); got {value!r}"
+        )
+    for v in values:
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 <= v <= MAX_WING_EXTRA_DEG:
+            raise ModelSetError(
+                f"{where}: wing_extra_deg must be in [0, {MAX_WING_EXTRA_DEG:g}] (one number or one per wing "
+                f"command); got {value!r}"
+            )
+    return [float(v) for v in values] if isinstance(value, list) else float(value)
+
+
+def wing_extra_knots_deg(wing_knots_deg, extra_deg) -> tuple:
     """Measured wing knots opened ``extra_deg`` further at each row's plateau, in proportion to how far each knot
-    is open (``a * (1 + extra / plateau)`` for ``a > 0``; the closed knots stay): ``[actuation] wing_extra_deg``.
+    is open (``a * (1 + extra / plateau)`` for ``a > 0``; the closed knots stay): ``[actuation] wing_extra_deg``,
+    one value for every wing command (row) or a sequence of one per row.
 
     A pose correction. The body holds where its support (head and wing edges) puts it, and a set whose wings open
     further holds it further over; the recorded pitch says the robot holds further over than the CAD at its
@@ -492,9 +506,16 @@ def wing_extra_knots_deg(wing_knots_deg, extra_deg: float) -> tuple:
     --------
     >>> wing_extra_knots_deg(((( -1.0, 30.0, 60.0, -1.0),),), 6.0)
     (((-1.0, 33.0, 66.0, -1.0),),)
+    >>> wing_extra_knots_deg((((-1.0, 60.0, -1.0), (-1.0, 80.0, -1.0)),), [6.0, 0.0])
+    (((-1.0, 66.0, -1.0), (-1.0, 80.0, -1.0)),)
     """
+    n_rows = len(wing_knots_deg[0]) if len(wing_knots_deg) else 0
+    extras = list(extra_deg) if isinstance(extra_deg, (list, tuple)) else [float(extra_deg)] * n_rows
     return tuple(
-        tuple(tuple(a * (1.0 + extra_deg / max(row)) if a > 0 else a for a in row) for row in servo)
+        tuple(
+            tuple(a * (1.0 + e / max(row)) if a > 0 else a for a in row)
+            for row, e in zip(servo, extras, strict=True)
+        )
         for servo in wing_knots_deg
     )
 

@@ -117,7 +117,18 @@ def test_wing_extra_opens_each_plateau_further_and_keeps_the_closed_wings(tmp_pa
     # 0 changes the knots but not the meaning: the same profile under another hash
     f.write_text(PHYSICAL_TEXT.replace(line, line + "\nwing_extra_deg = 0", 1))
     assert load_model_set(f).measured == base.measured
-    for bad, match in (("25.0", r"wing_extra_deg must be in \[0, 20\]"), ("-1.0", "wing_extra_deg")):
+    # one value per wing command (60, 75, 90)
+    f.write_text(PHYSICAL_TEXT.replace(line, line + "\nwing_extra_deg = [6.0, 0.0, 3.0]", 1))
+    per = load_model_set(f).measured.wing_knots_deg
+    for b_servo, p_servo in zip(base.measured.wing_knots_deg, per, strict=True):
+        assert [max(r) for r in p_servo] == pytest.approx(
+            [max(b_servo[0]) + 6.0, max(b_servo[1]), max(b_servo[2]) + 3.0]
+        )
+    for bad, match in (
+        ("25.0", r"wing_extra_deg must be in \[0, 20\]"),
+        ("-1.0", "wing_extra_deg"),
+        ("[6.0, 0.0]", r"one number or one per wing command \(3\)"),
+    ):
         f.write_text(PHYSICAL_TEXT.replace(line, line + "\nwing_extra_deg = " + bad, 1))
         with pytest.raises(ModelSetError, match=match):
             load_model_set(f)
