@@ -200,7 +200,7 @@ def shipped_model_sets() -> list[str]:
     Examples
     --------
     >>> shipped_model_sets()
-    ['paper', 'physical']
+    ['paper', 'physical', 'physical-posed']
     """
     return sorted(p.stem for p in MODELS_DIR.glob("*.toml"))
 

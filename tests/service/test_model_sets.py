@@ -74,7 +74,7 @@ def test_paper_landscape_equals_no_model(client, capsys):
 @pytest.mark.parametrize("url", ["/api/landscape", "/api/barrier-map"])
 def test_only_a_shipped_set_name_is_taken(client, url, model):
     r = client.get(url, params={"theta_w": "75", "theta_l": "0", "model": model})
-    _refused(r, "model must be a shipped model set (paper, physical)")
+    _refused(r, "model must be a shipped model set (paper, physical, physical-posed)")
 
 
 @pytest.mark.parametrize("url", ["/api/landscape", "/api/barrier-map"])
@@ -140,5 +140,5 @@ def test_a_physical_sweep_stores_trials_of_the_set(client):
 @pytest.mark.parametrize("model", [*BAD_NAMES, None, 1])
 def test_a_sweep_takes_only_a_shipped_set_name(client, model):
     r = client.post("/api/sweeps", json={**TINY, "model": model})
-    _refused(r, "model must be a shipped model set (paper, physical)")
+    _refused(r, "model must be a shipped model set (paper, physical, physical-posed)")
     assert client.get("/api/sweeps").json() == []
