@@ -70,6 +70,27 @@ def test_compute_and_barrier_map_with_the_physical_set(tmp_path, capsys):
     assert "Traceback" not in err
 
 
+@needs_lab
+def test_the_posed_set_holds_the_body_where_the_robots_imu_reads_its_hold(capsys):
+    """physical-posed: each wing servo's plateau 15 deg further open at 60: the hold at 68.3 deg (the robot's IMU
+    reads 68.1), against 57.6 deg for physical, and the righting barrier down from 31.0 to 9.2 mJ."""
+    held = {}
+    for name in ("physical", "physical-posed"):
+        args = ["compute", "--robot", str(LAB_URDF), "--theta-w", "60", "--model", name, "--json"]
+        assert main(args) == 0
+        doc = json.loads(capsys.readouterr().out)
+        held[name] = (doc["minimum"]["pitch_deg"], doc["barrier"]["righting_j"])
+        plateaus = load_model_set(name).measured.wing_plateaus_deg(60.0)
+        assert doc["wing_joints_deg"] == pytest.approx(
+            dict(zip(doc["wing_joints_deg"], plateaus, strict=True))
+        )
+    assert held["physical"][0] == pytest.approx(57.58, abs=0.01) and held["physical-posed"][
+        0
+    ] == pytest.approx(68.27, abs=0.01)
+    assert held["physical"][1] == pytest.approx(30.964e-3, abs=1e-5)
+    assert held["physical-posed"][1] == pytest.approx(9.178e-3, abs=1e-5)
+
+
 def test_an_idealised_set_poses_every_joint_at_theta_w(capsys):
     assert main(["compute", "--theta-w", "74", "--model", "paper", "--json"]) == 0
     with_set = json.loads(capsys.readouterr().out)
