@@ -127,8 +127,8 @@ class BodyTorsion:
     long axis, which cancel across the body, so a torsion spring does not sag the resting pose as a spring in
     each wing joint does (README, "The physical robot"); a load that differs between the sides, such as the
     leg's swing, twists it. :func:`sim.model.add_body_torsion` inserts the joint (``TORSION_JOINT``) and
-    :class:`sim.world.World` drives it with the torque ``-k q - c dq/dt``, computed once per servo command
-    period like the wing compliance.
+    :class:`sim.world.World` drives it with the torque ``-k q - c dq/dt``, renewed before every
+    ``stepSimulation`` call (settling included).
 
     Attributes
     ----------

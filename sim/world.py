@@ -421,9 +421,8 @@ class World:
         assert n_steps % self.substeps == 0, (n_steps, self.substeps)
         self._elapsed_s += n_steps * self.dt_s
         for _ in range(n_steps // self.substeps):
-            if (
-                self.torsion is not None
-            ):  # the twist's spring, renewed every stepSimulation call (settling too)
+            # the twist's spring is renewed before every stepSimulation call, settling's too
+            if self.torsion is not None:
                 self._drive_torsion()
             pb.stepSimulation(physicsClientId=self.cid)
 

@@ -50,6 +50,7 @@ from landscape.analysis.physical import (
     REST_WINDOW_S,
     PhysicalDataError,
     Recording,
+    _median,
     measured_plateaus_deg,
     read_recording,
     trial_files,
@@ -369,17 +370,26 @@ def simulated_opening(
 ) -> OpeningResponse:
     """:func:`opening_response` of a simulated first opening (one attempt, ``SIM_OPENING_S`` after it starts;
     ``theta_w_deg`` is what the set simulates: the command for a measured profile, the wing angle otherwise)."""
+    tr, starts = _simulated_openings(
+        theta_w_deg, theta_l_deg, model_set=model_set, robot=robot, seed=seed, phase=phase, cv=cv, attempts=1
+    )
+    return opening_response(tr.t_s, tr.pitch_deg, tr.roll_deg, starts[0])
+
+
+def _simulated_openings(theta_w_deg, theta_l_deg, *, model_set, robot, seed, phase, cv=0.0, attempts=1):
+    """A traced simulated trial of ``attempts`` openings, the first at leg phase ``phase``, that ends
+    ``SIM_OPENING_S`` after the last one starts (or once the body has righted): ``(trace, attempt starts)``."""
     from sim.model_set import load_model_set
     from sim.trial import run_trial
 
     ms = load_model_set(model_set)
-    start = phase * ms.actuation(theta_w_deg, theta_l_deg).leg_period_s  # the first opening: sim.actuation
+    act = ms.actuation(theta_w_deg, theta_l_deg)
+    last = phase * act.leg_period_s + (attempts - 1) * act.wing_period_s  # the openings: sim.actuation
     res = run_trial(
         theta_w_deg, theta_l_deg, phase=phase, cv=cv, rng=seed, robot=robot, model_set=ms, trace=True,
-        attempts=1, duration_s=start + SIM_OPENING_S,
+        attempts=attempts, duration_s=last + SIM_OPENING_S,
     )  # fmt: skip
-    tr = res.trace
-    return opening_response(tr.t_s, tr.pitch_deg, tr.roll_deg, res.attempt_starts_s[0])
+    return res.trace, res.attempt_starts_s
 
 
 # ------------------------------------------------------------------------------------------------- hold lean
@@ -719,24 +729,16 @@ def simulated_leans(
     ValueError
         If ``attempts`` < 1 (and :func:`sim.trial.run_trial`'s errors for bad inputs).
     """
-    from sim.model_set import load_model_set
-    from sim.trial import run_trial
-
     if attempts < 1:
         raise ValueError(f"attempts must be >= 1; got {attempts!r}")
-    ms = load_model_set(model_set)
-    act = ms.actuation(theta_w_deg, theta_l_deg)
-    last = phase * act.leg_period_s + (attempts - 1) * act.wing_period_s  # sim.actuation, no noise
-    res = run_trial(
-        theta_w_deg, theta_l_deg, phase=phase, cv=0.0, rng=seed, robot=robot, model_set=ms, trace=True,
-        attempts=attempts, duration_s=last + SIM_OPENING_S,
-    )  # fmt: skip
-    tr = res.trace
+    tr, starts = _simulated_openings(
+        theta_w_deg, theta_l_deg, model_set=model_set, robot=robot, seed=seed, phase=phase, attempts=attempts
+    )
     if theta_l_deg > 0:
         changes, sides = _leg_sides(tr.t_s, tr.leg_deg, band_deg=0.5 * theta_l_deg)
     else:
         changes, sides = np.zeros(0), np.zeros(0)
-    return _opening_leans(tr.t_s, tr.pitch_deg, tr.roll_deg, res.attempt_starts_s, changes, sides, lag_s=0.0)
+    return _opening_leans(tr.t_s, tr.pitch_deg, tr.roll_deg, starts, changes, sides, lag_s=0.0)
 
 
 @dataclass(frozen=True)
@@ -789,18 +791,14 @@ def cell_lean(theta_w_cmd_deg: float, theta_l_deg: float, leans: HoldLeans) -> C
     return CellLean(
         float(theta_w_cmd_deg),
         float(theta_l_deg),
-        _median_or_nan(leans.plus_deg),
+        _median(leans.plus_deg),
         len(leans.plus_deg),
-        _median_or_nan(leans.minus_deg),
+        _median(leans.minus_deg),
         len(leans.minus_deg),
-        _median_or_nan(rolled),
+        _median(rolled),
         len(rolled),
         len(dep),
     )
-
-
-def _median_or_nan(values) -> float:
-    return float(np.median(values)) if len(values) else math.nan
 
 
 @dataclass(frozen=True)
