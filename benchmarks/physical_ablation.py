@@ -1,11 +1,12 @@
 """Which physical cause closes the gap between simulation and the physical robot? (issue #15, section 3: ablation)
 
-Starts from the source paper's model set and switches on one cause at a time, each taken from a fuller set
-(default: the shipped ``physical`` set, or a calibrated one with ``--from FILE``):
+Starts from the source paper's model set (or ``--base NAME|FILE``) and switches on one cause at a time, each
+taken from a fuller set (default: the shipped ``physical`` set, or a calibrated one with ``--from FILE``):
 
 - ``actuation``: the ``[actuation]`` table (the measured per-servo profiles, left/right asymmetry included);
 - ``contact``: the ``[contact]`` table (friction, stiffness, damping);
-- ``geometry``, ``compliance``: those tables, when the fuller set has them;
+- ``geometry``, ``compliance``, ``body_torsion``: those tables, when the fuller set has them;
+- ``mass``: the ``[mass]`` table (a sideways CoM offset), when the fuller set has it;
 - ``all``: the fuller set itself.
 
 Each variant runs through ``landscape physical validate``'s library function on every cell (same phases and
@@ -13,7 +14,8 @@ seeds for every variant), and the table gives the cells agreeing (fit, held-out,
 physical outcomes, the per-attempt rates agreeing and the simulated side fraction. Every variant keeps its own
 trial store in ``--out``, so a rerun resumes.
 
-Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical_ablation.py [--from FILE] [--trials 10] [--out DIR]
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical_ablation.py [--base paper] [--from FILE] [--trials 10]
+      [--out DIR]
       [--data ../shared/ref/physical_robot] [--robot ../shared/ref/lab_robot/lab_robot.urdf]
 
 Last run: see the README's "The physical robot" section (the command above, its output pasted).
@@ -31,7 +33,7 @@ from landscape.analysis.validation import validate
 from sim.model_set import load_model_set, read_toml
 
 ROOT = Path(__file__).resolve().parents[1]
-CAUSES = ("actuation", "contact", "geometry", "compliance")
+CAUSES = ("actuation", "contact", "geometry", "compliance", "body_torsion", "mass")
 
 
 def variant(base_file: Path, full_file: Path, tables: tuple[str, ...], name: str, out: Path) -> Path:
@@ -55,6 +57,7 @@ def variant(base_file: Path, full_file: Path, tables: tuple[str, ...], name: str
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--base", default="paper", help="The set each cause is switched on in.")
     ap.add_argument("--from", dest="full", default="physical", help="The fuller set the causes come from.")
     ap.add_argument("--trials", type=int, default=10)
     ap.add_argument("--data", default=str(ROOT.parent / "shared/ref/physical_robot"))
@@ -63,11 +66,13 @@ def main(argv=None) -> int:
     ap.add_argument("--workers", type=int, default=None)
     args = ap.parse_args(argv)
     out = Path(args.out)
-    paper = Path(load_model_set("paper").source)
+    base = Path(load_model_set(args.base).source)
     full = Path(load_model_set(args.full).source)
-    have = [c for c in CAUSES if c in read_toml(full)]
-    variants = [("paper", paper)]
-    variants += [(f"paper+{c}", variant(paper, full, (c,), f"paper+{c}", out / "sets")) for c in have]
+    b, f = read_toml(base), read_toml(full)
+    have = [c for c in CAUSES if c in f and f[c] != b.get(c)]  # the causes the fuller set changes
+    stem = load_model_set(base).name
+    variants = [(stem, base)]
+    variants += [(f"{stem}+{c}", variant(base, full, (c,), f"{stem}+{c}", out / "sets")) for c in have]
     variants.append((f"all ({load_model_set(full).name})", full))
     rows = []
     for label, path in variants:

@@ -24,6 +24,7 @@ from .errors import (
     JointLimitError,
     RobotDescriptionError,
     UnknownJointError,
+    UsageError,
 )
 from .hull import Hull, convex_hull
 from .mass import MassProperties, combine
@@ -1053,3 +1054,48 @@ class Robot:
     @cached_property
     def total_mass_kg(self) -> float:
         return float(sum(p.mass.mass_kg for p in self.parts))
+
+    def with_com_offset(self, offset_m: ArrayLike) -> Robot:
+        """The same robot with its whole-body CoM moved by ``offset_m`` (body frame, m) at every pose: the base
+        link's CoM moves by ``offset_m * M / m_base`` (M the total mass); masses, inertias about each CoM,
+        geometry and joints stay. It stands for mass the description lacks or misplaces (cables, glue, a tether).
+        ``description_hash`` (so ``robot_hash`` and every cache key) folds the offset in.
+
+        Raises
+        ------
+        UsageError
+            If the offset is not three finite numbers, or the base link has no mass to move.
+        """
+        d = np.asarray(offset_m, dtype=np.float64)
+        if d.shape != (3,) or not np.all(np.isfinite(d)):
+            raise UsageError(f"a CoM offset must be three finite numbers (m); got {offset_m!r}")
+        if not np.any(d):
+            return self
+        base = self._part_by_link.get(self.base_link, self.parts[0])
+        if base.mass.mass_kg <= 0:
+            raise UsageError(
+                f"{self.name}: its base link '{base.link}' has no mass, so there is none to move for a CoM offset"
+            )
+        moved = MassProperties(
+            base.mass.mass_kg,
+            base.mass.com_m + d * self.total_mass_kg / base.mass.mass_kg,
+            base.mass.inertia_kg_m2,
+            base.mass.model,
+        )
+        parts = tuple(
+            Part(p.link, moved, p.hull_link_m, p.points_link_m) if p is base else p for p in self.parts
+        )
+        key = ",".join(f"{v:.17g}" for v in d)
+        digest = hashlib.sha256(f"{self.description_hash}|com_offset_m={key}".encode()).hexdigest()[:16]
+        return Robot(
+            self.name,
+            parts,
+            urdf=self._urdf,
+            joint_map=self.joint_map,
+            source=self.source,
+            description_hash=digest,
+            urdf_file=self.urdf_file,
+            element_vertices=self._element_vertices,
+            joints=self.joints,
+            base_link=self.base_link,
+        )

@@ -409,6 +409,42 @@ def add_body_torsion(root: ET._Element, wing_joints: tuple[str, ...]) -> list[st
     return rehang
 
 
+def shift_com(root: ET._Element, offset_m: ArrayLike) -> str:
+    """Move the whole robot's CoM by ``offset_m`` (base frame, m), in place, as
+    :meth:`geometry.Robot.with_com_offset` does: the base link's inertial origin moves by ``offset_m * M / m_base``
+    (M the total mass of every link); masses and inertias about each CoM stay. Return the base link's name.
+
+    Raises
+    ------
+    RobotDescriptionError
+        If the base link has no mass to move.
+
+    Examples
+    --------
+    >>> urdf = ('<robot name="r"><link name="a"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1"/>'
+    ...         '</inertial></link><link name="b"><inertial><mass value="3"/><inertia ixx="1" iyy="1" izz="1"/>'
+    ...         '</inertial></link><joint name="j" type="revolute"><parent link="a"/><child link="b"/></joint>'
+    ...         '</robot>')
+    >>> root = ET.fromstring(urdf)
+    >>> shift_com(root, [0.0, 0.001, 0.0]), root.find("link/inertial/origin").get("xyz")
+    ('a', '0 0.0040000000000000001 0')
+    """
+    d = np.asarray(offset_m, dtype=np.float64)
+    children = {j.find("child").get("link") for j in root.findall("joint")}
+    base = next(lk for lk in root.findall("link") if lk.get("name") not in children)
+    total = sum(_inertial(lk)[0] for lk in root.findall("link"))
+    m_base = _inertial(base)[0]
+    if m_base <= 0:
+        raise RobotDescriptionError(
+            f"the base link '{base.get('name')}' has no mass, so there is none to move for a CoM offset"
+        )
+    el = base.find("inertial")
+    t = _origin(el)
+    t[:3, 3] += d * total / m_base
+    _set_origin(el, t)
+    return str(base.get("name"))
+
+
 def rest_pitch_deg(robot: Robot) -> float:
     """Pitch (degrees) of the lowest CoM at roll 0 near the upside-down pose, wings closed, leg centred.
 
@@ -432,6 +468,7 @@ def _build(
     joint_map: JointMap | None,
     merge_fixed: bool,
     body_torsion: bool = False,
+    com_offset_m: tuple[float, float, float] = (0.0, 0.0, 0.0),
 ) -> SimModel:
     """The model (cached by the robot's description hash, so an edited URDF or mesh file is rebuilt)."""
     path = Path(path_str)
@@ -466,6 +503,8 @@ def _build(
             mesh_el.set("filename", MESH_PLACEHOLDER.format(name=name))
     rehung = add_body_torsion(root, robot.joint_map.wing) if body_torsion else []
     merged = merge_fixed_links(root) if merge_fixed else []
+    if any(com_offset_m):
+        shift_com(root, com_offset_m)
     text = ET.tostring(root, encoding="unicode")
     h = hashlib.sha256(text.encode())
     for k in sorted(meshes):
@@ -479,7 +518,7 @@ def _build(
         h.hexdigest()[:16],
         max_gap,
         counts,
-        rest_pitch_deg(robot),
+        rest_pitch_deg(robot.with_com_offset(com_offset_m)),
         robot.theta_limits_deg(),
         path,
     )
@@ -502,6 +541,7 @@ def sim_model(
     joint_map: JointMap | None = None,
     merge_fixed: bool = False,
     body_torsion: bool = False,
+    com_offset_m: ArrayLike = (0.0, 0.0, 0.0),
 ) -> SimModel:
     """The simulation model of a URDF robot (cached per process).
 
@@ -522,6 +562,9 @@ def sim_model(
     body_torsion : bool
         Let the wing mounts twist against the rest of the body about the base's x axis
         (:func:`add_body_torsion`; :class:`sim.compliance.BodyTorsion` gives the spring).
+    com_offset_m : array_like of 3 floats
+        Move the whole robot's CoM by this much (base frame, m; :func:`shift_com`), e.g. a model set's
+        ``[mass] com_offset_y_mm``.
 
     Raises
     ------
@@ -541,4 +584,5 @@ def sim_model(
         joint_map,
         bool(merge_fixed),
         bool(body_torsion),
+        tuple(float(v) for v in np.asarray(com_offset_m, dtype=np.float64).reshape(3)),
     )

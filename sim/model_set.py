@@ -46,7 +46,11 @@ from .world import MAX_ROLLING_FRICTION, Contact
 MODELS_DIR = Path(__file__).resolve().parent / "models"
 DEFAULT_MODEL_SET = "paper"
 PROFILES = ("idealised", "measured")
-_TOP = {"name", "version", "description", "actuation", "contact", "compliance", "body_torsion"}
+_TOP = {"name", "version", "description", "actuation", "contact", "compliance", "body_torsion", "mass"}
+_MASS = {"com_offset_y_mm"}
+MAX_COM_OFFSET_MM = 10.0
+"""Largest ``[mass] com_offset_y_mm`` (either way), mm: a correction for mass the description misplaces, not a
+new robot."""
 _TORSION = {"stiffness_n_m_rad", "damping_n_m_s_rad"}
 _COMPLIANCE = {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad", "wing_integral_time_s"}
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
@@ -71,10 +75,12 @@ OPTIONAL_KEYS = frozenset(
         "body_torsion.stiffness_n_m_rad",
         "body_torsion.damping_n_m_s_rad",
         "actuation.wing_extra_deg",
+        "mass.com_offset_y_mm",
     }
 )
 """Dotted keys a set may omit (and a calibration candidate may add): rolling and spinning friction, and the
-``[compliance]`` and ``[body_torsion]`` tables' (their stiffness is required once the table is there)."""
+``[compliance]`` and ``[body_torsion]`` tables' (their stiffness is required once the table is there), the wing
+pose correction and the ``[mass]`` table's CoM offset."""
 _CONTACT = {
     "lateral_friction",
     "restitution",
@@ -117,6 +123,11 @@ class ModelSet:
         A body that twists about its long axis between the wing mounts and the rest, from an optional
         ``[body_torsion]`` table (``stiffness_n_m_rad``, optional ``damping_n_m_s_rad``;
         :class:`sim.compliance.BodyTorsion`); None: a rigid body.
+    com_offset_y_mm : float
+        The whole body's CoM moved along the body's y axis (mm; y = z x x, towards the lab's left wing), from an
+        optional ``[mass]`` table: mass the robot's description lacks or misplaces (cables, glue, a tether).
+        It applies to the simulation (:func:`sim.model.shift_com`) and to every landscape the set poses
+        (:meth:`robot_for`); 0: the description's CoM.
     """
 
     name: str
@@ -133,6 +144,17 @@ class ModelSet:
     measured: MeasuredActuation | None = None
     compliance: Compliance | None = None
     body_torsion: BodyTorsion | None = None
+    com_offset_y_mm: float = 0.0
+
+    @property
+    def com_offset_m(self) -> tuple[float, float, float]:
+        """The set's CoM offset as a body-frame vector, m."""
+        return (0.0, self.com_offset_y_mm * 1e-3, 0.0)
+
+    def robot_for(self, robot):
+        """``robot`` as this set models it: its CoM moved by :attr:`com_offset_m`
+        (:meth:`geometry.Robot.with_com_offset`), or ``robot`` itself when the set moves nothing."""
+        return robot.with_com_offset(self.com_offset_m) if self.com_offset_y_mm else robot
 
     def wing_joints_deg(self, joint_names, theta_w_deg: float) -> dict[str, float] | None:
         """The wing joints' angles (degrees) this set holds at the wing command ``theta_w_deg``: each servo at
@@ -279,7 +301,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     path = _resolve(name_or_file)
     data = read_toml(path)
     where = f"model set '{path}'"
-    _check_keys(data, _TOP, _TOP - {"description", "compliance", "body_torsion"}, where)
+    _check_keys(data, _TOP, _TOP - {"description", "compliance", "body_torsion", "mass"}, where)
     if not isinstance(data["name"], str) or not data["name"].strip():
         raise ModelSetError(f"{where}: name must be a non-empty string; got {data['name']!r}")
     if isinstance(data["version"], bool) or not isinstance(data["version"], int) or data["version"] < 0:
@@ -415,6 +437,17 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
             "stiffness_n_m_rad": torsion.stiffness_n_m_rad,
             "damping_n_m_s_rad": torsion.damping_n_m_s_rad,
         }
+    com_offset_y_mm = 0.0
+    if "mass" in data:  # enters the hash only when present, so the sets of before keep their hashes
+        wm = f"{where} [mass]"
+        mass = _check_keys(data["mass"], _MASS, _MASS, wm)
+        com_offset_y_mm = _number(mass, "com_offset_y_mm", wm, positive=False)
+        if abs(com_offset_y_mm) > MAX_COM_OFFSET_MM:
+            raise ModelSetError(
+                f"{wm}: com_offset_y_mm must be in [-{MAX_COM_OFFSET_MM:g}, {MAX_COM_OFFSET_MM:g}] mm; "
+                f"got {com_offset_y_mm!r}"
+            )
+        canonical["mass"] = {"com_offset_y_mm": com_offset_y_mm}
     digest = hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()[:16]
     ms = ModelSet(
         data["name"],
@@ -427,6 +460,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         measured=measured,
         compliance=compliance,
         body_torsion=torsion,
+        com_offset_y_mm=com_offset_y_mm,
         **timing,
     )
     try:

@@ -481,6 +481,7 @@ def run_trial(
         joint_map=joint_map,
         merge_fixed=numerics.merge_fixed_links,
         body_torsion=model_set.body_torsion is not None,
+        com_offset_m=model_set.com_offset_m,
     )
     theta_w_deg, theta_l_deg, phase, cv = float(theta_w_deg), float(theta_l_deg), float(phase), float(cv)
     duration_s, dt_s = float(duration_s), float(default_dt_s(model.source) if dt_s is None else dt_s)

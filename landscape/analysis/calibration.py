@@ -31,16 +31,34 @@ class CalibrationError(UsageError):
     """A bad ``--vary`` specification or calibration setting."""
 
 
-def parse_vary(items: Sequence[str], option: str = "--vary") -> dict[str, list[float]]:
+Value = float | list[float]
+"""One ``--vary`` value: a number, or a list for a key that takes one (``15/12/3``: one per wing command)."""
+
+
+def format_value(v: Value) -> str:
+    """A ``--vary`` value as written: ``0.5``, or a list as ``15/12/3``.
+
+    Examples
+    --------
+    >>> format_value(0.5), format_value([15.0, 12.0, 3.0])
+    ('0.5', '15/12/3')
+    """
+    return "/".join(f"{x:g}" for x in v) if isinstance(v, list) else f"{v:g}"
+
+
+def parse_vary(items: Sequence[str], option: str = "--vary") -> dict[str, list[Value]]:
     """``['contact.lateral_friction=0.5,1', ...]`` -> ``{'contact.lateral_friction': [0.5, 1.0], ...}``;
-    ``option`` names the option in the error messages.
+    a value with slashes is a list (``actuation.wing_extra_deg=15/12/3,15/15/3``: two candidates, each with one
+    value per wing command); ``option`` names the option in the error messages.
 
     Examples
     --------
     >>> parse_vary(["contact.lateral_friction=0.5,1"])
     {'contact.lateral_friction': [0.5, 1.0]}
+    >>> parse_vary(["actuation.wing_extra_deg=15/12/3,15"])
+    {'actuation.wing_extra_deg': [[15.0, 12.0, 3.0], 15.0]}
     """
-    out: dict[str, list[float]] = {}
+    out: dict[str, list[Value]] = {}
     for item in items:
         key, sep, values = item.partition("=")
         key = key.strip()
@@ -49,10 +67,12 @@ def parse_vary(items: Sequence[str], option: str = "--vary") -> dict[str, list[f
                 f"{option} {item!r} is not TABLE.KEY=V1,V2,...; give e.g. {option} contact.lateral_friction=0.5,1"
             )
         try:
-            vals = [float(v) for v in values.split(",")]
+            vals = [[float(x) for x in v.split("/")] if "/" in v else float(v) for v in values.split(",")]
         except ValueError:
-            raise CalibrationError(f"{option} {item!r}: the values must be numbers, e.g. 0.5,1") from None
-        if not all(map(math.isfinite, vals)):
+            raise CalibrationError(
+                f"{option} {item!r}: the values must be numbers, e.g. 0.5,1, or lists of numbers, e.g. 15/12/3"
+            ) from None
+        if not all(math.isfinite(x) for v in vals for x in (v if isinstance(v, list) else [v])):
             raise CalibrationError(f"{option} {item!r}: the values must be finite numbers")
         if key in out:
             raise CalibrationError(f"{option} {key} is given twice; list all its values in one {option}")
@@ -62,7 +82,7 @@ def parse_vary(items: Sequence[str], option: str = "--vary") -> dict[str, list[f
     return out
 
 
-def candidate_set(base: str | Path, overrides: dict[str, float], name: str, path: str | Path):
+def candidate_set(base: str | Path, overrides: dict[str, Value], name: str, path: str | Path):
     """Write the base model set with ``overrides`` (dotted keys that the base already has, or that any set may
     add: ``sim.model_set.OPTIONAL_KEYS``) as ``path`` under ``name`` and return it loaded (so it is validated
     like any set).
@@ -94,8 +114,11 @@ def candidate_set(base: str | Path, overrides: dict[str, float], name: str, path
                 f"e.g. contact.lateral_friction, or one a set may add ({', '.join(sorted(OPTIONAL_KEYS))})"
             )
         old = node.get(leaf)
-        node[leaf] = int(value) if isinstance(old, int) and float(value).is_integer() else float(value)
-    changes = ", ".join(f"{k} = {v:g}" for k, v in overrides.items())
+        if isinstance(value, list):
+            node[leaf] = [float(x) for x in value]
+        else:
+            node[leaf] = int(value) if isinstance(old, int) and float(value).is_integer() else float(value)
+    changes = ", ".join(f"{k} = {format_value(v)}" for k, v in overrides.items())
     data["name"] = name
     data["description"] = f"calibration candidate: '{ms.name}' with {changes}"
     path = Path(path)
@@ -144,7 +167,7 @@ def calibrate(
     data_dir: str | Path,
     *,
     out_dir: str | Path,
-    vary: dict[str, list[float]],
+    vary: dict[str, list[Value]],
     base: str | Path = "physical",
     robot: str | Path | None = None,
     trials: int = 6,

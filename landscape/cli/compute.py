@@ -117,6 +117,7 @@ def compute(
         writable_dir(out, "--out")
     robot = robot_from(kw, theta_w_deg=theta_w)
     ms = pose_model_set(pose_model, robot)
+    robot = ms.robot_for(robot) if ms else robot
     wing_joints = ms.wing_joints_deg(robot.joint_map.wing, theta_w) if ms else None
     c = run(
         robot,
@@ -205,6 +206,7 @@ def barrier_map(theta_w, theta_l, step, method, pose_model, out, **kw):
     writable_dir(out, "--out")
     robot = robot_from(kw, theta_w_deg=ws)
     ms = pose_model_set(pose_model, robot)
+    robot = ms.robot_for(robot) if ms else robot
     joints = ms.wing_joints_by_theta_w(robot.joint_map.wing, ws) if ms else None
     t0 = time.perf_counter()
     with tqdm(

@@ -95,8 +95,8 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
         from landscape.minima import metastable_orientation
         from sim.model_set import load_model_set
 
-        r = load_robot(robot, None, joints=joints)
         ms = load_model_set(model_set)
+        r = ms.robot_for(load_robot(robot, None, joints=joints))  # the set's CoM, if it moves one
         commands = [row.theta_w_cmd_deg for row in rows]
         rest = metastable_orientation(r, 0.0, 0.0)
         equal = op.plateau_hold_deg(r, data, commands)  # every wing joint at the measured plateau
@@ -296,8 +296,9 @@ def validate_cmd(
     "--vary",
     multiple=True,
     required=True,
-    help="TABLE.KEY=V1,V2,... of the base set to search, e.g. contact.lateral_friction=0.5,0.75,1 "
-    "(repeat for more keys: every combination is a candidate).",
+    help="TABLE.KEY=V1,V2,... of the base set to search, e.g. contact.lateral_friction=0.5,0.75,1; a value "
+    "with slashes is a list, e.g. actuation.wing_extra_deg=15/12/3,15/15/3 (one per wing command); repeat for "
+    "more keys: every combination is a candidate.",
 )
 @click.option(
     "--trials",
@@ -356,7 +357,7 @@ def calibrate_cmd(
     from dataclasses import asdict
 
     from geometry.errors import UsageError
-    from landscape.analysis.calibration import calibrate, parse_vary
+    from landscape.analysis.calibration import calibrate, format_value, parse_vary
     from landscape.cli.options import robot_urdf_arg, writable_dir
     from landscape.params import parse_values
     from landscape.viz.files import json_text
@@ -368,7 +369,7 @@ def calibrate_cmd(
     grid = parse_vary(vary)
 
     def done(c, i, n):
-        changes = ", ".join(f"{k} = {v:g}" for k, v in c.overrides.items())
+        changes = ", ".join(f"{k} = {format_value(v)}" for k, v in c.overrides.items())
         opening = f", openings {c.opening_log_likelihood:.2f} (score {c.score:.2f})" if openings else ""
         click.echo(
             f"[{i}/{n}] {c.name} ({changes}): log-likelihood {c.log_likelihood:.2f}, {c.agree}/{c.cells} agree"

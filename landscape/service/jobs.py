@@ -198,8 +198,10 @@ class MapJobs:
             robot = self._robots.get(job.robot_id)
             if robot is None:
                 robot = self._robots[job.robot_id] = self.registry.fresh_robot(job.robot_id)
+            from .model_sets import robot_for
+
             bm = barrier_map(
-                robot,
+                robot_for(job.model, robot),
                 job.theta_w_deg,
                 job.theta_l_deg,
                 step_deg=job.step_deg,

@@ -313,17 +313,20 @@ class Landscapes:
         a = None if need_computation else self.cache.get(key)
         if a is not None:
             return a
+        from .model_sets import robot_for
+
         _, tw, tl, method, step, model, joints_key = key
         joints = None if joints_key is None else dict(joints_key)
+        robot = robot_for(model, entry.robot)  # a set may move the CoM, as `landscape compute --model` does
         with entry.lock:
             start = None
-            if entry.robot.has_joints and joints is None:
+            if robot is entry.robot and robot.has_joints and joints is None:
                 if entry.starts is None:
                     entry.starts = StartMemo(entry.robot)
                 start = entry.starts.start_deg(tw, tl)
             # with wing joints of their own, compute finds the start as `landscape compute --model` does
             c = compute(
-                entry.robot,
+                robot,
                 theta_w_deg=tw,
                 theta_l_deg=tl,
                 step_deg=step,
@@ -335,8 +338,8 @@ class Landscapes:
             c,
             robot_name=entry.robot.name,
             robot_source=entry.info.get("filename") or entry.id,
-            robot_hash=entry.robot.description_hash,
-            com_source=entry.robot.com_source,
+            robot_hash=robot.description_hash,
+            com_source=robot.com_source,
         )
         if model is not None:  # as `landscape compute --model NAME --json`
             s = dict(s) | {"model_set": model, "wing_joints_deg": joints}

@@ -58,6 +58,13 @@ def map_wing_joints_deg(model: str | None, robot, theta_w_deg: list[float]) -> d
     return ms.wing_joints_by_theta_w(robot.joint_map.wing if robot.has_joints else (), theta_w_deg)
 
 
+def robot_for(model: str | None, robot):
+    """``robot`` as the shipped set ``model`` models it (:meth:`sim.model_set.ModelSet.robot_for`: its CoM moved by
+    the set's ``[mass]`` offset, if any), or ``robot`` itself without a set."""
+    ms = shipped_model_set(model)
+    return robot if ms is None else ms.robot_for(robot)
+
+
 def _joints(ms, robot, theta_w_deg: float) -> dict[str, float] | None:
     if ms is None:
         return None

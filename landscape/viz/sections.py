@@ -540,7 +540,7 @@ def section_barrier(
     ]
     robot = _robot_of(used, robot)
     pairs = {(c.theta_w_deg, c.theta_l_deg) for c in cells}
-    joints, posed_by = _set_wing_joints(used, robot, {w for w, _ in pairs})
+    robot, joints, posed_by = _set_wing_joints(used, robot, {w for w, _ in pairs})
     barriers = an.landscape_barriers(robot, pairs, step_deg=step_deg, progress=True, wing_joints_deg=joints)
     res = an.barrier_outcome(cells, barriers)
     recs = []
@@ -607,25 +607,38 @@ def section_barrier(
 
 
 def _set_wing_joints(rows: list[dict], robot, theta_w_deg: set[float]):
-    """The wing joints the trials' model set holds at each theta_w (``{w: joints or None}``) and a sentence
-    saying how the barriers pose the wings: each servo at its plateau for a shipped set with a measured
-    actuation that still hashes as stored; every joint at theta_w otherwise."""
+    """The robot as the trials' model set models it (its CoM moved by the set's ``[mass]`` offset, if any), the
+    wing joints the set holds at each theta_w (``{w: joints or None}``) and a sentence saying how the barriers
+    pose the wings: each servo at its plateau for a shipped set with a measured actuation that still hashes as
+    stored; every joint at theta_w otherwise."""
     from sim.model_set import ModelSetError, load_model_set
 
     sets = {(r.get("model_set") or "paper", r.get("model_set_hash") or "") for r in rows}
     if len(sets) != 1:
-        return None, "Wings posed with every joint at θw (the trials mix model sets)."
+        return robot, None, "Wings posed with every joint at θw (the trials mix model sets)."
     name, stored = next(iter(sets))
     try:
         ms = load_model_set(name)
     except ModelSetError:
-        return None, f"Wings posed with every joint at θw (model set {name} is not a shipped set)."
-    if ms.measured is None:
-        return None, f"Wings posed with every joint at θw (model set {name}, idealised)."
+        return robot, None, f"Wings posed with every joint at θw (model set {name} is not a shipped set)."
+    if ms.measured is None and not ms.com_offset_y_mm:
+        return robot, None, f"Wings posed with every joint at θw (model set {name}, idealised)."
     if stored and ms.model_set_hash != stored:
-        return None, f"Wings posed with every joint at θw (model set {name} changed since the trials ran)."
+        return (
+            robot,
+            None,
+            f"Wings posed with every joint at θw (model set {name} changed since the trials ran).",
+        )
+    robot = ms.robot_for(robot)
+    moved = f"; CoM moved {ms.com_offset_y_mm:+g} mm along y" if ms.com_offset_y_mm else ""
+    if ms.measured is None:
+        return robot, None, f"Wings posed with every joint at θw (model set {name}, idealised{moved})."
     joints = ms.wing_joints_by_theta_w(robot.joint_map.wing, sorted(theta_w_deg))
-    return joints, f"Each wing servo posed at its measured plateau (model set {name}), as the trials ran."
+    return (
+        robot,
+        joints,
+        f"Each wing servo posed at its measured plateau (model set {name}{moved}), as the trials ran.",
+    )
 
 
 def _robot_of(rows: list[dict], robot: str | Path | None = None):

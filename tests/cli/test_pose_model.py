@@ -108,3 +108,26 @@ def test_a_rigid_body_takes_no_model_set(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "--model physical poses wing joints, but box is a rigid body without joints" in err
     assert len(err.strip().splitlines()) == 1
+
+
+def test_a_set_that_moves_the_com_moves_it_in_compute_and_barrier_map(tmp_path, capsys):
+    """`compute --model FILE` and `barrier-map --model FILE` with a `[mass] com_offset_y_mm` give the landscape
+    of the robot with its CoM moved (geometry.Robot.with_com_offset), as its trials simulate it."""
+    from pathlib import Path
+
+    from geometry.robots import load_robot
+
+    f = tmp_path / "moved.toml"
+    f.write_text(Path(load_model_set("paper").source).read_text() + "\n[mass]\ncom_offset_y_mm = -2.0\n")
+    want = compute(load_robot(None).with_com_offset([0.0, -2e-3, 0.0]), theta_w_deg=74.0, theta_l_deg=20.0)
+    assert main(["compute", "--theta-w", "74", "--theta-l", "20", "--model", str(f), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["barrier"]["righting_j"] == pytest.approx(want.barrier.righting.barrier_j, abs=1e-12)
+    assert main(["compute", "--theta-w", "74", "--theta-l", "20", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["barrier"]["righting_j"] > doc["barrier"]["righting_j"] + 1e-4
+    out = tmp_path / "map"
+    assert (
+        main(["barrier-map", "--theta-w", "74", "--theta-l", "20", "--model", str(f), "--out", str(out)]) == 0
+    )
+    row = (out / "barrier_map.csv").read_text().splitlines()[1].split(",")
+    assert float(row[5]) == pytest.approx(want.barrier.righting.barrier_j, abs=1e-12)

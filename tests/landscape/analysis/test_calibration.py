@@ -21,6 +21,8 @@ def test_vary_parses_and_refuses_bad_items():
         ("friction=0.5", "TABLE.KEY"),
         ("contact.x=a", "numbers"),
         ("contact.x=nan", "finite"),
+        ("actuation.wing_extra_deg=15/x/3", "lists of numbers"),
+        ("actuation.wing_extra_deg=15/nan/3", "finite"),
     ]:
         with pytest.raises(ca.CalibrationError, match=match):
             ca.parse_vary([bad])
@@ -61,6 +63,23 @@ def test_candidate_set_adds_an_optional_table_the_base_lacks(tmp_path):
         ca.candidate_set("paper", {"compliance.wing_damping_n_m_s_rad": 0.005}, "d", tmp_path / "d.toml")
     with pytest.raises(ca.CalibrationError, match="has no such key"):
         ca.candidate_set("paper", {"compliance.wing_stifness": 1.0}, "t", tmp_path / "t.toml")
+
+
+def test_a_candidate_may_take_a_list_and_the_mass_table(tmp_path):
+    """`--vary actuation.wing_extra_deg=15/12/3` is one candidate with one extra per wing command; the `[mass]` CoM
+    offset is an optional table a candidate may add."""
+    assert ca.parse_vary(["actuation.wing_extra_deg=15/12/3,15"]) == {
+        "actuation.wing_extra_deg": [[15.0, 12.0, 3.0], 15.0]
+    }
+    over = {"actuation.wing_extra_deg": [15.0, 12.0, 3.0], "mass.com_offset_y_mm": -1.5}
+    ms = ca.candidate_set("physical", over, "cand", tmp_path / "c.toml")
+    assert ms.com_offset_y_mm == -1.5
+    base = load_model_set("physical").measured
+    plateau = ms.measured.wing_plateaus_deg(75.0) - base.wing_plateaus_deg(75.0)
+    assert plateau == pytest.approx([12.0] * 4, abs=1e-9)
+    assert "wing_extra_deg = 15/12/3" in load_model_set(tmp_path / "c.toml").description
+    with pytest.raises(ModelSetError, match="wing_extra_deg"):  # one per command: three, not two
+        ca.candidate_set("physical", {"actuation.wing_extra_deg": [15.0, 12.0]}, "c", tmp_path / "d.toml")
 
 
 @needs_data

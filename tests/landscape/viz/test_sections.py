@@ -146,7 +146,8 @@ def test_barriers_pose_the_wings_as_the_trials_model_set_did():
     robot = load_robot(None)
     phys = load_model_set("physical")
     rows = [{"model_set": "physical", "model_set_hash": phys.model_set_hash}]
-    joints, text = sections._set_wing_joints(rows, robot, {60.0, 75.0})
+    posed, joints, text = sections._set_wing_joints(rows, robot, {60.0, 75.0})
+    assert posed is robot  # physical moves no mass
     assert joints[75.0] == phys.wing_joints_deg(robot.joint_map.wing, 75.0) and set(joints) == {60.0, 75.0}
     assert "measured plateau (model set physical)" in text
     for rows, why in (
@@ -155,5 +156,6 @@ def test_barriers_pose_the_wings_as_the_trials_model_set_did():
         ([{"model_set": "physical", "model_set_hash": "old"}], "changed since the trials ran"),
         ([{"model_set": "physical", "model_set_hash": phys.model_set_hash}, {"model_set": "paper"}], "mix"),
     ):
-        joints, text = sections._set_wing_joints(rows, robot, {75.0})
+        posed, joints, text = sections._set_wing_joints(rows, robot, {75.0})
+        assert posed is robot
         assert joints is None and why in text, (rows, text)
