@@ -131,7 +131,8 @@ def candidate_set(base: str | Path, overrides: dict[str, Value], name: str, path
 class Candidate:
     """One candidate's score on the fit cells: the log-likelihood of the recorded outcomes and, when openings
     are scored, of the recorded first openings (``landscape.analysis.opening.opening_log_likelihood``; nan
-    otherwise). Candidates rank by ``score``, their sum."""
+    otherwise), and when the side is scored, of the side the robot's roll-overs on the fit cells went to under
+    the candidate's simulated side fraction (nan otherwise). Candidates rank by ``score``, their sum."""
 
     name: str
     overrides: dict
@@ -140,16 +141,18 @@ class Candidate:
     agree: int
     cells: int
     opening_log_likelihood: float = math.nan
+    side_log_likelihood: float = math.nan
 
     CSV_COLUMNS = (
         "name", "overrides", "model_set_hash", "log_likelihood", "agree", "cells", "opening_log_likelihood",
+        "side_log_likelihood",
     )  # fmt: skip
 
     @property
     def score(self) -> float:
-        """The outcomes' log-likelihood plus the openings' where they were scored."""
-        o = self.opening_log_likelihood
-        return self.log_likelihood + (o if math.isfinite(o) else 0.0)
+        """The outcomes' log-likelihood plus the openings' and the side's where they were scored."""
+        extra = (self.opening_log_likelihood, self.side_log_likelihood)
+        return self.log_likelihood + sum(x for x in extra if math.isfinite(x))
 
 
 @dataclass(frozen=True)
@@ -181,6 +184,7 @@ def calibrate(
     on_candidate: Callable[[Candidate, int, int], None] | None = None,
     openings: bool = False,
     opening_phase: float | None = None,
+    side: bool = False,
 ) -> Calibration:
     """Grid-search ``vary`` on the fit cells, then validate the best candidate on every cell.
 
@@ -188,7 +192,9 @@ def calibrate(
     validation. ``on_candidate(candidate, index, total)`` is called as each candidate finishes. With
     ``openings`` each candidate also simulates one first opening per fit cell at ``opening_phase`` (default:
     the protocol's, ``landscape.analysis.opening.PROTOCOL_PHASE``; no noise) and adds its log-likelihood under
-    the cell's recorded first openings to the score: how the body moves, not only whether it rights.
+    the cell's recorded first openings to the score: how the body moves, not only whether it rights. With
+    ``side`` it adds the log-likelihood of the side of the robot's roll-overs on the fit cells (how many went to
+    +roll, of how many) under the candidate's simulated fraction on the same cells (:func:`side_log_likelihood`).
     """
     from landscape.analysis.opening import PROTOCOL_PHASE, recorded_first_openings
     from landscape.analysis.physical import measured_plateaus_deg, physical_trials
@@ -228,7 +234,10 @@ def calibrate(
         opening_ll = math.nan
         if openings:
             opening_ll = _openings_log_likelihood(ms.source, fit_cells, recorded, plateau, phase, seed, robot)
-        cand = Candidate(name, overrides, ms.model_set_hash, v.log_likelihood["all"], k, n, opening_ll)
+        side_ll = side_log_likelihood(v.side) if side else math.nan
+        cand = Candidate(
+            name, overrides, ms.model_set_hash, v.log_likelihood["all"], k, n, opening_ll, side_ll
+        )
         scored.append(cand)
         if on_candidate is not None:
             on_candidate(cand, i + 1, len(combos))
@@ -241,6 +250,24 @@ def calibrate(
         trials=validate_trials, cv=cv, seed=seed + 1, duration_s=duration_s, workers=workers, progress=progress,
     )  # fmt: skip
     return Calibration(str(base), tuple(fit_cells), tuple(scored), str(best_file), v)
+
+
+def side_log_likelihood(side) -> float:
+    """Log-likelihood of the robot's roll-overs to +roll (``side.phys_positive`` of ``side.phys_events``) under
+    the simulated fraction, shrunk as the outcomes' are (:func:`landscape.analysis.validation.log_likelihood`);
+    0 when either side has no roll-overs (no evidence either way).
+
+    Examples
+    --------
+    >>> from landscape.analysis.validation import SideComparison
+    >>> round(side_log_likelihood(SideComparison(17, 18, 0, 0, 30, 40, 0, 0, False)), 2)
+    -6.39
+    """
+    from landscape.analysis.validation import log_likelihood
+
+    if not side.phys_events or not side.sim_events:
+        return 0.0
+    return log_likelihood([(side.phys_positive, side.phys_events, side.sim_positive, side.sim_events)])
 
 
 def _openings_log_likelihood(model_set, cells, recorded, plateau, phase, seed, robot) -> float:

@@ -333,6 +333,13 @@ def validate_cmd(
     default=None,
     help="Leg phase of the scored openings [default: the protocol's, 0.17].",
 )
+@click.option(
+    "--side/--no-side",
+    default=False,
+    show_default=True,
+    help="Also score the side of the roll-overs: the robot's on the fit cells (how many went to +roll) under each "
+    "candidate's simulated fraction.",
+)
 @validation_cv_option
 @validation_seed_option
 @validation_duration_option
@@ -347,8 +354,8 @@ def validate_cmd(
 )
 @no_progress_option
 def calibrate_cmd(
-    data, robot, base, vary, trials, validate_trials, fit_legs, openings, opening_phase, cv, seed, duration,
-    workers, out, no_progress,
+    data, robot, base, vary, trials, validate_trials, fit_legs, openings, opening_phase, side, cv, seed,
+    duration, workers, out, no_progress,
 ):  # fmt: skip
     """Fit a model set to the physical outcomes: every combination of the --vary values is simulated on the fit
     cells and scored by the log-likelihood of the recorded outcomes (with --openings also of the recorded first
@@ -370,7 +377,9 @@ def calibrate_cmd(
 
     def done(c, i, n):
         changes = ", ".join(f"{k} = {format_value(v)}" for k, v in c.overrides.items())
-        opening = f", openings {c.opening_log_likelihood:.2f} (score {c.score:.2f})" if openings else ""
+        opening = f", openings {c.opening_log_likelihood:.2f}" if openings else ""
+        opening += f", side {c.side_log_likelihood:.2f}" if side else ""
+        opening += f" (score {c.score:.2f})" if openings or side else ""
         click.echo(
             f"[{i}/{n}] {c.name} ({changes}): log-likelihood {c.log_likelihood:.2f}, {c.agree}/{c.cells} agree"
             + opening
@@ -394,6 +403,7 @@ def calibrate_cmd(
             on_candidate=done,
             openings=openings,
             opening_phase=opening_phase,
+            side=side,
         )
     best = cal.candidates[0]
     click.echo(f"\nbest: {best.name} ({best.overrides}) -> {cal.best_file}; validated on every cell:\n")

@@ -122,3 +122,31 @@ def test_calibrate_with_openings_ranks_by_outcomes_plus_openings(tmp_path, capsy
     plain = [a for a in args if a != "--openings"]
     assert main([*plain, "--opening-phase", "0.3"]) == 2
     assert "give --openings as well" in capsys.readouterr().err
+
+
+def test_the_side_score_favours_the_robots_side():
+    """The robot's fit-cell roll-overs (17 of 18 to +roll) are likelier under a candidate that rolls to +roll
+    more often; no roll-overs on either side are no evidence (0)."""
+    from landscape.analysis.validation import SideComparison
+
+    def side(pos, n):
+        return ca.side_log_likelihood(SideComparison(17, 18, 0, 0, pos, n, 0, 0, False))
+
+    assert side(36, 40) > side(30, 40) > side(20, 40)
+    assert side(0, 0) == 0.0
+    assert ca.side_log_likelihood(SideComparison(0, 0, 0, 0, 5, 10, 0, 0, False)) == 0.0
+    c = ca.Candidate("c", {}, "h", -5.0, 3, 6, side_log_likelihood=-2.0)
+    assert c.score == -7.0 and "side_log_likelihood" in c.CSV_COLUMNS
+
+
+@needs_data
+def test_calibrate_with_the_side_ranks_by_outcomes_plus_side(tmp_path, capsys):
+    args = ["physical", "calibrate", "--data", str(DATA), "--base", "paper", "--side"]
+    args += ["--vary", "contact.lateral_friction=0.5,1", "--trials", "1", "--validate-trials", "1"]
+    args += ["--duration", "2", "--out", str(tmp_path), "--no-progress", "--workers", "1"]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert ", side " in out and "(score " in out
+    doc = json.loads((tmp_path / "calibration.json").read_text())
+    scores = [c["log_likelihood"] + c["side_log_likelihood"] for c in doc["candidates"]]
+    assert scores == sorted(scores, reverse=True) and all(math.isfinite(s) for s in scores)
