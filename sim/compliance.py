@@ -151,21 +151,73 @@ class BodyTorsion:
     damping_n_m_s_rad: float = 0.0
 
     def __post_init__(self):
-        for name, v in (
-            ("stiffness_n_m_rad", self.stiffness_n_m_rad),
-            ("damping_n_m_s_rad", self.damping_n_m_s_rad),
-        ):
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise ComplianceError(f"body_torsion {name} must be a finite number; got {v!r}")
-        if self.stiffness_n_m_rad <= 0:
-            raise ComplianceError(
-                "body_torsion stiffness_n_m_rad must be > 0 (omit [body_torsion] for a rigid body); "
-                f"got {self.stiffness_n_m_rad!r}"
-            )
-        if self.damping_n_m_s_rad < 0:
-            raise ComplianceError(
-                f"body_torsion damping_n_m_s_rad must be >= 0; got {self.damping_n_m_s_rad!r}"
-            )
+        _check_spring_values("body_torsion", "a rigid body", self.stiffness_n_m_rad, self.damping_n_m_s_rad)
+
+
+def _check_spring_values(table: str, without: str, k, c) -> None:
+    """Refuse a spring table's stiffness ``k`` (> 0) or damping ``c`` (>= 0) in one line naming ``[table]``
+    (``without``: what omitting the table gives)."""
+    for name, v in (("stiffness_n_m_rad", k), ("damping_n_m_s_rad", c)):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise ComplianceError(f"{table} {name} must be a finite number; got {v!r}")
+    if k <= 0:
+        raise ComplianceError(
+            f"{table} stiffness_n_m_rad must be > 0 (omit [{table}] for {without}); got {k!r}"
+        )
+    if c < 0:
+        raise ComplianceError(f"{table} damping_n_m_s_rad must be >= 0; got {c!r}")
+
+
+@dataclass(frozen=True)
+class LegCompliance:
+    """A leg that bends: the leg joint is driven through a spring and damper towards its commanded profile
+    (``k (target - q) + c (speed - dq/dt)``, held through the servo command period and capped at the effort
+    limit, as :class:`Compliance` drives the wing joints) instead of the stiff servo.
+
+    The pendulum leg is a 4.3 g rod carrying 51.5 g at its end: a rod that bends, or a servo horn that gives,
+    lets the mass lag its command and swing past it, ringing at ``sqrt(k / I)`` (``I``: the leg's moment of inertia
+    about its joint). Without it the leg follows its profile exactly.
+
+    Attributes
+    ----------
+    stiffness_n_m_rad : float
+        Stiffness, N·m/rad (> 0).
+    damping_n_m_s_rad : float
+        Damping, N·m·s/rad (>= 0).
+
+    Examples
+    --------
+    >>> LegCompliance(0.08, 0.001).stiffness_n_m_rad
+    0.08
+    >>> LegCompliance(0.08, -1.0)
+    Traceback (most recent call last):
+    ...
+    sim.compliance.ComplianceError: leg_compliance damping_n_m_s_rad must be >= 0; got -1.0
+    """
+
+    stiffness_n_m_rad: float
+    damping_n_m_s_rad: float = 0.0
+
+    def __post_init__(self):
+        _check_spring_values("leg_compliance", "a stiff leg", self.stiffness_n_m_rad, self.damping_n_m_s_rad)
+
+
+def check_leg_stability(leg: LegCompliance, inertia_kg_m2: float, period_s: float) -> None:
+    """Refuse a leg spring or damper the held explicit update cannot follow at ``period_s`` (``inertia_kg_m2``:
+    the leg's moment of inertia about its joint, :meth:`sim.world.World.leg_inertia_kg_m2`).
+
+    Raises
+    ------
+    ComplianceError
+        If ``sqrt(k / I) * period`` or ``c * period / I`` exceeds :data:`MAX_OMEGA_PERIOD`.
+    """
+    _check_spring(
+        ("leg_compliance stiffness_n_m_rad", leg.stiffness_n_m_rad),
+        ("leg_compliance damping_n_m_s_rad", leg.damping_n_m_s_rad),
+        "the leg's",
+        inertia_kg_m2,
+        period_s,
+    )
 
 
 def check_torsion_stability(torsion: BodyTorsion, inertia_kg_m2: float, period_s: float) -> None:

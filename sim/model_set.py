@@ -40,13 +40,15 @@ import numpy as np
 from geometry.errors import UsageError
 
 from .actuation import Actuation, MeasuredActuation
-from .compliance import BodyTorsion, Compliance, ComplianceError
+from .compliance import BodyTorsion, Compliance, ComplianceError, LegCompliance
 from .world import MAX_ROLLING_FRICTION, Contact
 
 MODELS_DIR = Path(__file__).resolve().parent / "models"
 DEFAULT_MODEL_SET = "paper"
 PROFILES = ("idealised", "measured")
-_TOP = {"name", "version", "description", "actuation", "contact", "compliance", "body_torsion", "mass"}
+_TOP = {
+    "name", "version", "description", "actuation", "contact", "compliance", "body_torsion", "leg_compliance", "mass",
+}  # fmt: skip
 _MASS = {"com_offset_y_mm"}
 MAX_COM_OFFSET_MM = 10.0
 """Largest ``[mass] com_offset_y_mm`` (either way), mm: a correction for mass the description misplaces, not a
@@ -76,6 +78,8 @@ OPTIONAL_KEYS = frozenset(
         "body_torsion.damping_n_m_s_rad",
         "actuation.wing_extra_deg",
         "mass.com_offset_y_mm",
+        "leg_compliance.stiffness_n_m_rad",
+        "leg_compliance.damping_n_m_s_rad",
     }
 )
 """Dotted keys a set may omit (and a calibration candidate may add): rolling and spinning friction, and the
@@ -123,6 +127,9 @@ class ModelSet:
         A body that twists about its long axis between the wing mounts and the rest, from an optional
         ``[body_torsion]`` table (``stiffness_n_m_rad``, optional ``damping_n_m_s_rad``;
         :class:`sim.compliance.BodyTorsion`); None: a rigid body.
+    leg_compliance : LegCompliance or None
+        A leg that bends, from an optional ``[leg_compliance]`` table (``stiffness_n_m_rad``, optional
+        ``damping_n_m_s_rad``; :class:`sim.compliance.LegCompliance`); None: the leg follows its profile.
     com_offset_y_mm : float
         The whole body's CoM moved along the body's y axis (mm; y = z x x, towards the lab's left wing), from an
         optional ``[mass]`` table: mass the robot's description lacks or misplaces (cables, glue, a tether).
@@ -145,6 +152,7 @@ class ModelSet:
     compliance: Compliance | None = None
     body_torsion: BodyTorsion | None = None
     com_offset_y_mm: float = 0.0
+    leg_compliance: LegCompliance | None = None
 
     @property
     def com_offset_m(self) -> tuple[float, float, float]:
@@ -222,7 +230,7 @@ def shipped_model_sets() -> list[str]:
     Examples
     --------
     >>> shipped_model_sets()
-    ['paper', 'physical', 'physical-posed']
+    ['paper', 'physical', 'physical-offset', 'physical-posed']
     """
     return sorted(p.stem for p in MODELS_DIR.glob("*.toml"))
 
@@ -301,7 +309,9 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     path = _resolve(name_or_file)
     data = read_toml(path)
     where = f"model set '{path}'"
-    _check_keys(data, _TOP, _TOP - {"description", "compliance", "body_torsion", "mass"}, where)
+    _check_keys(
+        data, _TOP, _TOP - {"description", "compliance", "body_torsion", "leg_compliance", "mass"}, where
+    )
     if not isinstance(data["name"], str) or not data["name"].strip():
         raise ModelSetError(f"{where}: name must be a non-empty string; got {data['name']!r}")
     if isinstance(data["version"], bool) or not isinstance(data["version"], int) or data["version"] < 0:
@@ -437,6 +447,21 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
             "stiffness_n_m_rad": torsion.stiffness_n_m_rad,
             "damping_n_m_s_rad": torsion.damping_n_m_s_rad,
         }
+    leg = None
+    if "leg_compliance" in data:  # enters the hash only when present, so the sets of before keep their hashes
+        wl = f"{where} [leg_compliance]"
+        tab = _check_keys(data["leg_compliance"], _TORSION, {"stiffness_n_m_rad"}, wl)
+        try:
+            leg = LegCompliance(
+                _number(tab, "stiffness_n_m_rad", wl),
+                _number(tab, "damping_n_m_s_rad", wl, allow_zero=True) if "damping_n_m_s_rad" in tab else 0.0,
+            )
+        except ComplianceError as exc:
+            raise ModelSetError(f"{wl}: {exc}") from None
+        canonical["leg_compliance"] = {
+            "stiffness_n_m_rad": leg.stiffness_n_m_rad,
+            "damping_n_m_s_rad": leg.damping_n_m_s_rad,
+        }
     com_offset_y_mm = 0.0
     if "mass" in data:  # enters the hash only when present, so the sets of before keep their hashes
         wm = f"{where} [mass]"
@@ -461,6 +486,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         compliance=compliance,
         body_torsion=torsion,
         com_offset_y_mm=com_offset_y_mm,
+        leg_compliance=leg,
         **timing,
     )
     try:

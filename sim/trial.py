@@ -526,6 +526,7 @@ def run_trial(
         contact=contact or model_set.contact,
         compliance=comp,
         torsion=model_set.body_torsion,
+        leg_compliance=model_set.leg_compliance,
     )
     with world:
         if comp is not None:
@@ -536,6 +537,10 @@ def run_trial(
             from .compliance import check_torsion_stability
 
             check_torsion_stability(model_set.body_torsion, world.torsion_inertia_kg_m2(), cmd.ctrl_s)
+        if model_set.leg_compliance is not None:
+            from .compliance import check_leg_stability
+
+            check_leg_stability(model_set.leg_compliance, world.leg_inertia_kg_m2(), cmd.ctrl_s)
         _settle(world, model, cmd)
         run = _run(world, cmd, trace=trace)
     started = starts[starts <= run.t_end]

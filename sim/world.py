@@ -167,6 +167,8 @@ class World:
     torsion : sim.compliance.BodyTorsion, optional
         Spring and damper of the body's twist; the model must have been built with ``body_torsion=True``
         (:func:`sim.model.add_body_torsion`).
+    leg_compliance : sim.compliance.LegCompliance, optional
+        Drive the leg joints through a spring and damper towards their commands instead of the stiff servo.
 
     Examples
     --------
@@ -184,10 +186,12 @@ class World:
         contact: Contact | None = None,
         compliance=None,
         torsion=None,
+        leg_compliance=None,
     ):
         self.model = model
         self.compliance = compliance
         self.torsion = torsion
+        self.leg_compliance = leg_compliance
         self.dt_s = float(dt_s)
         self.substeps = int(substeps)
         self.contact = contact or Contact()
@@ -247,7 +251,22 @@ class World:
             )
         self.leg_joints = [names[n] for n in jm.leg]
         self.driven = self.wing_joints + self.leg_joints
-        self._soft = list(range(len(jm.wing))) if self.compliance is not None else []
+        n_wing, n_leg = len(jm.wing), len(jm.leg)
+        soft_wing = list(range(n_wing)) if self.compliance is not None else []
+        soft_leg = list(range(n_wing, n_wing + n_leg)) if self.leg_compliance is not None else []
+        self._soft = soft_wing + soft_leg
+        comp, leg = self.compliance, self.leg_compliance
+        ti = comp.wing_integral_time_s if comp is not None else None
+        # per soft joint: stiffness, damping and integral gain (the wing servo's integral; none on the leg)
+        wing_kc = (
+            (comp.wing_stiffness_n_m_rad, comp.wing_damping_n_m_s_rad) if comp is not None else (0.0, 0.0)
+        )
+        leg_kc = (leg.stiffness_n_m_rad, leg.damping_n_m_s_rad) if leg is not None else (0.0, 0.0)
+        kc = np.array([wing_kc] * len(soft_wing) + [leg_kc] * len(soft_leg), dtype=np.float64).reshape(-1, 2)
+        self._soft_k, self._soft_c = kc[:, 0], kc[:, 1]
+        self._soft_ki = np.array(
+            [wing_kc[0] / ti if ti else 0.0] * len(soft_wing) + [0.0] * len(soft_leg), dtype=np.float64
+        )
         self._integral = np.zeros(len(self._soft))  # a PI servo's integrated error per soft joint, rad s
         self._last_err = np.zeros(len(self._soft))
         self._elapsed_s = self._last_drive_s = 0.0
@@ -355,8 +374,7 @@ class World:
         )
 
     def _drive_soft(self, target_rad, speed_rad_s) -> None:
-        comp = self.compliance
-        k, c = comp.wing_stiffness_n_m_rad, comp.wing_damping_n_m_s_rad
+        k, c, ki = self._soft_k, self._soft_c, self._soft_ki
         joints = [self.driven[i] for i in self._soft]
         states = pb.getJointStates(self.body, joints, physicsClientId=self.cid)
         lim = self.max_force_n_m[self._soft]
@@ -364,13 +382,13 @@ class World:
         torque = k * err + c * np.array(
             [speed_rad_s[i] - s[1] for i, s in zip(self._soft, states, strict=True)]
         )
-        if comp.wing_integral_time_s is not None:
+        if ki.any():
             # the error at the last command, held since then, integrated (left rectangles: one long interval,
             # such as settling's, adds what was known when it began); the integral's torque clamped at the
-            # effort limit (no wind-up)
-            ki = k / comp.wing_integral_time_s
+            # effort limit (no wind-up); joints without an integral gain keep theirs at 0
             dt = self._elapsed_s - self._last_drive_s
-            self._integral = np.clip(self._integral + self._last_err * dt, -lim / ki, lim / ki)
+            bound = np.divide(lim, ki, out=np.zeros_like(lim), where=ki > 0)
+            self._integral = np.clip(self._integral + self._last_err * dt, -bound, bound)
             torque = torque + ki * self._integral
         self._last_drive_s, self._last_err = self._elapsed_s, err
         tau = np.clip(torque, -lim, lim).tolist()
@@ -406,8 +424,18 @@ class World:
     def wing_inertia_kg_m2(self) -> float:
         """The smallest moment of inertia of a wing joint's child link about the joint's axis, kg m² (a lower
         bound on what the joint moves; nan without a compliance)."""
+        n_wing = len(self.wing_joints)
+        return self._child_inertia([self.driven[k] for k in self._soft if k < n_wing])
+
+    def leg_inertia_kg_m2(self) -> float:
+        """The smallest moment of inertia of a leg joint's child link about the joint's axis, kg m² (nan without
+        a leg compliance)."""
+        n_wing = len(self.wing_joints)
+        return self._child_inertia([self.driven[k] for k in self._soft if k >= n_wing])
+
+    def _child_inertia(self, joints: list[int]) -> float:
         cid, out = self.cid, []
-        for j in (self.driven[k] for k in self._soft):
+        for j in joints:
             mass, _, diag, pos, orn = pb.getDynamicsInfo(self.body, j, physicsClientId=cid)[:5]
             axis = np.asarray(pb.getJointInfo(self.body, j, physicsClientId=cid)[13], dtype=np.float64)
             axis = axis / np.linalg.norm(axis)

@@ -53,6 +53,32 @@ def test_physical_landscape_is_compute_with_the_sets_wing_joints(client, capsys)
     assert again["barrier"] == got["barrier"] and again["model_set"] == "physical"
 
 
+def test_a_set_that_moves_the_com_moves_it_in_the_service(client, capsys):
+    """physical-offset moves the CoM 1.5 mm towards -y: the service's landscape and barrier map are those of the
+    moved robot, as `landscape compute --model physical-offset` gives them."""
+    from geometry.robots import load_robot
+    from landscape.cli import main
+    from landscape.computation import compute
+    from sim.model_set import load_model_set
+
+    ms = load_model_set("physical-offset")
+    robot = load_robot(None)
+    joints = ms.wing_joints_deg(robot.joint_map.wing, 75.0)
+    want = compute(
+        ms.robot_for(robot), theta_w_deg=75.0, theta_l_deg=0.0, wing_joints_deg=joints, step_deg=3.0
+    )
+    unmoved = compute(robot, theta_w_deg=75.0, theta_l_deg=0.0, wing_joints_deg=joints, step_deg=3.0)
+    assert want.barrier.righting.barrier_j < unmoved.barrier.righting.barrier_j - 1e-4
+    got = client.get("/api/landscape", params={"theta_w": 75, "step": 3, "model": "physical-offset"}).json()
+    assert got["barrier"]["righting_j"] == pytest.approx(want.barrier.righting.barrier_j, abs=1e-12)
+    assert main(["compute", "--theta-w", "75", "--step", "3", "--model", "physical-offset", "--json"]) == 0
+    assert _strip(got) == _strip(json.loads(capsys.readouterr().out))
+    rows = client.get(
+        "/api/barrier-map", params={"theta_w": "75", "theta_l": "0", "step": 3, "model": "physical-offset"}
+    ).json()
+    assert rows[0]["righting_j"] == pytest.approx(want.barrier.righting.barrier_j, abs=1e-12)
+
+
 def test_paper_landscape_equals_no_model(client, capsys):
     params = {"theta_w": 74, "theta_l": 20, "step": 3}
     paper = client.get("/api/landscape", params={**params, "model": "paper"}).json()
@@ -74,7 +100,7 @@ def test_paper_landscape_equals_no_model(client, capsys):
 @pytest.mark.parametrize("url", ["/api/landscape", "/api/barrier-map"])
 def test_only_a_shipped_set_name_is_taken(client, url, model):
     r = client.get(url, params={"theta_w": "75", "theta_l": "0", "model": model})
-    _refused(r, "model must be a shipped model set (paper, physical, physical-posed)")
+    _refused(r, "model must be a shipped model set (paper, physical, physical-offset, physical-posed)")
 
 
 @pytest.mark.parametrize("url", ["/api/landscape", "/api/barrier-map"])
@@ -140,5 +166,5 @@ def test_a_physical_sweep_stores_trials_of_the_set(client):
 @pytest.mark.parametrize("model", [*BAD_NAMES, None, 1])
 def test_a_sweep_takes_only_a_shipped_set_name(client, model):
     r = client.post("/api/sweeps", json={**TINY, "model": model})
-    _refused(r, "model must be a shipped model set (paper, physical, physical-posed)")
+    _refused(r, "model must be a shipped model set (paper, physical, physical-offset, physical-posed)")
     assert client.get("/api/sweeps").json() == []

@@ -19,7 +19,12 @@ PAPER_TEXT = (Path(st.__file__).parent / "models" / "paper.toml").read_text()
 
 def test_the_paper_set_holds_the_defaults_of_before():
     ms = load_model_set()
-    assert ms.name == "paper" and shipped_model_sets() == ["paper", "physical", "physical-posed"]
+    assert ms.name == "paper" and shipped_model_sets() == [
+        "paper",
+        "physical",
+        "physical-offset",
+        "physical-posed",
+    ]
     assert ms.actuation(74.0, 30.0) == Actuation(74.0, 30.0)
     assert ms.contact == Contact()
 
@@ -72,7 +77,9 @@ def test_a_bad_set_is_refused_in_one_line(tmp_path, edit, match):
 
 
 def test_an_unknown_name_says_what_exists():
-    with pytest.raises(ModelSetError, match="unknown model set 'papr'.*paper, physical, physical-posed"):
+    with pytest.raises(
+        ModelSetError, match="unknown model set 'papr'.*paper, physical, physical-offset, physical-posed"
+    ):
         load_model_set("papr")
     with pytest.raises(ModelSetError, match="not found"):
         load_model_set("nothere.toml")
