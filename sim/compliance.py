@@ -1,5 +1,6 @@
 """Compliant wings: the joint that carries each wing yields like a spring and damper (issue #15, section 2), or
-like a soft servo that also integrates its error.
+like a soft servo that also integrates its error; and, apart, a body that twists (:class:`BodyTorsion`) and a
+leg that bends (:class:`LegCompliance`).
 
 The source paper suspected that the thin wings and their mounts deform under the body's weight and make the
 physical robot easier to right. With a :class:`Compliance`, the wing joints (the pitch and the roll servo of each

@@ -1,9 +1,12 @@
 """Named, versioned model parameter sets: the actuation profile and the contact model a trial runs with.
 
 A set is a small TOML file; the package ships ``sim/models/paper.toml`` (the source paper's idealised profiles
-and the default contact: the default, identical to trials made before model sets existed) and
-``sim/models/physical.toml`` (the physical robot's measured wing speeds; not yet calibrated). ``--model NAME``
-picks a shipped set, ``--model FILE.toml`` any other. Layout::
+and the default contact: the default, identical to trials made before model sets existed) and the physical
+robot's sets (``physical``: the lab's measured servo and leg profiles; ``physical-posed`` and ``physical-offset``:
+posed further over, with compliant wing joints, and the latter with its CoM off the midline; each file's header
+says how it was chosen). ``--model NAME`` picks a shipped set, ``--model FILE.toml`` any other. Optional tables:
+``[compliance]`` (wing joints), ``[body_torsion]``, ``[leg_compliance]`` and ``[mass]`` (see :class:`ModelSet`).
+Layout::
 
     name = "paper"
     version = 1

@@ -346,8 +346,9 @@ class World:
 
     def drive(self, target_rad, speed_rad_s, *, kp: float, kd: float) -> None:
         """Position control of the driven joints (wing joints then leg joints) within their effort limits; with
-        a compliance, the wing joints get the torque ``k (target - q) + c (speed - dq/dt)`` instead, held
-        until the next call and capped at their effort limits."""
+        a compliance (a leg compliance), the wing joints (the leg joints) get the torque
+        ``k (target - q) + c (speed - dq/dt)`` instead, held until the next call and capped at their effort
+        limits."""
         if self._soft:
             self._drive_soft(target_rad, speed_rad_s)
             target_rad = [target_rad[k] for k in self._stiff]

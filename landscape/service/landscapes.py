@@ -230,12 +230,13 @@ class Landscapes:
     ) -> tuple:
         """Validate a request and return its cache key; UsageError (or TooCostlyError) for bad or costly input.
 
-        ``model`` names a shipped model set that poses the wings (:func:`.model_sets.wing_joints_deg`); the key
-        holds it and the wing joints' angles it gives."""
+        ``model`` names a shipped model set that poses the wings (:func:`.model_sets.wing_joints_deg`) and may
+        move the CoM; the key holds it, the wing joints' angles it gives and its hash (so a set whose content
+        changes is not answered from a cached landscape of its old content)."""
         from landscape.barriers import method as barrier_method
         from landscape.grid import cells_per_turn
 
-        from .model_sets import wing_joints_deg
+        from .model_sets import shipped_model_set, wing_joints_deg
 
         for name, v in (("theta_w", theta_w_deg), ("theta_l", theta_l_deg), ("step", step_deg)):
             if not math.isfinite(v):
@@ -262,7 +263,9 @@ class Landscapes:
             tw = tl = None
         joints = wing_joints_deg(model, entry.robot, theta_w_deg)
         joints_key = None if joints is None else tuple(joints.items())
-        return (entry.robot.description_hash, tw, tl, method, float(step_deg), model, joints_key)
+        ms = shipped_model_set(model)
+        set_hash = ms.model_set_hash if ms is not None else None
+        return (entry.robot.description_hash, tw, tl, method, float(step_deg), model, joints_key, set_hash)
 
     @staticmethod
     def estimate_s(entry, step_deg: float) -> float:
@@ -315,7 +318,7 @@ class Landscapes:
             return a
         from .model_sets import robot_for
 
-        _, tw, tl, method, step, model, joints_key = key
+        _, tw, tl, method, step, model, joints_key, _ = key
         joints = None if joints_key is None else dict(joints_key)
         robot = robot_for(model, entry.robot)  # a set may move the CoM, as `landscape compute --model` does
         with entry.lock:
