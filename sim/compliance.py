@@ -1,6 +1,6 @@
 """Compliant wings: the joint that carries each wing yields like a spring and damper (issue #15, section 2), or
-like a soft servo that also integrates its error; and, apart, a body that twists (:class:`BodyTorsion`) and a
-leg that bends (:class:`LegCompliance`).
+like a soft servo that also integrates its error; and, apart, a body that twists (:class:`BodyTorsion`), a leg
+whose swing gives (:class:`LegCompliance`) and a leg that bends out of its swing plane (:class:`LegBend`).
 
 The source paper suspected that the thin wings and their mounts deform under the body's weight and make the
 physical robot easier to right. With a :class:`Compliance`, the wing joints (the pitch and the roll servo of each
@@ -242,6 +242,55 @@ def check_torsion_stability(torsion: BodyTorsion, inertia_kg_m2: float, period_s
         ("body_torsion stiffness_n_m_rad", torsion.stiffness_n_m_rad),
         ("body_torsion damping_n_m_s_rad", torsion.damping_n_m_s_rad),
         "the twist's",
+        inertia_kg_m2,
+        period_s,
+    )
+
+
+@dataclass(frozen=True)
+class LegBend:
+    """A leg that bends out of its swing plane: the leg turns against its joint about the axis across it
+    (:func:`sim.model.add_leg_bend`), on a spring and damper, so its end bobs; :class:`sim.world.World` drives the
+    joint with the torque ``-k q - c dq/dt``, renewed before every ``stepSimulation`` call.
+
+    The lab robot's leg is a thin plate (1.5 mm across its swing plane's normal, 8 mm in it) carrying 51.5 g at
+    its end: stiff in its swing, soft out of it. The robot's IMU rings in pitch at about 3.9 Hz after every leg
+    step (``benchmarks/imu_ringing.py``); ``k = I (2 pi f)^2`` with the leg's moment of inertia ``I`` about the
+    bending axis gives that frequency.
+
+    Attributes
+    ----------
+    stiffness_n_m_rad : float
+        Bending stiffness, N·m/rad (> 0).
+    damping_n_m_s_rad : float
+        Bending damping, N·m·s/rad (>= 0).
+
+    Examples
+    --------
+    >>> LegBend(0.135, 0.00055).stiffness_n_m_rad
+    0.135
+    """
+
+    stiffness_n_m_rad: float
+    damping_n_m_s_rad: float = 0.0
+
+    def __post_init__(self):
+        _check_spring_values("leg_bend", "a rigid leg", self.stiffness_n_m_rad, self.damping_n_m_s_rad)
+
+
+def check_bend_stability(bend: LegBend, inertia_kg_m2: float, period_s: float) -> None:
+    """Refuse a bending spring or damper the explicit update renewed every ``period_s`` cannot follow
+    (``inertia_kg_m2``: the leg's moment of inertia about the bending axis, :meth:`sim.world.World.bend_inertia_kg_m2`).
+
+    Raises
+    ------
+    ComplianceError
+        If ``sqrt(k / I) * period`` or ``c * period / I`` exceeds :data:`MAX_OMEGA_PERIOD`.
+    """
+    _check_spring(
+        ("leg_bend stiffness_n_m_rad", bend.stiffness_n_m_rad),
+        ("leg_bend damping_n_m_s_rad", bend.damping_n_m_s_rad),
+        "the leg's",
         inertia_kg_m2,
         period_s,
     )

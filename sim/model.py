@@ -409,6 +409,83 @@ def add_body_torsion(root: ET._Element, wing_joints: tuple[str, ...]) -> list[st
     return rehang
 
 
+BEND_JOINT = "leg_bend"
+"""Name of the revolute joint :func:`add_leg_bend` inserts (:class:`sim.compliance.LegBend`)."""
+BEND_LINK = "leg_bend_root"
+"""Name of the (nearly) massless link between the leg joint and the leg behind ``BEND_JOINT``."""
+BEND_LIMIT_RAD = 0.6
+"""The bend's joint limit, rad (a stop far beyond any sag or ringing of a sensible spring)."""
+
+
+def add_leg_bend(root: ET._Element, leg_joint: str) -> str:
+    """Let the leg bend out of its swing plane, in place; return the name of the leg's link.
+
+    The leg joint's child link (the leg) is re-hung from a new link ``BEND_LINK`` at the leg joint's frame, on a
+    revolute joint ``BEND_JOINT`` through the leg's pivot about the axis perpendicular to both the leg joint's
+    axis and the pivot-to-CoM line of the leg (for the lab robot: the horizontal axis across the rod, so the
+    leg's end bobs up and down). At zero bend every link sits where it did, so geometry, mass and CoM are
+    unchanged. ``BEND_LINK`` carries 1e-6 of the leg's mass (pybullet needs a mass on a moving link).
+
+    Raises
+    ------
+    RobotDescriptionError
+        If the names are taken, the leg joint is missing, or the leg's CoM lies on the leg joint's axis.
+
+    Examples
+    --------
+    >>> urdf = ('<robot name="r"><link name="b"/><link name="leg"><inertial><origin xyz="-0.06 0 0"/>'
+    ...         '<mass value="0.05"/><inertia ixx="1e-6" iyy="1e-6" izz="1e-6"/></inertial></link>'
+    ...         '<joint name="swing" type="revolute"><parent link="b"/><child link="leg"/>'
+    ...         '<axis xyz="0 0 1"/></joint></robot>')
+    >>> root = ET.fromstring(urdf)
+    >>> add_leg_bend(root, "swing")
+    'leg'
+    >>> j = root.find("joint[@name='leg_bend']")
+    >>> j.find("parent").get("link"), j.find("child").get("link"), j.find("axis").get("xyz")
+    ('leg_bend_root', 'leg', '0 -1 0')
+    >>> root.find("joint[@name='swing']/child").get("link")
+    'leg_bend_root'
+    """
+    joints = {j.get("name"): j for j in root.findall("joint")}
+    links = {lk.get("name"): lk for lk in root.findall("link")}
+    if BEND_JOINT in joints or BEND_LINK in links:
+        raise RobotDescriptionError(
+            f"the robot already has a joint '{BEND_JOINT}' or link '{BEND_LINK}'; rename it to use [leg_bend]"
+        )
+    j = joints.get(leg_joint)
+    if j is None:
+        raise RobotDescriptionError(f"the robot has no leg joint '{leg_joint}'; [leg_bend] needs one")
+    leg = str(j.find("child").get("link"))
+    mass, com, _ = _inertial(links[leg])
+    ax_el = j.find("axis")
+    axis = (
+        np.array([float(v) for v in ax_el.get("xyz").split()]) if ax_el is not None else np.array([1.0, 0, 0])
+    )
+    bend = np.cross(axis / np.linalg.norm(axis), com)
+    if mass <= 0 or np.linalg.norm(bend) < 1e-9:
+        raise RobotDescriptionError(
+            f"the leg link '{leg}' has no mass off its joint's axis, so it has no bending axis; [leg_bend] needs one"
+        )
+    bend /= np.linalg.norm(bend)
+    frame = ET.Element("link", name=BEND_LINK)
+    inertial = ET.SubElement(frame, "inertial")
+    tiny = mass * 1e-6
+    ET.SubElement(inertial, "mass", value=f"{tiny:.17g}")
+    ET.SubElement(inertial, "inertia", ixx=f"{tiny * 1e-6:.17g}", ixy="0", ixz="0", iyy=f"{tiny * 1e-6:.17g}",
+                  iyz="0", izz=f"{tiny * 1e-6:.17g}")  # fmt: skip
+    joint = ET.Element("joint", name=BEND_JOINT, type="revolute")
+    ET.SubElement(joint, "parent", link=BEND_LINK)
+    ET.SubElement(joint, "child", link=leg)
+    ET.SubElement(joint, "origin", xyz="0 0 0", rpy="0 0 0")
+    ET.SubElement(joint, "axis", xyz=" ".join(f"{v:.17g}" if abs(v) > 1e-12 else "0" for v in bend))
+    lim = f"{BEND_LIMIT_RAD:g}"
+    ET.SubElement(joint, "limit", lower=f"-{lim}", upper=lim, effort="1000", velocity="1000")
+    j.find("child").set("link", BEND_LINK)
+    root.append(frame)
+    root.append(joint)
+    return leg
+
+
 def shift_com(root: ET._Element, offset_m: ArrayLike) -> str:
     """Move the whole robot's CoM by ``offset_m`` (base frame, m), in place, as
     :meth:`geometry.Robot.with_com_offset` does: the base link's inertial origin moves by ``offset_m * M / m_base``
@@ -469,6 +546,7 @@ def _build(
     merge_fixed: bool,
     body_torsion: bool = False,
     com_offset_m: tuple[float, float, float] = (0.0, 0.0, 0.0),
+    leg_bend: bool = False,
 ) -> SimModel:
     """The model (cached by the robot's description hash, so an edited URDF or mesh file is rebuilt)."""
     path = Path(path_str)
@@ -502,6 +580,9 @@ def _build(
             max_gap = max(max_gap, hull.gap * scale)
             mesh_el.set("filename", MESH_PLACEHOLDER.format(name=name))
     rehung = add_body_torsion(root, robot.joint_map.wing) if body_torsion else []
+    if leg_bend:
+        for leg in robot.joint_map.leg:
+            add_leg_bend(root, leg)
     merged = merge_fixed_links(root) if merge_fixed else []
     if any(com_offset_m):
         shift_com(root, com_offset_m)
@@ -542,6 +623,7 @@ def sim_model(
     merge_fixed: bool = False,
     body_torsion: bool = False,
     com_offset_m: ArrayLike = (0.0, 0.0, 0.0),
+    leg_bend: bool = False,
 ) -> SimModel:
     """The simulation model of a URDF robot (cached per process).
 
@@ -565,6 +647,9 @@ def sim_model(
     com_offset_m : array_like of 3 floats
         Move the whole robot's CoM by this much (base frame, m; :func:`shift_com`), e.g. a model set's
         ``[mass] com_offset_y_mm``.
+    leg_bend : bool
+        Let the leg bend out of its swing plane (:func:`add_leg_bend`; :class:`sim.compliance.LegBend` gives the
+        spring).
 
     Raises
     ------
@@ -585,4 +670,5 @@ def sim_model(
         bool(merge_fixed),
         bool(body_torsion),
         tuple(float(v) for v in np.asarray(com_offset_m, dtype=np.float64).reshape(3)),
+        bool(leg_bend),
     )

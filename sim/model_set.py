@@ -5,7 +5,8 @@ and the default contact: the default, identical to trials made before model sets
 robot's sets (``physical``: the lab's measured servo and leg profiles; ``physical-posed`` and ``physical-offset``:
 posed further over, with compliant wing joints, and the latter with its CoM off the midline; each file's header
 says how it was chosen). ``--model NAME`` picks a shipped set, ``--model FILE.toml`` any other. Optional tables:
-``[compliance]`` (wing joints), ``[body_torsion]``, ``[leg_compliance]`` and ``[mass]`` (see :class:`ModelSet`).
+``[compliance]`` (wing joints), ``[body_torsion]``, ``[leg_compliance]``, ``[leg_bend]`` and ``[mass]`` (see
+:class:`ModelSet`).
 Layout::
 
     name = "paper"
@@ -43,14 +44,15 @@ import numpy as np
 from geometry.errors import UsageError
 
 from .actuation import Actuation, MeasuredActuation
-from .compliance import BodyTorsion, Compliance, ComplianceError, LegCompliance
+from .compliance import BodyTorsion, Compliance, ComplianceError, LegBend, LegCompliance
 from .world import MAX_ROLLING_FRICTION, Contact
 
 MODELS_DIR = Path(__file__).resolve().parent / "models"
 DEFAULT_MODEL_SET = "paper"
 PROFILES = ("idealised", "measured")
 _TOP = {
-    "name", "version", "description", "actuation", "contact", "compliance", "body_torsion", "leg_compliance", "mass",
+    "name", "version", "description", "actuation", "contact", "compliance", "body_torsion", "leg_compliance",
+    "leg_bend", "mass",
 }  # fmt: skip
 _MASS = {"com_offset_y_mm"}
 MAX_COM_OFFSET_MM = 10.0
@@ -83,6 +85,8 @@ OPTIONAL_KEYS = frozenset(
         "mass.com_offset_y_mm",
         "leg_compliance.stiffness_n_m_rad",
         "leg_compliance.damping_n_m_s_rad",
+        "leg_bend.stiffness_n_m_rad",
+        "leg_bend.damping_n_m_s_rad",
     }
 )
 """Dotted keys a set may omit (and a calibration candidate may add): rolling and spinning friction, and the
@@ -133,6 +137,9 @@ class ModelSet:
     leg_compliance : LegCompliance or None
         A leg that bends, from an optional ``[leg_compliance]`` table (``stiffness_n_m_rad``, optional
         ``damping_n_m_s_rad``; :class:`sim.compliance.LegCompliance`); None: the leg follows its profile.
+    leg_bend : LegBend or None
+        A leg that bends out of its swing plane, from an optional ``[leg_bend]`` table (``stiffness_n_m_rad``,
+        optional ``damping_n_m_s_rad``; :class:`sim.compliance.LegBend`); None: a rigid leg.
     com_offset_y_mm : float
         The whole body's CoM moved along the body's y axis (mm; y = z x x, towards the lab's left wing), from an
         optional ``[mass]`` table: mass the robot's description lacks or misplaces (cables, glue, a tether).
@@ -156,6 +163,7 @@ class ModelSet:
     body_torsion: BodyTorsion | None = None
     com_offset_y_mm: float = 0.0
     leg_compliance: LegCompliance | None = None
+    leg_bend: LegBend | None = None
 
     @property
     def com_offset_m(self) -> tuple[float, float, float]:
@@ -313,7 +321,10 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     data = read_toml(path)
     where = f"model set '{path}'"
     _check_keys(
-        data, _TOP, _TOP - {"description", "compliance", "body_torsion", "leg_compliance", "mass"}, where
+        data,
+        _TOP,
+        _TOP - {"description", "compliance", "body_torsion", "leg_compliance", "leg_bend", "mass"},
+        where,
     )
     if not isinstance(data["name"], str) or not data["name"].strip():
         raise ModelSetError(f"{where}: name must be a non-empty string; got {data['name']!r}")
@@ -465,6 +476,21 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
             "stiffness_n_m_rad": leg.stiffness_n_m_rad,
             "damping_n_m_s_rad": leg.damping_n_m_s_rad,
         }
+    bend = None
+    if "leg_bend" in data:  # enters the hash only when present, so the sets of before keep their hashes
+        wb = f"{where} [leg_bend]"
+        tab = _check_keys(data["leg_bend"], _TORSION, {"stiffness_n_m_rad"}, wb)
+        try:
+            bend = LegBend(
+                _number(tab, "stiffness_n_m_rad", wb),
+                _number(tab, "damping_n_m_s_rad", wb, allow_zero=True) if "damping_n_m_s_rad" in tab else 0.0,
+            )
+        except ComplianceError as exc:
+            raise ModelSetError(f"{wb}: {exc}") from None
+        canonical["leg_bend"] = {
+            "stiffness_n_m_rad": bend.stiffness_n_m_rad,
+            "damping_n_m_s_rad": bend.damping_n_m_s_rad,
+        }
     com_offset_y_mm = 0.0
     if "mass" in data:  # enters the hash only when present, so the sets of before keep their hashes
         wm = f"{where} [mass]"
@@ -490,6 +516,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         body_torsion=torsion,
         com_offset_y_mm=com_offset_y_mm,
         leg_compliance=leg,
+        leg_bend=bend,
         **timing,
     )
     try:

@@ -482,6 +482,7 @@ def run_trial(
         merge_fixed=numerics.merge_fixed_links,
         body_torsion=model_set.body_torsion is not None,
         com_offset_m=model_set.com_offset_m,
+        leg_bend=model_set.leg_bend is not None,
     )
     theta_w_deg, theta_l_deg, phase, cv = float(theta_w_deg), float(theta_l_deg), float(phase), float(cv)
     duration_s, dt_s = float(duration_s), float(default_dt_s(model.source) if dt_s is None else dt_s)
@@ -527,6 +528,7 @@ def run_trial(
         compliance=comp,
         torsion=model_set.body_torsion,
         leg_compliance=model_set.leg_compliance,
+        bend=model_set.leg_bend,
     )
     with world:
         if comp is not None:
@@ -541,6 +543,10 @@ def run_trial(
             from .compliance import check_leg_stability
 
             check_leg_stability(model_set.leg_compliance, world.leg_inertia_kg_m2(), cmd.ctrl_s)
+        if model_set.leg_bend is not None:
+            from .compliance import check_bend_stability
+
+            check_bend_stability(model_set.leg_bend, world.bend_inertia_kg_m2(), cmd.ctrl_s)
         _settle(world, model, cmd)
         run = _run(world, cmd, trace=trace)
     started = starts[starts <= run.t_end]

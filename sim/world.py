@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from .model import MESH_PLACEHOLDER, TORSION_JOINT, SimModel
+from .model import BEND_JOINT, MESH_PLACEHOLDER, TORSION_JOINT, SimModel
 
 
 def _quiet_import_pybullet():
@@ -169,6 +169,9 @@ class World:
         (:func:`sim.model.add_body_torsion`).
     leg_compliance : sim.compliance.LegCompliance, optional
         Drive the leg joints through a spring and damper towards their commands instead of the stiff servo.
+    bend : sim.compliance.LegBend, optional
+        Spring and damper of the leg's bend out of its swing plane; the model must have been built with
+        ``leg_bend=True`` (:func:`sim.model.add_leg_bend`).
 
     Examples
     --------
@@ -187,11 +190,13 @@ class World:
         compliance=None,
         torsion=None,
         leg_compliance=None,
+        bend=None,
     ):
         self.model = model
         self.compliance = compliance
         self.torsion = torsion
         self.leg_compliance = leg_compliance
+        self.bend = bend
         self.dt_s = float(dt_s)
         self.substeps = int(substeps)
         self.contact = contact or Contact()
@@ -249,6 +254,11 @@ class World:
             raise ValueError(
                 "a model built with body_torsion=True needs World(..., torsion=BodyTorsion(...))"
             )
+        self.bend_joint = names.get(BEND_JOINT)
+        if self.bend is not None and self.bend_joint is None:
+            raise ValueError("a leg bend needs a model built with sim_model(..., leg_bend=True)")
+        if self.bend is None and self.bend_joint is not None:  # it would be a free hinge
+            raise ValueError("a model built with leg_bend=True needs World(..., bend=LegBend(...))")
         self.leg_joints = [names[n] for n in jm.leg]
         self.driven = self.wing_joints + self.leg_joints
         n_wing, n_leg = len(jm.wing), len(jm.leg)
@@ -398,11 +408,17 @@ class World:
         )
 
     def _drive_torsion(self) -> None:
-        k, c = self.torsion.stiffness_n_m_rad, self.torsion.damping_n_m_s_rad
-        q, dq = pb.getJointState(self.body, self.torsion_joint, physicsClientId=self.cid)[:2]
+        self._drive_spring(self.torsion_joint, self.torsion.stiffness_n_m_rad, self.torsion.damping_n_m_s_rad)
+
+    def _drive_spring(self, joint: int, k: float, c: float) -> None:
+        q, dq = pb.getJointState(self.body, joint, physicsClientId=self.cid)[:2]
         pb.setJointMotorControl2(
-            self.body, self.torsion_joint, pb.TORQUE_CONTROL, force=-k * q - c * dq, physicsClientId=self.cid
+            self.body, joint, pb.TORQUE_CONTROL, force=-k * q - c * dq, physicsClientId=self.cid
         )
+
+    def bend_inertia_kg_m2(self) -> float:
+        """The leg's moment of inertia about its bending axis, kg m² (nan without a bend joint)."""
+        return math.nan if self.bend_joint is None else self._child_inertia([self.bend_joint])
 
     def torsion_inertia_kg_m2(self) -> float:
         """Effective moment of inertia of the body's twist, kg m² (nan without a torsion joint): the Schur
@@ -453,6 +469,8 @@ class World:
             # the twist's spring is renewed before every stepSimulation call, settling's too
             if self.torsion is not None:
                 self._drive_torsion()
+            if self.bend is not None:
+                self._drive_spring(self.bend_joint, self.bend.stiffness_n_m_rad, self.bend.damping_n_m_s_rad)
             pb.stepSimulation(physicsClientId=self.cid)
 
     def base_pose(self) -> tuple[tuple[float, float, float], tuple[float, float, float, float]]:
