@@ -58,7 +58,7 @@ _MASS = {"com_offset_y_mm"}
 MAX_COM_OFFSET_MM = 10.0
 """Largest ``[mass] com_offset_y_mm`` (either way), mm: a correction for mass the description misplaces, not a
 new robot."""
-_TORSION = {"stiffness_n_m_rad", "damping_n_m_s_rad"}
+_SPRING = {"stiffness_n_m_rad", "damping_n_m_s_rad"}
 _COMPLIANCE = {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad", "wing_integral_time_s"}
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
 _MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg", "servo_sides", "wing_extra_deg"}
@@ -303,6 +303,33 @@ def read_toml(path: str | Path) -> dict:
         raise ModelSetError(f"model set '{path}' is not valid TOML: {exc}") from None
 
 
+def _spring_table(data: dict, table: str, cls, where: str, canonical: dict):
+    """The optional ``[table]`` of ``stiffness_n_m_rad`` and optional ``damping_n_m_s_rad`` as ``cls`` (a spring of
+    :mod:`sim.compliance`), added to ``canonical``; None without the table.
+
+    Raises
+    ------
+    ModelSetError
+        If a key is unknown or missing, or a value is out of range.
+    """
+    if table not in data:
+        return None
+    w = f"{where} [{table}]"
+    tab = _check_keys(data[table], _SPRING, {"stiffness_n_m_rad"}, w)
+    try:
+        spring = cls(
+            _number(tab, "stiffness_n_m_rad", w),
+            _number(tab, "damping_n_m_s_rad", w, allow_zero=True) if "damping_n_m_s_rad" in tab else 0.0,
+        )
+    except ComplianceError as exc:
+        raise ModelSetError(f"{w}: {exc}") from None
+    canonical[table] = {
+        "stiffness_n_m_rad": spring.stiffness_n_m_rad,
+        "damping_n_m_s_rad": spring.damping_n_m_s_rad,
+    }
+    return spring
+
+
 def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     """Read a model set by shipped name or TOML file.
 
@@ -446,51 +473,10 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         }
         if compliance.wing_integral_time_s is not None:  # sets without it keep their hashes
             canonical["compliance"]["wing_integral_time_s"] = compliance.wing_integral_time_s
-    torsion = None
-    if "body_torsion" in data:  # enters the hash only when present, so the sets of before keep their hashes
-        wt = f"{where} [body_torsion]"
-        tor = _check_keys(data["body_torsion"], _TORSION, {"stiffness_n_m_rad"}, wt)
-        try:
-            torsion = BodyTorsion(
-                _number(tor, "stiffness_n_m_rad", wt),
-                _number(tor, "damping_n_m_s_rad", wt, allow_zero=True) if "damping_n_m_s_rad" in tor else 0.0,
-            )
-        except ComplianceError as exc:
-            raise ModelSetError(f"{wt}: {exc}") from None
-        canonical["body_torsion"] = {
-            "stiffness_n_m_rad": torsion.stiffness_n_m_rad,
-            "damping_n_m_s_rad": torsion.damping_n_m_s_rad,
-        }
-    leg = None
-    if "leg_compliance" in data:  # enters the hash only when present, so the sets of before keep their hashes
-        wl = f"{where} [leg_compliance]"
-        tab = _check_keys(data["leg_compliance"], _TORSION, {"stiffness_n_m_rad"}, wl)
-        try:
-            leg = LegCompliance(
-                _number(tab, "stiffness_n_m_rad", wl),
-                _number(tab, "damping_n_m_s_rad", wl, allow_zero=True) if "damping_n_m_s_rad" in tab else 0.0,
-            )
-        except ComplianceError as exc:
-            raise ModelSetError(f"{wl}: {exc}") from None
-        canonical["leg_compliance"] = {
-            "stiffness_n_m_rad": leg.stiffness_n_m_rad,
-            "damping_n_m_s_rad": leg.damping_n_m_s_rad,
-        }
-    bend = None
-    if "leg_bend" in data:  # enters the hash only when present, so the sets of before keep their hashes
-        wb = f"{where} [leg_bend]"
-        tab = _check_keys(data["leg_bend"], _TORSION, {"stiffness_n_m_rad"}, wb)
-        try:
-            bend = LegBend(
-                _number(tab, "stiffness_n_m_rad", wb),
-                _number(tab, "damping_n_m_s_rad", wb, allow_zero=True) if "damping_n_m_s_rad" in tab else 0.0,
-            )
-        except ComplianceError as exc:
-            raise ModelSetError(f"{wb}: {exc}") from None
-        canonical["leg_bend"] = {
-            "stiffness_n_m_rad": bend.stiffness_n_m_rad,
-            "damping_n_m_s_rad": bend.damping_n_m_s_rad,
-        }
+    # the spring tables enter the hash only when present, so the sets of before keep their hashes
+    torsion = _spring_table(data, "body_torsion", BodyTorsion, where, canonical)
+    leg = _spring_table(data, "leg_compliance", LegCompliance, where, canonical)
+    bend = _spring_table(data, "leg_bend", LegBend, where, canonical)
     com_offset_y_mm = 0.0
     if "mass" in data:  # enters the hash only when present, so the sets of before keep their hashes
         wm = f"{where} [mass]"
