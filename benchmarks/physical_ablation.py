@@ -29,6 +29,7 @@ from pathlib import Path
 
 import tomli_w
 
+from geometry.errors import UsageError
 from landscape.analysis.validation import validate
 from sim.model_set import load_model_set, read_toml
 
@@ -65,6 +66,13 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default="ablation")
     ap.add_argument("--workers", type=int, default=None)
     args = ap.parse_args(argv)
+    try:
+        return _run(args)
+    except UsageError as exc:  # a bad set, data or robot: one line, as the landscape command does
+        ap.exit(2, f"{ap.prog}: error: {exc}\n")
+
+
+def _run(args) -> int:
     out = Path(args.out)
     base = Path(load_model_set(args.base).source)
     full = Path(load_model_set(args.full).source)

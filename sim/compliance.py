@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 from geometry.errors import UsageError
 
@@ -120,7 +121,42 @@ def _check_spring(stiffness, damping, whose: str, inertia_kg_m2: float, period_s
 
 
 @dataclass(frozen=True)
-class BodyTorsion:
+class Spring:
+    """A passive spring and damper of a model set's table (``[TABLE] stiffness_n_m_rad, damping_n_m_s_rad``);
+    the subclasses say which joint it acts on.
+
+    Attributes
+    ----------
+    stiffness_n_m_rad : float
+        Stiffness, N·m/rad (> 0).
+    damping_n_m_s_rad : float
+        Damping, N·m·s/rad (>= 0).
+    """
+
+    stiffness_n_m_rad: float
+    damping_n_m_s_rad: float = 0.0
+
+    TABLE: ClassVar[str] = ""
+    """The model-set table, named in every error."""
+    WITHOUT: ClassVar[str] = ""
+    """What omitting the table gives."""
+    WHOSE: ClassVar[str] = ""
+    """Whose inertia the stability check names ("the leg's")."""
+
+    def __post_init__(self):
+        k, c = self.stiffness_n_m_rad, self.damping_n_m_s_rad
+        for name, v in (("stiffness_n_m_rad", k), ("damping_n_m_s_rad", c)):
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise ComplianceError(f"{self.TABLE} {name} must be a finite number; got {v!r}")
+        if k <= 0:
+            raise ComplianceError(
+                f"{self.TABLE} stiffness_n_m_rad must be > 0 (omit [{self.TABLE}] for {self.WITHOUT}); got {k!r}"
+            )
+        if c < 0:
+            raise ComplianceError(f"{self.TABLE} damping_n_m_s_rad must be >= 0; got {c!r}")
+
+
+class BodyTorsion(Spring):
     """A body that twists about its long axis: the links that carry the wings turn against the rest of the body
     (head, leg and base) about the base frame's x axis through its origin, on a spring and damper.
 
@@ -130,13 +166,6 @@ class BodyTorsion:
     leg's swing, twists it. :func:`sim.model.add_body_torsion` inserts the joint (``TORSION_JOINT``) and
     :class:`sim.world.World` drives it with the torque ``-k q - c dq/dt``, renewed before every
     ``stepSimulation`` call (settling included).
-
-    Attributes
-    ----------
-    stiffness_n_m_rad : float
-        Torsional stiffness, N·m/rad (> 0).
-    damping_n_m_s_rad : float
-        Torsional damping, N·m·s/rad (>= 0).
 
     Examples
     --------
@@ -148,43 +177,17 @@ class BodyTorsion:
     sim.compliance.ComplianceError: body_torsion stiffness_n_m_rad must be > 0 (omit [body_torsion] for a rigid body); got 0.0
     """
 
-    stiffness_n_m_rad: float
-    damping_n_m_s_rad: float = 0.0
-
-    def __post_init__(self):
-        _check_spring_values("body_torsion", "a rigid body", self.stiffness_n_m_rad, self.damping_n_m_s_rad)
+    TABLE, WITHOUT, WHOSE = "body_torsion", "a rigid body", "the twist's"
 
 
-def _check_spring_values(table: str, without: str, k, c) -> None:
-    """Refuse a spring table's stiffness ``k`` (> 0) or damping ``c`` (>= 0) in one line naming ``[table]``
-    (``without``: what omitting the table gives)."""
-    for name, v in (("stiffness_n_m_rad", k), ("damping_n_m_s_rad", c)):
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-            raise ComplianceError(f"{table} {name} must be a finite number; got {v!r}")
-    if k <= 0:
-        raise ComplianceError(
-            f"{table} stiffness_n_m_rad must be > 0 (omit [{table}] for {without}); got {k!r}"
-        )
-    if c < 0:
-        raise ComplianceError(f"{table} damping_n_m_s_rad must be >= 0; got {c!r}")
-
-
-@dataclass(frozen=True)
-class LegCompliance:
-    """A leg that bends: the leg joint is driven through a spring and damper towards its commanded profile
+class LegCompliance(Spring):
+    """A leg whose swing gives: the leg joint is driven through a spring and damper towards its commanded profile
     (``k (target - q) + c (speed - dq/dt)``, held through the servo command period and capped at the effort
     limit, as :class:`Compliance` drives the wing joints) instead of the stiff servo.
 
-    The pendulum leg is a 4.3 g rod carrying 51.5 g at its end: a rod that bends, or a servo horn that gives,
-    lets the mass lag its command and swing past it, ringing at ``sqrt(k / I)`` (``I``: the leg's moment of inertia
-    about its joint). Without it the leg follows its profile exactly.
-
-    Attributes
-    ----------
-    stiffness_n_m_rad : float
-        Stiffness, N·m/rad (> 0).
-    damping_n_m_s_rad : float
-        Damping, N·m·s/rad (>= 0).
+    The pendulum leg is a 4.3 g rod carrying 51.5 g at its end: a rod that bends in its swing, or a servo horn
+    that gives, lets the mass lag its command and swing past it, ringing at ``sqrt(k / I)`` (``I``: the leg's
+    moment of inertia about its joint). Without it the leg follows its profile exactly.
 
     Examples
     --------
@@ -196,59 +199,10 @@ class LegCompliance:
     sim.compliance.ComplianceError: leg_compliance damping_n_m_s_rad must be >= 0; got -1.0
     """
 
-    stiffness_n_m_rad: float
-    damping_n_m_s_rad: float = 0.0
-
-    def __post_init__(self):
-        _check_spring_values("leg_compliance", "a stiff leg", self.stiffness_n_m_rad, self.damping_n_m_s_rad)
+    TABLE, WITHOUT, WHOSE = "leg_compliance", "a stiff leg", "the leg's"
 
 
-def check_leg_stability(leg: LegCompliance, inertia_kg_m2: float, period_s: float) -> None:
-    """Refuse a leg spring or damper the held explicit update cannot follow at ``period_s`` (``inertia_kg_m2``:
-    the leg's moment of inertia about its joint, :meth:`sim.world.World.leg_inertia_kg_m2`).
-
-    Raises
-    ------
-    ComplianceError
-        If ``sqrt(k / I) * period`` or ``c * period / I`` exceeds :data:`MAX_OMEGA_PERIOD`.
-    """
-    _check_spring(
-        ("leg_compliance stiffness_n_m_rad", leg.stiffness_n_m_rad),
-        ("leg_compliance damping_n_m_s_rad", leg.damping_n_m_s_rad),
-        "the leg's",
-        inertia_kg_m2,
-        period_s,
-    )
-
-
-def check_torsion_stability(torsion: BodyTorsion, inertia_kg_m2: float, period_s: float) -> None:
-    """Refuse a torsion spring or damper the held explicit update cannot follow at ``period_s``
-    (``inertia_kg_m2``: the twist's effective moment of inertia, :meth:`sim.world.World.torsion_inertia_kg_m2`).
-
-    Raises
-    ------
-    ComplianceError
-        If ``sqrt(k / I) * period`` or ``c * period / I`` exceeds :data:`MAX_OMEGA_PERIOD`.
-
-    Examples
-    --------
-    >>> check_torsion_stability(BodyTorsion(0.1, 0.002), 3e-5, 1e-3)
-    >>> check_torsion_stability(BodyTorsion(100.0), 3e-5, 1e-3)
-    Traceback (most recent call last):
-    ...
-    sim.compliance.ComplianceError: body_torsion stiffness_n_m_rad 100 is too stiff for the 1 ms servo period: sqrt(k/I)*period = 1.83 > 0.5 with the twist's I = 3e-05 kg m^2; give k <= 7.5 N m/rad
-    """
-    _check_spring(
-        ("body_torsion stiffness_n_m_rad", torsion.stiffness_n_m_rad),
-        ("body_torsion damping_n_m_s_rad", torsion.damping_n_m_s_rad),
-        "the twist's",
-        inertia_kg_m2,
-        period_s,
-    )
-
-
-@dataclass(frozen=True)
-class LegBend:
+class LegBend(Spring):
     """A leg that bends out of its swing plane: the leg turns against its joint about the axis across it
     (:func:`sim.model.add_leg_bend`), on a spring and damper, so its end bobs; :class:`sim.world.World` drives the
     joint with the torque ``-k q - c dq/dt``, renewed before every ``stepSimulation`` call.
@@ -258,39 +212,37 @@ class LegBend:
     step (``benchmarks/imu_ringing.py``); ``k = I (2 pi f)^2`` with the leg's moment of inertia ``I`` about the
     bending axis gives that frequency.
 
-    Attributes
-    ----------
-    stiffness_n_m_rad : float
-        Bending stiffness, N·m/rad (> 0).
-    damping_n_m_s_rad : float
-        Bending damping, N·m·s/rad (>= 0).
-
     Examples
     --------
     >>> LegBend(0.135, 0.00055).stiffness_n_m_rad
     0.135
     """
 
-    stiffness_n_m_rad: float
-    damping_n_m_s_rad: float = 0.0
-
-    def __post_init__(self):
-        _check_spring_values("leg_bend", "a rigid leg", self.stiffness_n_m_rad, self.damping_n_m_s_rad)
+    TABLE, WITHOUT, WHOSE = "leg_bend", "a rigid leg", "the leg's"
 
 
-def check_bend_stability(bend: LegBend, inertia_kg_m2: float, period_s: float) -> None:
-    """Refuse a bending spring or damper the explicit update renewed every ``period_s`` cannot follow
-    (``inertia_kg_m2``: the leg's moment of inertia about the bending axis, :meth:`sim.world.World.bend_inertia_kg_m2`).
+def check_spring_stability(spring: Spring, inertia_kg_m2: float, period_s: float) -> None:
+    """Refuse a spring or damper the explicit update renewed every ``period_s`` cannot follow (``inertia_kg_m2``:
+    what it moves, e.g. :meth:`sim.world.World.torsion_inertia_kg_m2`, ``leg_inertia_kg_m2`` or
+    ``bend_inertia_kg_m2``).
 
     Raises
     ------
     ComplianceError
         If ``sqrt(k / I) * period`` or ``c * period / I`` exceeds :data:`MAX_OMEGA_PERIOD`.
+
+    Examples
+    --------
+    >>> check_spring_stability(BodyTorsion(0.1, 0.002), 3e-5, 1e-3)
+    >>> check_spring_stability(BodyTorsion(100.0), 3e-5, 1e-3)
+    Traceback (most recent call last):
+    ...
+    sim.compliance.ComplianceError: body_torsion stiffness_n_m_rad 100 is too stiff for the 1 ms servo period: sqrt(k/I)*period = 1.83 > 0.5 with the twist's I = 3e-05 kg m^2; give k <= 7.5 N m/rad
     """
     _check_spring(
-        ("leg_bend stiffness_n_m_rad", bend.stiffness_n_m_rad),
-        ("leg_bend damping_n_m_s_rad", bend.damping_n_m_s_rad),
-        "the leg's",
+        (f"{spring.TABLE} stiffness_n_m_rad", spring.stiffness_n_m_rad),
+        (f"{spring.TABLE} damping_n_m_s_rad", spring.damping_n_m_s_rad),
+        spring.WHOSE,
         inertia_kg_m2,
         period_s,
     )

@@ -340,6 +340,12 @@ TORSION_LIMIT_RAD = 0.6
 """The inserted joint's range, +- rad: a twist beyond it means a broken body, not a soft one."""
 
 
+def _base_link(root: ET._Element) -> ET._Element:
+    """The URDF's root link: the one no joint has as its child."""
+    children = {j.find("child").get("link") for j in root.findall("joint")}
+    return next(lk for lk in root.findall("link") if lk.get("name") not in children)
+
+
 def add_body_torsion(root: ET._Element, wing_joints: tuple[str, ...]) -> list[str]:
     """Let the part of the body that carries the wings twist against the rest, in place; return the re-hung
     joints.
@@ -378,8 +384,7 @@ def add_body_torsion(root: ET._Element, wing_joints: tuple[str, ...]) -> list[st
             "[body_torsion]"
         )
     by_child = {j.find("child").get("link"): j for j in joints.values()}
-    children = {j.find("child").get("link") for j in joints.values()}
-    base = next(lk.get("name") for lk in root.findall("link") if lk.get("name") not in children)
+    base = _base_link(root).get("name")
     rehang: list[str] = []
     for name in wing_joints:
         j = joints.get(name)
@@ -507,8 +512,7 @@ def shift_com(root: ET._Element, offset_m: ArrayLike) -> str:
     ('a', '0 0.0040000000000000001 0')
     """
     d = np.asarray(offset_m, dtype=np.float64)
-    children = {j.find("child").get("link") for j in root.findall("joint")}
-    base = next(lk for lk in root.findall("link") if lk.get("name") not in children)
+    base = _base_link(root)
     total = sum(_inertial(lk)[0] for lk in root.findall("link"))
     m_base = _inertial(base)[0]
     if m_base <= 0:
@@ -581,8 +585,12 @@ def _build(
             mesh_el.set("filename", MESH_PLACEHOLDER.format(name=name))
     rehung = add_body_torsion(root, robot.joint_map.wing) if body_torsion else []
     if leg_bend:
-        for leg in robot.joint_map.leg:
-            add_leg_bend(root, leg)
+        if len(robot.joint_map.leg) != 1:
+            raise RobotDescriptionError(
+                f"[leg_bend] bends one leg; '{path.name}' drives {len(robot.joint_map.leg)} leg joints "
+                f"({', '.join(robot.joint_map.leg)}): drop [leg_bend] or map one leg joint"
+            )
+        add_leg_bend(root, robot.joint_map.leg[0])
     merged = merge_fixed_links(root) if merge_fixed else []
     if any(com_offset_m):
         shift_com(root, com_offset_m)

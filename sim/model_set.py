@@ -50,10 +50,8 @@ from .world import MAX_ROLLING_FRICTION, Contact
 MODELS_DIR = Path(__file__).resolve().parent / "models"
 DEFAULT_MODEL_SET = "paper"
 PROFILES = ("idealised", "measured")
-_TOP = {
-    "name", "version", "description", "actuation", "contact", "compliance", "body_torsion", "leg_compliance",
-    "leg_bend", "mass",
-}  # fmt: skip
+_OPTIONAL_TOP = {"description", "compliance", "body_torsion", "leg_compliance", "leg_bend", "mass"}
+_TOP = {"name", "version", "actuation", "contact"} | _OPTIONAL_TOP
 _MASS = {"com_offset_y_mm"}
 MAX_COM_OFFSET_MM = 10.0
 """Largest ``[mass] com_offset_y_mm`` (either way), mm: a correction for mass the description misplaces, not a
@@ -89,9 +87,9 @@ OPTIONAL_KEYS = frozenset(
         "leg_bend.damping_n_m_s_rad",
     }
 )
-"""Dotted keys a set may omit (and a calibration candidate may add): rolling and spinning friction, and the
-``[compliance]`` and ``[body_torsion]`` tables' (their stiffness is required once the table is there), the wing
-pose correction and the ``[mass]`` table's CoM offset."""
+"""Dotted keys a set may omit (and a calibration candidate may add): rolling and spinning friction; the
+``[compliance]``, ``[body_torsion]``, ``[leg_compliance]`` and ``[leg_bend]`` tables' (their stiffness is required
+once the table is there); the wing pose correction; and the ``[mass]`` table's CoM offset."""
 _CONTACT = {
     "lateral_friction",
     "restitution",
@@ -135,7 +133,7 @@ class ModelSet:
         ``[body_torsion]`` table (``stiffness_n_m_rad``, optional ``damping_n_m_s_rad``;
         :class:`sim.compliance.BodyTorsion`); None: a rigid body.
     leg_compliance : LegCompliance or None
-        A leg that bends, from an optional ``[leg_compliance]`` table (``stiffness_n_m_rad``, optional
+        A leg whose swing gives, from an optional ``[leg_compliance]`` table (``stiffness_n_m_rad``, optional
         ``damping_n_m_s_rad``; :class:`sim.compliance.LegCompliance`); None: the leg follows its profile.
     leg_bend : LegBend or None
         A leg that bends out of its swing plane, from an optional ``[leg_bend]`` table (``stiffness_n_m_rad``,
@@ -347,12 +345,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     path = _resolve(name_or_file)
     data = read_toml(path)
     where = f"model set '{path}'"
-    _check_keys(
-        data,
-        _TOP,
-        _TOP - {"description", "compliance", "body_torsion", "leg_compliance", "leg_bend", "mass"},
-        where,
-    )
+    _check_keys(data, _TOP, _TOP - _OPTIONAL_TOP, where)
     if not isinstance(data["name"], str) or not data["name"].strip():
         raise ModelSetError(f"{where}: name must be a non-empty string; got {data['name']!r}")
     if isinstance(data["version"], bool) or not isinstance(data["version"], int) or data["version"] < 0:

@@ -531,22 +531,17 @@ def run_trial(
         bend=model_set.leg_bend,
     )
     with world:
+        from .compliance import check_spring_stability, check_stability
+
         if comp is not None:
-            from .compliance import check_stability
-
             check_stability(comp, world.wing_inertia_kg_m2(), cmd.ctrl_s)
-        if model_set.body_torsion is not None:
-            from .compliance import check_torsion_stability
-
-            check_torsion_stability(model_set.body_torsion, world.torsion_inertia_kg_m2(), cmd.ctrl_s)
-        if model_set.leg_compliance is not None:
-            from .compliance import check_leg_stability
-
-            check_leg_stability(model_set.leg_compliance, world.leg_inertia_kg_m2(), cmd.ctrl_s)
-        if model_set.leg_bend is not None:
-            from .compliance import check_bend_stability
-
-            check_bend_stability(model_set.leg_bend, world.bend_inertia_kg_m2(), cmd.ctrl_s)
+        for spring, inertia in (
+            (model_set.body_torsion, world.torsion_inertia_kg_m2),
+            (model_set.leg_compliance, world.leg_inertia_kg_m2),
+            (model_set.leg_bend, world.bend_inertia_kg_m2),
+        ):
+            if spring is not None:
+                check_spring_stability(spring, inertia(), cmd.ctrl_s)
         _settle(world, model, cmd)
         run = _run(world, cmd, trace=trace)
     started = starts[starts <= run.t_end]

@@ -150,6 +150,17 @@ def model_urdf_file(model: SimModel) -> Path:
     return urdf
 
 
+def _passive_joint(names: dict[str, int], joint: str, spring, flag: str, kwarg: str) -> int | None:
+    """The index of a spring-driven joint a model option inserted (``joint``), checked against its spring: a
+    spring needs the joint (``sim_model(..., flag=True)``) and the joint needs its spring (else a free hinge)."""
+    j = names.get(joint)
+    if spring is not None and j is None:
+        raise ValueError(f"a {type(spring).__name__} needs a model built with sim_model(..., {flag}=True)")
+    if spring is None and j is not None:
+        raise ValueError(f"a model built with {flag}=True needs World(..., {kwarg}(...))")
+    return j
+
+
 class World:
     """One pybullet DIRECT client holding the ground and the robot; use as a context manager.
 
@@ -247,36 +258,25 @@ class World:
         }
         jm = self.model.joint_map
         self.wing_joints = [names[n] for n in jm.wing]
-        self.torsion_joint = names.get(TORSION_JOINT)
-        if self.torsion is not None and self.torsion_joint is None:
-            raise ValueError("a body torsion needs a model built with sim_model(..., body_torsion=True)")
-        if self.torsion is None and self.torsion_joint is not None:  # it would be a free hinge
-            raise ValueError(
-                "a model built with body_torsion=True needs World(..., torsion=BodyTorsion(...))"
-            )
-        self.bend_joint = names.get(BEND_JOINT)
-        if self.bend is not None and self.bend_joint is None:
-            raise ValueError("a leg bend needs a model built with sim_model(..., leg_bend=True)")
-        if self.bend is None and self.bend_joint is not None:  # it would be a free hinge
-            raise ValueError("a model built with leg_bend=True needs World(..., bend=LegBend(...))")
+        self.torsion_joint = _passive_joint(
+            names, TORSION_JOINT, self.torsion, "body_torsion", "torsion=BodyTorsion"
+        )
+        self.bend_joint = _passive_joint(names, BEND_JOINT, self.bend, "leg_bend", "bend=LegBend")
         self.leg_joints = [names[n] for n in jm.leg]
         self.driven = self.wing_joints + self.leg_joints
         n_wing, n_leg = len(jm.wing), len(jm.leg)
-        soft_wing = list(range(n_wing)) if self.compliance is not None else []
-        soft_leg = list(range(n_wing, n_wing + n_leg)) if self.leg_compliance is not None else []
-        self._soft = soft_wing + soft_leg
         comp, leg = self.compliance, self.leg_compliance
-        ti = comp.wing_integral_time_s if comp is not None else None
-        # per soft joint: stiffness, damping and integral gain (the wing servo's integral; none on the leg)
-        wing_kc = (
-            (comp.wing_stiffness_n_m_rad, comp.wing_damping_n_m_s_rad) if comp is not None else (0.0, 0.0)
+        gains = []  # per soft joint: stiffness, damping and integral gain (the wing servo's integral only)
+        if comp is not None:
+            ti = comp.wing_integral_time_s
+            ki = comp.wing_stiffness_n_m_rad / ti if ti is not None else 0.0
+            gains += [(comp.wing_stiffness_n_m_rad, comp.wing_damping_n_m_s_rad, ki)] * n_wing
+        if leg is not None:
+            gains += [(leg.stiffness_n_m_rad, leg.damping_n_m_s_rad, 0.0)] * n_leg
+        self._soft = (list(range(n_wing)) if comp is not None else []) + (
+            list(range(n_wing, n_wing + n_leg)) if leg is not None else []
         )
-        leg_kc = (leg.stiffness_n_m_rad, leg.damping_n_m_s_rad) if leg is not None else (0.0, 0.0)
-        kc = np.array([wing_kc] * len(soft_wing) + [leg_kc] * len(soft_leg), dtype=np.float64).reshape(-1, 2)
-        self._soft_k, self._soft_c = kc[:, 0], kc[:, 1]
-        self._soft_ki = np.array(
-            [wing_kc[0] / ti if ti else 0.0] * len(soft_wing) + [0.0] * len(soft_leg), dtype=np.float64
-        )
+        self._soft_k, self._soft_c, self._soft_ki = np.array(gains, dtype=np.float64).reshape(-1, 3).T
         self._integral = np.zeros(len(self._soft))  # a PI servo's integrated error per soft joint, rad s
         self._last_err = np.zeros(len(self._soft))
         self._elapsed_s = self._last_drive_s = 0.0

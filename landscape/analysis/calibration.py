@@ -21,7 +21,9 @@ from geometry.errors import UsageError
 from landscape.analysis.validation import (
     DEFAULT_CV,
     HELD_OUT_LEGS_DEG,
+    SideComparison,
     Validation,
+    log_likelihood,
     simulates_commands,
     validate,
 )
@@ -252,7 +254,7 @@ def calibrate(
     return Calibration(str(base), tuple(fit_cells), tuple(scored), str(best_file), v)
 
 
-def side_log_likelihood(side) -> float:
+def side_log_likelihood(side: SideComparison) -> float:
     """Log-likelihood of the robot's roll-overs to +roll (``side.phys_positive`` of ``side.phys_events``) under
     the simulated fraction, shrunk as the outcomes' are (:func:`landscape.analysis.validation.log_likelihood`);
     0 when either side has no roll-overs (no evidence either way).
@@ -263,8 +265,6 @@ def side_log_likelihood(side) -> float:
     >>> round(side_log_likelihood(SideComparison(17, 18, 0, 0, 30, 40, 0, 0, False)), 2)
     -6.39
     """
-    from landscape.analysis.validation import log_likelihood
-
     if not side.phys_events or not side.sim_events:
         return 0.0
     return log_likelihood([(side.phys_positive, side.phys_events, side.sim_positive, side.sim_events)])

@@ -377,12 +377,12 @@ def calibrate_cmd(
 
     def done(c, i, n):
         changes = ", ".join(f"{k} = {format_value(v)}" for k, v in c.overrides.items())
-        opening = f", openings {c.opening_log_likelihood:.2f}" if openings else ""
-        opening += f", side {c.side_log_likelihood:.2f}" if side else ""
-        opening += f" (score {c.score:.2f})" if openings or side else ""
+        scored = f", openings {c.opening_log_likelihood:.2f}" if openings else ""
+        scored += f", side {c.side_log_likelihood:.2f}" if side else ""
+        scored += f" (score {c.score:.2f})" if openings or side else ""
         click.echo(
             f"[{i}/{n}] {c.name} ({changes}): log-likelihood {c.log_likelihood:.2f}, {c.agree}/{c.cells} agree"
-            + opening
+            + scored
         )
 
     with sweep_errors():

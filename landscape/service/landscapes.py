@@ -230,13 +230,13 @@ class Landscapes:
     ) -> tuple:
         """Validate a request and return its cache key; UsageError (or TooCostlyError) for bad or costly input.
 
-        ``model`` names a shipped model set that poses the wings (:func:`.model_sets.wing_joints_deg`) and may
+        ``model`` names a shipped model set that poses the wings (:func:`.model_sets.set_wing_joints_deg`) and may
         move the CoM; the key holds it, the wing joints' angles it gives and its hash (so a set whose content
         changes is not answered from a cached landscape of its old content)."""
         from landscape.barriers import method as barrier_method
         from landscape.grid import cells_per_turn
 
-        from .model_sets import shipped_model_set, wing_joints_deg
+        from .model_sets import set_wing_joints_deg, shipped_model_set
 
         for name, v in (("theta_w", theta_w_deg), ("theta_l", theta_l_deg), ("step", step_deg)):
             if not math.isfinite(v):
@@ -261,9 +261,9 @@ class Landscapes:
             tw, tl = float(theta_w_deg), float(theta_l_deg)
         else:
             tw = tl = None
-        joints = wing_joints_deg(model, entry.robot, theta_w_deg)
-        joints_key = None if joints is None else tuple(joints.items())
         ms = shipped_model_set(model)
+        joints = set_wing_joints_deg(ms, entry.robot, theta_w_deg)
+        joints_key = None if joints is None else tuple(joints.items())
         set_hash = ms.model_set_hash if ms is not None else None
         return (entry.robot.description_hash, tw, tl, method, float(step_deg), model, joints_key, set_hash)
 

@@ -36,21 +36,8 @@ def shipped_model_set(model: str | None):
     return load_model_set(model)
 
 
-def wing_joints_deg(model: str | None, robot, theta_w_deg: float) -> dict[str, float] | None:
-    """The wing joints' angles (degrees) the shipped set ``model`` holds at the wing command ``theta_w_deg``;
-    None without a set or for an idealised one (every wing joint at theta_w).
-
-    Raises
-    ------
-    UsageError
-        If ``model`` is not a shipped set, ``theta_w_deg`` lies outside the set's measured commands, or the
-        robot has not the wing joints the set measures (:class:`sim.model_set.ModelSetError`).
-    """
-    return _joints(shipped_model_set(model), robot, theta_w_deg)
-
-
 def map_wing_joints_deg(model: str | None, robot, theta_w_deg: list[float]) -> dict[float, dict] | None:
-    """:func:`wing_joints_deg` per theta_w of a barrier map (its ``wing_joints_deg``); None when the set poses
+    """:func:`set_wing_joints_deg` per theta_w of a barrier map (its ``wing_joints_deg``); None when the set poses
     every wing joint at theta_w (no set, or an idealised one)."""
     ms = shipped_model_set(model)
     if ms is None:
@@ -65,7 +52,16 @@ def robot_for(model: str | None, robot):
     return robot if ms is None else ms.robot_for(robot)
 
 
-def _joints(ms, robot, theta_w_deg: float) -> dict[str, float] | None:
+def set_wing_joints_deg(ms, robot, theta_w_deg: float) -> dict[str, float] | None:
+    """The wing joints' angles (degrees) the loaded shipped set ``ms`` (:func:`shipped_model_set`) holds at the
+    wing command ``theta_w_deg``; None without a set or for an idealised one (every wing joint at theta_w).
+
+    Raises
+    ------
+    UsageError
+        If ``theta_w_deg`` lies outside the set's measured commands, or the robot has not the wing joints the
+        set measures (:class:`sim.model_set.ModelSetError`).
+    """
     if ms is None:
         return None
     names = robot.joint_map.wing if robot.has_joints else ()

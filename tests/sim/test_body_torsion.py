@@ -9,7 +9,7 @@ import numpy as np
 import pybullet as pb
 import pytest
 
-from sim.compliance import BodyTorsion, ComplianceError, check_torsion_stability
+from sim.compliance import BodyTorsion, ComplianceError, check_spring_stability
 from sim.model import TORSION_JOINT, TORSION_LINK, sim_model
 from sim.model_set import ModelSetError, load_model_set
 from sim.trial import run_trial
@@ -26,11 +26,11 @@ def test_bad_values_are_refused(k, c, match):
 
 
 def test_stability_bound():
-    check_torsion_stability(BodyTorsion(1.0, 0.01), 3e-5, 1e-3)  # sqrt(k/I) T = 0.18, c T / I = 0.33
+    check_spring_stability(BodyTorsion(1.0, 0.01), 3e-5, 1e-3)  # sqrt(k/I) T = 0.18, c T / I = 0.33
     with pytest.raises(ComplianceError, match=r"give k <= 7\.5 N m/rad"):
-        check_torsion_stability(BodyTorsion(8.0), 3e-5, 1e-3)
+        check_spring_stability(BodyTorsion(8.0), 3e-5, 1e-3)
     with pytest.raises(ComplianceError, match=r"damping_n_m_s_rad 0\.02 is too high.*give c <= 0\.015"):
-        check_torsion_stability(BodyTorsion(1.0, 0.02), 3e-5, 1e-3)
+        check_spring_stability(BodyTorsion(1.0, 0.02), 3e-5, 1e-3)
 
 
 def _with_table(tmp_path, table: str, base: str = "paper") -> Path:

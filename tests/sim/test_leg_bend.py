@@ -8,7 +8,7 @@ import numpy as np
 import pybullet as pb
 import pytest
 
-from sim.compliance import ComplianceError, LegBend, check_bend_stability
+from sim.compliance import ComplianceError, LegBend, check_spring_stability
 from sim.model import BEND_JOINT, BEND_LINK, sim_model
 from sim.model_set import ModelSetError, load_model_set
 from sim.world import World
@@ -23,9 +23,9 @@ def test_bad_values_are_refused(k, c, match):
 
 
 def test_stability_bound():
-    check_bend_stability(LegBend(0.135, 0.00055), 2.25e-4, 1e-3)
+    check_spring_stability(LegBend(0.135, 0.00055), 2.25e-4, 1e-3)
     with pytest.raises(ComplianceError, match=r"leg_bend stiffness_n_m_rad 100 is too stiff.*the leg's"):
-        check_bend_stability(LegBend(100.0), 2.25e-4, 1e-3)
+        check_spring_stability(LegBend(100.0), 2.25e-4, 1e-3)
 
 
 def _with_table(tmp_path, table: str, base: str = "paper") -> Path:

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sim.compliance import ComplianceError, LegCompliance, check_leg_stability
+from sim.compliance import ComplianceError, LegCompliance, check_spring_stability
 from sim.model_set import ModelSetError, load_model_set
 from sim.trial import run_trial
 
@@ -22,11 +22,11 @@ def test_bad_values_are_refused(k, c, match):
 
 
 def test_stability_bound():
-    check_leg_stability(LegCompliance(0.08, 0.001), 2e-4, 1e-3)
+    check_spring_stability(LegCompliance(0.08, 0.001), 2e-4, 1e-3)
     with pytest.raises(
         ComplianceError, match=r"leg_compliance stiffness_n_m_rad 100 is too stiff.*the leg's"
     ):
-        check_leg_stability(LegCompliance(100.0), 2e-4, 1e-3)
+        check_spring_stability(LegCompliance(100.0), 2e-4, 1e-3)
 
 
 def _with_table(tmp_path, table: str, base: str = "paper") -> Path:
