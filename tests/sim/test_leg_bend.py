@@ -12,6 +12,7 @@ from sim.compliance import ComplianceError, LegBend, check_spring_stability
 from sim.model import BEND_JOINT, BEND_LINK, sim_model
 from sim.model_set import ModelSetError, load_model_set
 from sim.world import World
+from tests.sim.test_body_torsion import _link_poses
 
 
 @pytest.mark.parametrize(
@@ -43,12 +44,6 @@ def test_model_set_table(tmp_path):
         load_model_set(_with_table(tmp_path, "stifness_n_m_rad = 0.1\n"))
     with pytest.raises(ModelSetError, match=r"\[leg_bend\].*missing key 'stiffness_n_m_rad'"):
         load_model_set(_with_table(tmp_path, "damping_n_m_s_rad = 0.1\n"))
-
-
-def _link_poses(w: World) -> dict[str, tuple]:
-    names = [pb.getJointInfo(w.body, j, physicsClientId=w.cid)[12].decode() for j in range(w.n_joints)]
-    states = pb.getLinkStates(w.body, list(range(w.n_joints)), physicsClientId=w.cid)
-    return {n: s[0] for n, s in zip(names, states, strict=True)}
 
 
 def test_the_joint_changes_neither_mass_nor_pose():
