@@ -46,11 +46,16 @@ class Compliance:
         Rotational damping, N·m·s/rad (>= 0).
     wing_integral_time_s : float or None
         Integral time ``T_i`` of a proportional-integral servo, s (> 0); None: no integral (a spring).
+    wing_scale : tuple of float or None
+        One factor (> 0) per wing joint, in the joint map's order (the lab robot's: pitch left, pitch right, roll
+        left, roll right), that multiplies that joint's stiffness, damping and integral gain: a wing mount or
+        servo softer on one side than the other. None: every wing joint alike.
     """
 
     wing_stiffness_n_m_rad: float
     wing_damping_n_m_s_rad: float = 0.0
     wing_integral_time_s: float | None = None
+    wing_scale: tuple[float, ...] | None = None
 
     def __post_init__(self):
         k, c, ti = self.wing_stiffness_n_m_rad, self.wing_damping_n_m_s_rad, self.wing_integral_time_s
@@ -68,6 +73,42 @@ class Compliance:
             )
         if c < 0:
             raise ComplianceError(f"wing_damping_n_m_s_rad must be >= 0; got {c!r}")
+        sc = self.wing_scale
+        if sc is not None and (
+            not isinstance(sc, tuple)
+            or not sc
+            or not all(
+                not isinstance(v, bool) and isinstance(v, (int, float)) and math.isfinite(v) and v > 0
+                for v in sc
+            )
+        ):
+            raise ComplianceError(
+                f"wing_scale must be a list of numbers > 0, one per wing joint in the joint map's order; got {sc!r}"
+            )
+
+    def joint_scales(self, n_wing: int) -> tuple[float, ...]:
+        """The factor of each of ``n_wing`` wing joints (all 1 without ``wing_scale``).
+
+        Raises
+        ------
+        ComplianceError
+            If ``wing_scale`` does not give one factor per wing joint.
+
+        Examples
+        --------
+        >>> Compliance(1.0, wing_scale=(1.0, 0.5, 1.0, 0.5)).joint_scales(4)
+        (1.0, 0.5, 1.0, 0.5)
+        >>> Compliance(1.0).joint_scales(2)
+        (1.0, 1.0)
+        """
+        if self.wing_scale is None:
+            return (1.0,) * n_wing
+        if len(self.wing_scale) != n_wing:
+            raise ComplianceError(
+                f"wing_scale has {len(self.wing_scale)} factors for the robot's {n_wing} wing joints; give one per "
+                "wing joint, in the joint map's order"
+            )
+        return tuple(float(v) for v in self.wing_scale)
 
 
 def check_stability(comp: Compliance, inertia_kg_m2: float, period_s: float) -> None:
@@ -86,9 +127,10 @@ def check_stability(comp: Compliance, inertia_kg_m2: float, period_s: float) -> 
     ...
     sim.compliance.ComplianceError: wing_stiffness_n_m_rad 1000 is too stiff for the 1 ms servo period: sqrt(k/I)*period = 4.61 > 0.5 with the wing's I = 4.7e-05 kg m^2; give k <= 11.8 N m/rad
     """
+    top = max(comp.wing_scale) if comp.wing_scale is not None else 1.0  # the stiffest joint decides
     _check_spring(
-        ("wing_stiffness_n_m_rad", comp.wing_stiffness_n_m_rad),
-        ("wing_damping_n_m_s_rad", comp.wing_damping_n_m_s_rad),
+        ("wing_stiffness_n_m_rad", comp.wing_stiffness_n_m_rad * top),
+        ("wing_damping_n_m_s_rad", comp.wing_damping_n_m_s_rad * top),
         "the wing's",
         inertia_kg_m2,
         period_s,

@@ -57,7 +57,7 @@ MAX_COM_OFFSET_MM = 10.0
 """Largest ``[mass] com_offset_y_mm`` (either way), mm: a correction for mass the description misplaces, not a
 new robot."""
 _SPRING = {"stiffness_n_m_rad", "damping_n_m_s_rad"}
-_COMPLIANCE = {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad", "wing_integral_time_s"}
+_COMPLIANCE = {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad", "wing_integral_time_s", "wing_scale"}
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
 _MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg", "servo_sides", "wing_extra_deg"}
 MAX_WING_EXTRA_DEG = 20.0
@@ -77,6 +77,7 @@ OPTIONAL_KEYS = frozenset(
         "compliance.wing_stiffness_n_m_rad",
         "compliance.wing_damping_n_m_s_rad",
         "compliance.wing_integral_time_s",
+        "compliance.wing_scale",
         "body_torsion.stiffness_n_m_rad",
         "body_torsion.damping_n_m_s_rad",
         "actuation.wing_extra_deg",
@@ -232,6 +233,49 @@ class ModelSet:
         """``name vVERSION (hash)``."""
         return f"{self.name} v{self.version} ({self.model_set_hash})"
 
+    def summary(self) -> dict:
+        """What the set is, as ``landscape models --json`` and ``GET /api/model-sets`` list it.
+
+        Returns
+        -------
+        summary : dict
+            ``name``, ``version``, ``model_set_hash`` (16 hex digits of its parsed content), ``label``
+            (``name vVERSION (hash)``), ``description``, ``profile`` (idealised or measured); ``poses_wings``:
+            whether it holds each wing joint at its own measured plateau (True) or every wing joint at theta_w
+            (False); ``wing_command_deg``: the wing commands it measured (theta_w must lie within them), degrees,
+            or None; ``com_offset_y_mm``: how far it moves the CoM along the body's y axis, mm, and
+            ``moves_com``; ``elements``: the optional model elements it switches on, by table (``compliance``,
+            ``body_torsion``, ``leg_compliance``, ``leg_bend``, ``mass``).
+
+        Examples
+        --------
+        >>> s = load_model_set("physical-offset").summary()
+        >>> s["label"], s["elements"], s["com_offset_y_mm"]
+        ('physical-offset v1 (19529bcb520bfde4)', ['compliance', 'mass'], -1.5)
+        """
+        present = {
+            "compliance": self.compliance,
+            "body_torsion": self.body_torsion,
+            "leg_compliance": self.leg_compliance,
+            "leg_bend": self.leg_bend,
+            "mass": self.com_offset_y_mm or None,
+        }
+        return {
+            "name": self.name,
+            "version": self.version,
+            "model_set_hash": self.model_set_hash,
+            "label": self.label,
+            "description": self.description,
+            "profile": self.profile,
+            "poses_wings": self.measured is not None,
+            "wing_command_deg": None
+            if self.measured is None
+            else [float(w) for w in self.measured.wing_command_deg],
+            "com_offset_y_mm": float(self.com_offset_y_mm),
+            "moves_com": bool(self.com_offset_y_mm),
+            "elements": [k for k, v in present.items() if v is not None],
+        }
+
 
 def shipped_model_sets() -> list[str]:
     """Names of the sets shipped in ``sim/models/``.
@@ -268,6 +312,18 @@ def _number(section: dict, key: str, where: str, *, positive: bool = True, allow
     if positive and not (v > 0 or (allow_zero and v == 0)):
         raise ModelSetError(f"{where}: {key} must be {'>= 0' if allow_zero else '> 0'}; got {v!r}")
     return float(v)
+
+
+def _wing_scale(comp: dict, where: str) -> tuple[float, ...] | None:
+    """``[compliance] wing_scale``: a list of factors > 0 (one per wing joint; the World checks the count)."""
+    if "wing_scale" not in comp:
+        return None
+    v = comp["wing_scale"]
+    if not isinstance(v, list) or not v:
+        raise ModelSetError(
+            f"{where}: wing_scale must be a list of numbers > 0, one per wing joint (e.g. [1, 0.5, 1, 0.5]); got {v!r}"
+        )
+    return tuple(_number({"wing_scale": x}, "wing_scale", where) for x in v)
 
 
 def _check_keys(section, allowed: set[str], required: set[str], where: str) -> dict:
@@ -457,6 +513,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
                 if "wing_damping_n_m_s_rad" in comp
                 else 0.0,
                 _number(comp, "wing_integral_time_s", wc) if "wing_integral_time_s" in comp else None,
+                _wing_scale(comp, wc),
             )
         except ComplianceError as exc:
             raise ModelSetError(f"{wc}: {exc}") from None
@@ -466,6 +523,8 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         }
         if compliance.wing_integral_time_s is not None:  # sets without it keep their hashes
             canonical["compliance"]["wing_integral_time_s"] = compliance.wing_integral_time_s
+        if compliance.wing_scale is not None:  # sets without it keep their hashes
+            canonical["compliance"]["wing_scale"] = list(compliance.wing_scale)
     # the spring tables enter the hash only when present, so the sets of before keep their hashes
     torsion = _spring_table(data, "body_torsion", BodyTorsion, where, canonical)
     leg = _spring_table(data, "leg_compliance", LegCompliance, where, canonical)

@@ -270,7 +270,8 @@ class World:
         if comp is not None:
             ti = comp.wing_integral_time_s
             ki = comp.wing_stiffness_n_m_rad / ti if ti is not None else 0.0
-            gains += [(comp.wing_stiffness_n_m_rad, comp.wing_damping_n_m_s_rad, ki)] * n_wing
+            kw, cw = comp.wing_stiffness_n_m_rad, comp.wing_damping_n_m_s_rad
+            gains += [(kw * f, cw * f, ki * f) for f in comp.joint_scales(n_wing)]
         if leg is not None:
             gains += [(leg.stiffness_n_m_rad, leg.damping_n_m_s_rad, 0.0)] * n_leg
         self._soft = (list(range(n_wing)) if comp is not None else []) + (

@@ -17,7 +17,7 @@ import sys
 import click
 
 from geometry.errors import UsageError
-from landscape.cli import analyze, bench, compute, physical, render, robot, serve, sim
+from landscape.cli import analyze, bench, compute, models, physical, render, robot, serve, sim
 
 DEBUG_ENV = "LANDSCAPE_DEBUG"
 BUG_REPORT = (
@@ -54,6 +54,7 @@ for _cmd in (
     analyze.report_cmd,
     serve.serve,
     physical.physical,
+    models.models,
 ):
     cli.add_command(_cmd)
 

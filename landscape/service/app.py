@@ -60,7 +60,7 @@ INTERNAL = (
 _PATH = re.compile(r"(?<![\w.:/])/(?!api/)(?:[\w.+@-]+/){2,}([\w.+@-]*)")
 _JSON_BODY_BYTES = 1 << 20
 MODEL_HELP = (
-    "a shipped model set (paper, physical, physical-offset, physical-posed) that poses the wings, as `landscape compute --model NAME`: a "
+    "a shipped model set (GET /api/model-sets: paper, physical, physical-offset, physical-posed) that poses the wings, as `landscape compute --model NAME`: a "
     "measured set holds each wing servo at its own plateau for the wing command theta_w (60-90); an idealised "
     "set every wing joint at theta_w [default: every wing joint at theta_w]"
 )
@@ -312,6 +312,17 @@ def create_app(config: ServiceConfig) -> FastAPI:
         )
         return JSONResponse(info, status_code=201 if new else 200)
 
+    # ------------------------------------------------------------------ model sets
+    @app.get("/api/model-sets")
+    async def model_sets():
+        """The shipped model sets (the names ``model`` takes): name, version, ``model_set_hash``, ``label``,
+        description, profile, ``poses_wings`` (each wing joint at its own measured plateau, else every wing joint
+        at theta_w), ``wing_command_deg`` (the measured wing commands theta_w must lie within, or null),
+        ``com_offset_y_mm``, ``moves_com`` and ``elements`` (``landscape models --json``)."""
+        from .model_sets import model_set_list
+
+        return await asyncio.to_thread(model_set_list)
+
     # ------------------------------------------------------------------ landscapes
     @app.get("/api/landscape")
     async def landscape_(
@@ -359,12 +370,14 @@ def create_app(config: ServiceConfig) -> FastAPI:
         theta_l: float = Query(0.0, description="leg angle, degrees (ignored by a rigid robot)"),
         pitch: float = Query(0.0, description="body pitch, degrees, in [-360, 360]"),
         roll: float = Query(0.0, description="body roll, degrees, in [-360, 360]"),
+        model: str | None = Query(None, description=MODEL_HELP),
     ):
         """The robot's part meshes (convex hulls) posed at (theta_w, theta_l) and turned to (pitch, roll), resting
         on the ground in the world frame, m: ``parts`` of ``vertices_m`` and ``faces``, ``com_m``,
-        ``com_height_m``."""
+        ``com_height_m``, ``com_body_m``; with ``model`` the robot as that set models it (as in its landscape),
+        named by ``model_set``, ``model_set_hash`` and ``wing_joints_deg``."""
         entry = await asyncio.to_thread(registry.get, robot)
-        key = check_pose_request(entry, theta_w, theta_l, pitch, roll)
+        key = await asyncio.to_thread(check_pose_request, entry, theta_w, theta_l, pitch, roll, model=model)
         body = await asyncio.to_thread(poses.body, entry, key)
         return Response(body, media_type="application/json")
 

@@ -36,6 +36,14 @@ def shipped_model_set(model: str | None):
     return load_model_set(model)
 
 
+def model_set_list() -> list[dict]:
+    """Every shipped set, by name, as ``GET /api/model-sets`` answers it: :meth:`sim.model_set.ModelSet.summary`
+    of each (the list ``landscape models --json`` prints)."""
+    from sim.model_set import shipped_model_sets
+
+    return [shipped_model_set(name).summary() for name in shipped_model_sets()]
+
+
 def map_wing_joints_deg(model: str | None, robot, theta_w_deg: list[float]) -> dict[float, dict] | None:
     """:func:`set_wing_joints_deg` per theta_w of a barrier map (its ``wing_joints_deg``); None when the set poses
     every wing joint at theta_w (no set, or an idealised one)."""

@@ -137,9 +137,11 @@ ROBOT_VIEW = """(() => {{
 }})()"""
 
 
-def _want_view(port: int, theta_w: float, pitch: float, roll: float, token: str | None = None) -> list:
+def _want_view(
+    port: int, theta_w: float, pitch: float, roll: float, token: str | None = None, model: str | None = None
+) -> list:
     """What the robot view must show, from the API: vertices, faces, lowest z (mm) and CoM height (mm)."""
-    q = f"theta_w={theta_w}&theta_l=0&pitch={pitch}&roll={roll}"
+    q = f"theta_w={theta_w}&theta_l=0&pitch={pitch}&roll={roll}" + (f"&model={model}" if model else "")
     pose = _call(port, "GET", f"/api/robot-pose?{q}", token=token)
     return [
         sum(len(p["vertices_m"]) for p in pose["parts"]),
@@ -161,18 +163,26 @@ def _wait_view(cdp: CDP, div: str, want: list) -> list:
     raise AssertionError(f"{div} shows {got}, want {want}")
 
 
+RIGHTING_SHOWN = """(() => {{ const t = document.getElementById('righting-mj').textContent;
+  return (/^[0-9.]+$/.test(t) && t !== '{other_than}') ? t : ''; }})()"""
+"""The righting barrier the page shows (mJ, as text) once it is a number other than ``other_than``."""
+
+
+def _open(cdp: CDP, port: int) -> str:
+    """Open the page of the server on ``port``, collecting console events, and wait for its first righting
+    barrier (returned as shown, mJ)."""
+    for domain in ("Runtime.enable", "Log.enable", "Page.enable"):
+        cdp.send(domain)
+    cdp.send("Page.navigate", url=f"http://127.0.0.1:{port}/")
+    return cdp.wait_for(RIGHTING_SHOWN.format(other_than=""))
+
+
 def test_slider_updates_the_barrier_without_console_errors(chromium, tmp_path):
     port = _free_port()
     server = start_server(tmp_path / "data", port, tmp_path / "server.log")
     try:
         with page(chromium) as cdp:
-            for domain in ("Runtime.enable", "Log.enable", "Page.enable"):
-                cdp.send(domain)
-            cdp.send("Page.navigate", url=f"http://127.0.0.1:{port}/")
-            first = cdp.wait_for(
-                "(() => { const t = document.getElementById('righting-mj').textContent;"
-                " return /^[0-9.]+$/.test(t) ? t : ''; })()"
-            )
+            first = _open(cdp, port)
             assert cdp.eval("document.getElementById('theta-w').value") == "74"
             assert cdp.eval("document.querySelector('#contour .main-svg') !== null")
             s74 = _call(port, "GET", "/api/landscape?theta_w=74&theta_l=0&method=exact&step=2")
@@ -182,10 +192,7 @@ def test_slider_updates_the_barrier_without_console_errors(chromium, tmp_path):
                 "(() => { const s = document.getElementById('theta-w'); s.value = '60';"
                 " s.dispatchEvent(new Event('input', {bubbles: true})); })()"
             )
-            second = cdp.wait_for(
-                f"(() => {{ const t = document.getElementById('righting-mj').textContent;"
-                f" return (/^[0-9.]+$/.test(t) && t !== '{first}') ? t : ''; }})()"
-            )
+            second = cdp.wait_for(RIGHTING_SHOWN.format(other_than=first))
             want = _call(port, "GET", "/api/landscape?theta_w=60&theta_l=0&method=exact&step=2")
             assert float(second) == pytest.approx(want["barrier"]["righting_j"] * 1e3, abs=5e-4)
             # the robot views follow the slider: the robot at theta_w 60 at its start and at its saddle
@@ -203,6 +210,86 @@ def test_slider_updates_the_barrier_without_console_errors(chromium, tmp_path):
             assert re.match(r"theta_w 60°", cdp.eval("document.getElementById('status').textContent"))
             time.sleep(0.5)
             cdp.eval("1")  # collect the events logged meanwhile
+            assert cdp.errors() == []
+    finally:
+        stop_server(server, signal.SIGTERM)
+
+
+SENT = """(() => performance.getEntriesByType('resource').map((e) => e.name)
+  .filter((u) => u.includes('/api/'))
+  .map((u) => { const x = new URL(u); return [x.pathname, x.searchParams.get('model')]; }))()"""
+"""Every API request the page made so far: its path and its model parameter (null without one)."""
+
+
+def test_the_model_set_selector_lists_the_sets_and_the_page_follows_it(chromium, tmp_path):
+    """The selector offers none and every shipped set (from GET /api/model-sets); choosing physical-offset sends
+    model=physical-offset with the landscape, robot-pose, barrier-map and sweep requests, shows that set's numbers
+    and draws the robot as the set models it, and names the set with its hash next to each result."""
+    port = _free_port()
+    server = start_server(tmp_path / "data", port, tmp_path / "server.log")
+    try:
+        sets = _call(port, "GET", "/api/model-sets")
+        offset = next(m for m in sets if m["name"] == "physical-offset")
+        with page(chromium) as cdp:
+            first = _open(cdp, port)
+            options = cdp.eval(
+                "[...document.querySelectorAll('#model option')].map((o) => [o.value, o.text])"
+            )
+            assert options == [["", "none (as paper)"]] + [[m["name"], m["label"]] for m in sets]
+            assert cdp.eval("document.getElementById('model').value") == ""
+            assert cdp.eval("document.getElementById('landscape-model').textContent") == "model set: none"
+            assert {m for path, m in cdp.eval(SENT) if path in ("/api/landscape", "/api/robot-pose")} == {
+                None
+            }
+            cdp.eval(
+                "(() => { const s = document.getElementById('model'); s.value = 'physical-offset';"
+                " s.dispatchEvent(new Event('change', {bubbles: true})); })()"
+            )
+            shown = cdp.wait_for(
+                "(() => { const t = document.getElementById('landscape-model').textContent;"
+                " return t.includes('physical-offset') ? t : ''; })()"
+            )
+            assert shown.startswith(f"model set: {offset['label']}; wing joints ")
+            want = _call(
+                port, "GET", "/api/landscape?theta_w=74&theta_l=0&method=exact&step=2&model=physical-offset"
+            )
+            got = cdp.wait_for(RIGHTING_SHOWN.format(other_than=first))
+            assert float(got) == pytest.approx(want["barrier"]["righting_j"] * 1e3, abs=5e-4)
+            m = want["minimum"]
+            start = _want_view(port, 74, m["pitch_deg"], m["roll_deg"], model="physical-offset")
+            assert start != _want_view(port, 74, m["pitch_deg"], m["roll_deg"])
+            _wait_view(cdp, "robot-start", start)
+            assert offset["model_set_hash"] in cdp.eval("document.getElementById('robot-model').textContent")
+            sent = cdp.eval(SENT)
+            assert ["/api/landscape", "physical-offset"] in sent and [
+                "/api/robot-pose",
+                "physical-offset",
+            ] in sent
+            # the barrier map and a sweep go with the set too
+            cdp.eval(
+                "(() => { const f = document.getElementById('map-form'); f.theta_w.value = '74';"
+                " f.theta_l.value = '0'; f.requestSubmit(); })()"
+            )
+            status = cdp.wait_for(
+                "(() => { const t = document.getElementById('map-status').textContent;"
+                " return t.includes('poses') ? t : ''; })()"
+            )
+            assert status == f"1 poses, model set {offset['label']}"
+            assert ["/api/barrier-map", "physical-offset"] in cdp.eval(SENT)
+            assert offset["label"] in cdp.eval("document.getElementById('sweep-model').textContent")
+            cdp.eval(
+                "(() => { const f = document.getElementById('sweep-form'); f.trials.value = '1';"
+                " f.duration.value = '0.05'; f.cv.value = '0'; f.requestSubmit(); })()"
+            )
+            jobs = _wait(lambda: _call(port, "GET", "/api/sweeps"), lambda j: len(j) == 1, timeout_s=30)
+            assert jobs[0]["request"]["model"] == "physical-offset"
+            cell = cdp.wait_for(
+                "(() => { const c = document.querySelector('#sweeps tbody td:nth-child(2)');"
+                " return c ? c.textContent : ''; })()"
+            )
+            assert cell == offset["label"]
+            time.sleep(0.3)
+            cdp.eval("1")
             assert cdp.errors() == []
     finally:
         stop_server(server, signal.SIGTERM)

@@ -27,6 +27,53 @@ def _refused(r, match: str) -> None:
     assert match in detail and "\n" not in detail and "Traceback" not in detail
 
 
+# ---------------------------------------------------------------------------------------------- the list
+def test_the_route_lists_the_shipped_sets_as_the_library_reads_them(client):
+    from sim.model_set import load_model_set, shipped_model_sets
+
+    r = client.get("/api/model-sets")
+    assert r.status_code == 200, r.text
+    got = r.json()
+    assert (
+        [m["name"] for m in got]
+        == shipped_model_sets()
+        == ["paper", "physical", "physical-offset", "physical-posed"]
+    )
+    for m in got:
+        ms = load_model_set(m["name"])
+        assert (m["version"], m["model_set_hash"], m["description"], m["profile"]) == (
+            ms.version,
+            ms.model_set_hash,
+            ms.description,
+            ms.profile,
+        )
+        assert m["label"] == ms.label == f"{ms.name} v{ms.version} ({ms.model_set_hash})"
+        assert m["com_offset_y_mm"] == ms.com_offset_y_mm and m["moves_com"] == (ms.com_offset_y_mm != 0)
+    by = {m["name"]: m for m in got}
+    assert [n for n, m in by.items() if m["poses_wings"]] == ["physical", "physical-offset", "physical-posed"]
+    assert [n for n, m in by.items() if m["moves_com"]] == ["physical-offset"]
+    assert by["physical-offset"]["com_offset_y_mm"] == -1.5
+    assert by["paper"]["wing_command_deg"] is None and by["physical"]["wing_command_deg"] == [
+        60.0,
+        75.0,
+        90.0,
+    ]
+    assert by["physical"]["version"] == 2 and by["paper"]["version"] == 1
+
+
+def test_every_listed_set_is_taken_and_its_commands_bound_theta_w(client):
+    """Each name the list gives is a ``model`` the landscape takes; a measured set's listed commands are where
+    theta_w is taken (the page bounds its slider by them)."""
+    for m in client.get("/api/model-sets").json():
+        cmds = m["wing_command_deg"] or (0.0, 90.0)
+        lo, hi = cmds[0], cmds[-1]
+        for theta_w, ok in ((lo, True), (hi, True), (lo - 1, m["wing_command_deg"] is None)):
+            r = client.get("/api/landscape", params={"theta_w": theta_w, "step": 10, "model": m["name"]})
+            assert (r.status_code == 200) == ok, (m["name"], theta_w, r.text)
+            if ok:
+                assert r.json()["model_set"] == m["name"]
+
+
 # ---------------------------------------------------------------------------------------------- landscape
 def test_physical_landscape_is_compute_with_the_sets_wing_joints(client, capsys):
     from geometry.robots import load_robot
@@ -97,13 +144,13 @@ def test_paper_landscape_equals_no_model(client, capsys):
 
 
 @pytest.mark.parametrize("model", BAD_NAMES)
-@pytest.mark.parametrize("url", ["/api/landscape", "/api/barrier-map"])
+@pytest.mark.parametrize("url", ["/api/landscape", "/api/barrier-map", "/api/robot-pose"])
 def test_only_a_shipped_set_name_is_taken(client, url, model):
     r = client.get(url, params={"theta_w": "75", "theta_l": "0", "model": model})
     _refused(r, "model must be a shipped model set (paper, physical, physical-offset, physical-posed)")
 
 
-@pytest.mark.parametrize("url", ["/api/landscape", "/api/barrier-map"])
+@pytest.mark.parametrize("url", ["/api/landscape", "/api/barrier-map", "/api/robot-pose"])
 def test_a_wing_command_outside_the_measured_ones_is_refused(client, url):
     _refused(client.get(url, params={"theta_w": "50", "theta_l": "0", "model": "physical"}), OUT_OF_RANGE)
     assert client.get(url, params={"theta_w": "50", "theta_l": "0", "model": "paper"}).status_code == 200

@@ -119,3 +119,60 @@ def test_a_set_refused_on_a_worker_is_one_line_of_bad_input(tmp_path, capsys):
     assert main(args) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "too stiff for the 1 ms servo period" in err[0]
+
+
+@pytest.mark.parametrize("scale", [(), (1.0, 0.0), (1.0, float("nan")), (1.0, True), [1.0, 0.5]])
+def test_bad_wing_scales_are_refused(scale):
+    with pytest.raises(ComplianceError, match="wing_scale must be a list of numbers > 0"):
+        Compliance(1.0, wing_scale=scale)
+
+
+def test_wing_scale_needs_one_factor_per_wing_joint_and_its_stiffest_joint_decides_stability():
+    comp = Compliance(6.0, 0.01, wing_scale=(1.0, 0.5, 1.0, 0.5))
+    assert comp.joint_scales(4) == (1.0, 0.5, 1.0, 0.5)
+    with pytest.raises(ComplianceError, match="wing_scale has 4 factors for the robot's 2 wing joints"):
+        comp.joint_scales(2)
+    check_stability(comp, 4.7e-5, 1e-3)  # 6 N m/rad is below the bound of 11.8
+    with pytest.raises(ComplianceError, match="too stiff"):
+        check_stability(Compliance(6.0, 0.01, wing_scale=(1.0, 2.5)), 4.7e-5, 1e-3)  # 15 is not
+
+
+def test_model_set_wing_scale(tmp_path):
+    base = "wing_stiffness_n_m_rad = 0.9\nwing_damping_n_m_s_rad = 0.005\n"
+    plain = load_model_set(_with_table(tmp_path, base))
+    scaled = load_model_set(_with_table(tmp_path, base + "wing_scale = [1, 0.6, 1, 0.6]\n"))
+    assert scaled.compliance == Compliance(0.9, 0.005, wing_scale=(1.0, 0.6, 1.0, 0.6))
+    assert scaled.model_set_hash != plain.model_set_hash and plain.compliance.wing_scale is None
+    for bad in ("0.6", "[]", "[1, -0.6]", '["a"]'):
+        with pytest.raises(ModelSetError, match="wing_scale"):
+            load_model_set(_with_table(tmp_path, base + f"wing_scale = {bad}\n"))
+
+
+def _hold_roll(comp) -> float:
+    r = run_trial(75.0, 0.0, phase=0.5, cv=0.0, rng=1, duration_s=2.0, trace=True, compliance=comp)
+    tr, s0 = r.trace, r.attempt_starts_s[0]
+    m = (tr.t_s > s0 + 0.5) & (tr.t_s < s0 + 0.95)
+    return float(np.median(tr.roll_deg[m]))
+
+
+def test_a_softer_wing_on_one_side_leans_the_held_body_and_the_mirror_leans_it_back():
+    """The wings alike hold the body level (leg still); one side's joints at 0.3 of the stiffness sag under the
+    body more than the other's and lean the held body by several degrees, the mirrored scale the other way."""
+    level = _hold_roll(Compliance(0.9, 0.005))
+    right = _hold_roll(Compliance(0.9, 0.005, wing_scale=(1.0, 0.3, 1.0, 0.3)))
+    left = _hold_roll(Compliance(0.9, 0.005, wing_scale=(0.3, 1.0, 0.3, 1.0)))
+    assert abs(level) < 0.5
+    assert right < -3.0 and left > 3.0
+
+
+def test_a_wing_scale_for_another_number_of_wing_joints_is_refused_before_the_trial():
+    with pytest.raises(ComplianceError, match="wing_scale has 2 factors for the robot's 4 wing joints"):
+        run_trial(
+            75.0,
+            0.0,
+            phase=0.5,
+            cv=0.0,
+            rng=1,
+            duration_s=0.5,
+            compliance=Compliance(0.9, wing_scale=(1.0, 0.5)),
+        )

@@ -6,7 +6,7 @@
 "use strict";
 
 const $ = (id) => document.getElementById(id);
-const state = { robot: "builtin", seq: 0, shown: 0, robotShown: 0, timer: null, info: null };
+const state = { robot: "builtin", model: "", sets: {}, seq: 0, shown: 0, robotShown: 0, timer: null, info: null };
 const LINK_RENEW_MS = 10 * 60 * 1000;  // the link cookie lasts an hour
 
 (function keepToken() {
@@ -68,17 +68,65 @@ async function chooseRobot(id) {
   state.info = body;
   $("robot-info").textContent = `${body.name}: ${fmt(body.mass_kg * 1e3, 1)} g, ${body.vertices} vertices` +
     (body.has_joints ? "" : " (rigid: the sliders do nothing)");
+  applyLimits();
+  requestLandscape(0);
+}
+
+function applyLimits() {
+  // the joints' limits, and for a measured model set the wing commands it measured
+  const body = state.info, set = state.sets[state.model];
+  if (!body) return;
   for (const [key, el] of [["theta_w", $("theta-w")], ["theta_l", $("theta-l")]]) {
     const lim = body.theta_limits_deg && body.theta_limits_deg[key];
     el.disabled = !body.has_joints;
     if (lim) {
-      el.min = Math.ceil(lim[0] === null ? -180 : Math.max(lim[0], -180));
-      el.max = Math.floor(lim[1] === null ? 180 : Math.min(lim[1], 180));
-      if (Number(el.value) > Number(el.max) || Number(el.value) < Number(el.min)) el.value = el.min;
+      let lo = lim[0] === null ? -180 : Math.max(lim[0], -180), hi = lim[1] === null ? 180 : Math.min(lim[1], 180);
+      const cmds = key === "theta_w" && set ? set.wing_command_deg : null;
+      if (cmds) { lo = Math.max(lo, cmds[0]); hi = Math.min(hi, cmds[cmds.length - 1]); }
+      el.min = Math.ceil(lo);
+      el.max = Math.floor(hi);
+      el.value = Math.min(Math.max(Number(el.value), Number(el.min)), Number(el.max));
     }
   }
-  requestLandscape(0);
 }
+
+// ------------------------------------------------------------------------------------------------ model sets
+async function loadModelSets() {
+  const { body } = await api("/api/model-sets");
+  const sel = $("model");
+  for (const m of body) {
+    state.sets[m.name] = m;
+    const o = document.createElement("option");
+    o.value = m.name;
+    o.textContent = m.label;
+    o.title = m.description;
+    sel.appendChild(o);
+  }
+  showModelSet();
+}
+
+// "name vN (hash)" of a set a result names; "none" without one
+function setLabel(name, hash) {
+  if (!name) return "none";
+  const m = state.sets[name];
+  return m ? `${m.name} v${m.version} (${hash || m.model_set_hash})` : `${name}${hash ? " (" + hash + ")" : ""}`;
+}
+
+function showModelSet() {
+  const m = state.sets[state.model];
+  $("model-info").textContent = !m ? "every wing joint at θw, the robot's own CoM" :
+    (m.poses_wings ? `each wing joint at its measured plateau (θw ${m.wing_command_deg[0]}–` +
+      `${m.wing_command_deg[m.wing_command_deg.length - 1]}°)` : "every wing joint at θw") +
+    (m.moves_com ? `, CoM moved ${fmt(m.com_offset_y_mm, 1)} mm along y` : "") + `: ${m.description}`;
+  $("sweep-model").textContent = setLabel(state.model || "paper");
+}
+
+$("model").addEventListener("change", (e) => {
+  state.model = e.target.value;
+  showModelSet();
+  applyLimits();
+  requestLandscape(0);
+});
 
 $("robot").addEventListener("change", (e) => chooseRobot(e.target.value).catch((err) => say(err.message, true)));
 
@@ -102,6 +150,7 @@ function query() {
     robot: state.robot, theta_w: $("theta-w").value, theta_l: $("theta-l").value,
     method: $("method").value, step: $("step").value, grid: "1",
   });
+  if (state.model) p.set("model", state.model);
   return p.toString();
 }
 
@@ -123,7 +172,8 @@ async function fetchLandscape() {
     draw(body);
     drawRobots(body, seq);
     say(`theta_w ${fmt(body.theta_w_deg, 0)}°, theta_l ${fmt(body.theta_l_deg, 0)}°: ` +
-        `righting barrier ${fmt(body.barrier.righting_j === null ? null : body.barrier.righting_j * 1e3)} mJ`);
+        `righting barrier ${fmt(body.barrier.righting_j === null ? null : body.barrier.righting_j * 1e3)} mJ` +
+        (body.model_set ? ` (model set ${body.model_set})` : ""));
   } catch (err) {
     if (seq >= state.shown) say(err.message, true);
   }
@@ -131,6 +181,9 @@ async function fetchLandscape() {
 
 function showNumbers(s) {
   const mg = s.mass_kg * s.grid.g_m_s2;
+  const joints = s.wing_joints_deg ? "; wing joints " +
+    Object.entries(s.wing_joints_deg).map(([k, v]) => `${k} ${fmt(v, 1)}°`).join(", ") : "";
+  $("landscape-model").textContent = "model set: " + setLabel(s.model_set) + joints;
   $("minimum-mj").textContent = fmt(s.minimum.energy_j * 1e3);
   $("minimum-mm").textContent = fmt(s.minimum.height_m * 1e3);
   $("minimum-deg").textContent = `(${fmt(s.minimum.pitch_deg, 1)}, ${fmt(s.minimum.roll_deg, 1)})`;
@@ -207,6 +260,7 @@ const wrapDeg = (a) => ((((a + 180) % 360) + 360) % 360) - 180;
 async function fetchPose(s, pitch, roll) {
   const p = new URLSearchParams({ robot: state.robot, theta_w: s.theta_w_deg ?? 0, theta_l: s.theta_l_deg ?? 0,
     pitch: wrapDeg(pitch), roll: wrapDeg(roll) });
+  if (s.model_set) p.set("model", s.model_set);  // the robot as the landscape's set models it
   return (await api("/api/robot-pose?" + p.toString())).body;
 }
 
@@ -267,6 +321,7 @@ async function drawRobots(s, seq) {
     ]);
     if (seq < state.robotShown || seq < state.shown) return;  // a newer pose is drawn or on its way
     state.robotShown = seq;
+    $("robot-model").textContent = "(model set: " + setLabel(start.model_set, start.model_set_hash) + ")";
     $("robot-start-caption").textContent = `at the start minimum (pitch ${fmt(start.pitch_deg, 1)}°, roll ` +
       `${fmt(start.roll_deg, 1)}°): CoM ${fmt(start.com_height_m * 1e3, 1)} mm above the ground`;
     $("robot-saddle-caption").textContent = saddle
@@ -312,7 +367,10 @@ $("map-form").addEventListener("submit", async (e) => {
   const f = new FormData(e.target);
   const p = new URLSearchParams({ robot: state.robot, theta_w: f.get("theta_w"), theta_l: f.get("theta_l"),
     method: $("method").value, step: $("step").value });
+  const model = state.model;
+  if (model) p.set("model", model);
   $("map-status").textContent = "computing ...";
+  $("map-status").className = "";
   try {
     let { status, body } = await api("/api/barrier-map?" + p.toString());
     while (status === 202 || (body && body.status && body.status !== "done")) {
@@ -323,7 +381,8 @@ $("map-form").addEventListener("submit", async (e) => {
       ({ status, body } = await api("/api/barrier-map/jobs/" + job.id));
     }
     const rows = Array.isArray(body) ? body : body.rows;
-    $("map-status").textContent = rows.length + " poses";
+    // a job names its set; rows answered at once are those of the set asked for
+    $("map-status").textContent = `${rows.length} poses, model set ` + setLabel(Array.isArray(body) ? model : body.model_set);
     drawMap(rows);
   } catch (err) { $("map-status").textContent = err.message; $("map-status").className = "error"; }
 });
@@ -335,6 +394,7 @@ $("sweep-form").addEventListener("submit", async (e) => {
   const req = { theta_w: f.get("theta_w"), theta_l: f.get("theta_l"), cv: f.get("cv"),
     trials: parseInt(f.get("trials"), 10), duration: parseFloat(f.get("duration")), robot: state.robot };
   if (f.get("dt")) req.dt = parseFloat(f.get("dt"));
+  if (state.model) req.model = state.model;  // none: the sweep's default set, paper
   try {
     const { body } = await api("/api/sweeps", { method: "POST", headers: { "Content-Type": "application/json" },
       body: JSON.stringify(req) });
@@ -350,13 +410,13 @@ async function refreshSweeps() {
   tb.innerHTML = "";
   for (const j of jobs.slice().reverse()) {
     const tr = document.createElement("tr");
-    const cells = [j.id, j.status, "", j.rate_per_s ? j.rate_per_s.toFixed(2) + "/s" : "",
+    const cells = [j.id, setLabel(j.model_set), j.status, "", j.rate_per_s ? j.rate_per_s.toFixed(2) + "/s" : "",
       j.eta_s !== null && j.eta_s !== undefined ? j.eta_s.toFixed(0) + " s" : ""];
     for (const c of cells) { const td = document.createElement("td"); td.textContent = c; tr.appendChild(td); }
     const bar = document.createElement("progress");
     bar.max = j.total; bar.value = j.done;
-    tr.children[2].appendChild(bar);
-    tr.children[2].appendChild(document.createTextNode(` ${j.done}/${j.total}`));
+    tr.children[3].appendChild(bar);
+    tr.children[3].appendChild(document.createTextNode(` ${j.done}/${j.total}`));
     const act = document.createElement("td");
     if (j.status === "queued" || j.status === "running") {
       const b = document.createElement("button");
@@ -376,4 +436,5 @@ async function refreshSweeps() {
 
 setInterval(refreshSweeps, 2000);
 setInterval(renewLinkAccess, LINK_RENEW_MS);
-renewLinkAccess().then(loadRobots).then(refreshSweeps).catch((err) => say(err.message, true));
+renewLinkAccess().then(() => loadModelSets().catch((err) => say(err.message, true))).then(() => loadRobots())
+  .then(refreshSweeps).catch((err) => say(err.message, true));
