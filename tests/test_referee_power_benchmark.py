@@ -1,0 +1,33 @@
+"""benchmarks/referee_power.py against hand counts: the Wilson rule's agreeing simulated counts, the plug-in
+and beta-binomial probabilities, and the count distribution's convolution."""
+
+import importlib.util
+
+import pytest
+from scipy.stats import binom
+
+from tests.conftest import REPO
+
+
+@pytest.fixture(scope="module")
+def bench():
+    spec = importlib.util.spec_from_file_location("referee_power", REPO / "benchmarks" / "referee_power.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_a_robot_cell_of_5_of_5_agrees_only_with_a_simulation_that_always_rights(bench):
+    assert bench.agreeing_counts(5, 5, 10).tolist() == [10]
+    assert bench.agreeing_counts(0, 5, 20).tolist() == [0]
+    assert bench.agreeing_counts(4, 5, 10).tolist() == [6, 7, 8, 9]  # 80 % inside [31, 83] % from 6 of 10 on
+
+
+def test_the_probabilities(bench):
+    assert bench.p_agree_plugin(5, 5, 10) == pytest.approx(1.0)
+    assert bench.p_agree_plugin(4, 5, 10) == pytest.approx(binom.pmf([6, 7, 8, 9], 10, 0.8).sum())
+    # uniform prior on a 5-of-5 cell: E[p^10] under Beta(6, 1) = 6 / 16
+    assert bench.p_agree_perfect(5, 5, 10) == pytest.approx(6 / 16)
+    assert bench.p_agree_best(4, 5, 10) >= bench.p_agree_plugin(4, 5, 10)
+    d = bench.count_distribution([0.5, 0.5, 1.0])
+    assert d.tolist() == pytest.approx([0.0, 0.25, 0.5, 0.25])
