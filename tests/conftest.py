@@ -35,6 +35,18 @@ LAB_ABSENT = f"{LAB_URDF} is absent (set LANDSCAPE_SHARED to the directory holdi
 needs_lab = pytest.mark.skipif(not HAVE_LAB, reason=LAB_ABSENT)
 
 
+def load_script(relative: str):
+    """A script of the repository that is no package module (``benchmarks/NAME.py``, ``figures/NAME.py``),
+    imported as a module for its tests."""
+    import importlib.util
+
+    path = REPO / relative
+    spec = importlib.util.spec_from_file_location(path.stem, path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
 class SimRobot(NamedTuple):
     """A robot to simulate: its URDF file and ``label``, ``"lab"`` or ``"builtin"``."""
 

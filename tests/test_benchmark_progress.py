@@ -4,7 +4,6 @@ planned total is checked against the trials the benchmark really runs."""
 
 from __future__ import annotations
 
-import importlib.util
 import io
 import sys
 from pathlib import Path
@@ -13,16 +12,12 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from tests.conftest import REPO
+from tests.conftest import load_script
 
 
 @pytest.fixture()
 def convergence(monkeypatch):
-    spec = importlib.util.spec_from_file_location(
-        "sim_convergence", REPO / "benchmarks" / "sim_convergence.py"
-    )
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    mod = load_script("benchmarks/sim_convergence.py")
     calls = []
 
     def fake_trial(theta_w_deg, theta_l_deg, **kw):

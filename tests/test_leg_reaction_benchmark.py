@@ -2,19 +2,14 @@
 is zero without a swing, grows in proportion to the swing (small angles) and turns against the leg (+ for a
 swing from +A to -A); a robot without the lab's joints is refused in one line."""
 
-import importlib.util
-
 import pytest
 
-from tests.conftest import LAB_URDF, REPO, needs_lab
+from tests.conftest import LAB_URDF, load_script, needs_lab
 
 
 @pytest.fixture(scope="module")
 def bench():
-    spec = importlib.util.spec_from_file_location("leg_reaction", REPO / "benchmarks" / "leg_reaction.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script("benchmarks/leg_reaction.py")
 
 
 WINGS = dict.fromkeys(("wing_pitch_left", "wing_pitch_right", "wing_roll_left", "wing_roll_right"), 80.0)

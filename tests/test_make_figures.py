@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import importlib.util
 import math
 import shlex
 from pathlib import Path
@@ -12,15 +11,12 @@ import pytest
 
 from landscape.cli.sim import sweep
 from landscape.params import parse_values
-from tests.conftest import REPO
+from tests.conftest import load_script
 
 
 @pytest.fixture(scope="module")
 def mf():
-    spec = importlib.util.spec_from_file_location("make_figures", REPO / "figures" / "make_figures.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script("figures/make_figures.py")
 
 
 def _trials(args: str) -> tuple[int, int]:

@@ -1,20 +1,15 @@
 """benchmarks/referee_power.py against hand counts: the Wilson rule's agreeing simulated counts, the plug-in
 and beta-binomial probabilities, and the count distribution's convolution."""
 
-import importlib.util
-
 import pytest
 from scipy.stats import binom
 
-from tests.conftest import REPO
+from tests.conftest import load_script
 
 
 @pytest.fixture(scope="module")
 def bench():
-    spec = importlib.util.spec_from_file_location("referee_power", REPO / "benchmarks" / "referee_power.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script("benchmarks/referee_power.py")
 
 
 def test_a_robot_cell_of_5_of_5_agrees_only_with_a_simulation_that_always_rights(bench):

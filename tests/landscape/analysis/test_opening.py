@@ -212,15 +212,9 @@ def test_kinematics_command_prints_both_frames_the_support_and_the_first_opening
 def test_opening_transient_benchmark_prints_the_closing_table(capsys):
     """benchmarks/opening_transient.py, one cell and one simulated opening: the third table puts the robot's tilt
     at closing, its gyro check and the rigid saddle beside the set's; a bad cell is one line and exit 2."""
-    import importlib.util
+    from tests.conftest import load_script
 
-    from tests.conftest import REPO
-
-    spec = importlib.util.spec_from_file_location(
-        "opening_transient", REPO / "benchmarks/opening_transient.py"
-    )
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    mod = load_script("benchmarks/opening_transient.py")
     argv = ["--data", str(DATA), "--robot", str(LAB_URDF), "--models", "physical", "--trials", "1"]
     assert mod.main([*argv, "--phase", "0.17", "--cells", "60:30"]) == 0
     out = capsys.readouterr().out

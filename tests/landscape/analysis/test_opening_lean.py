@@ -208,13 +208,9 @@ def test_an_upright_robot_reads_as_a_tilt_but_gives_no_lean():
 def test_hold_lean_benchmark_prints_both_tables(capsys):
     """benchmarks/hold_lean.py, one cell and one one-opening trial: the robot's leans and departures beside the
     set's; a bad cell is one line and exit 2."""
-    import importlib.util
+    from tests.conftest import load_script
 
-    from tests.conftest import REPO
-
-    spec = importlib.util.spec_from_file_location("hold_lean", REPO / "benchmarks/hold_lean.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    mod = load_script("benchmarks/hold_lean.py")
     argv = ["--data", str(DATA), "--robot", str(LAB_URDF), "--models", "physical", "--attempts", "1"]
     assert mod.main([*argv, "--cells", "60:30"]) == 0
     out = capsys.readouterr().out
