@@ -14,6 +14,8 @@ Beta(k + 1, n - k + 1) (uniform prior). Per cell and number of simulated trials,
   lab ran its trials).
 - *best possible*: the model's probability chosen, per cell, to make agreement with the recorded k likeliest
   (a model tuned to the referee, not to the robot): the ceiling of any model.
+- *perfect, these data, Fisher*: as *perfect, these data*, with a cell counted when Fisher's exact test cannot
+  tell the two fractions apart (p >= 0.05; ``landscape physical validate`` prints that count too).
 
 The number of agreeing cells out of 12 is then a sum of independent Bernoulli variables (the cells' trials are
 independent); its distribution follows by convolution. Printed: the expected count and P(>= 11), P(12); then,
@@ -63,10 +65,13 @@ def main(argv=None) -> int:
     return 0
 
 
-def agreeing_counts(k: int, n: int, n_sim: int) -> np.ndarray:
-    """The simulated success counts (0..n_sim) whose fraction agrees with k of n (the validation's rule)."""
-    from landscape.analysis.validation import _fractions_agree
+def agreeing_counts(k: int, n: int, n_sim: int, rule: str = "wilson") -> np.ndarray:
+    """The simulated success counts (0..n_sim) that agree with k of n: by the validation's Wilson rule, or
+    (``rule="fisher"``) those Fisher's exact test cannot tell apart (p >= ``CONSISTENT_P``)."""
+    from landscape.analysis.validation import CONSISTENT_P, _fractions_agree, fisher_p
 
+    if rule == "fisher":
+        return np.array([m for m in range(n_sim + 1) if fisher_p(k, n, m, n_sim) >= CONSISTENT_P], dtype=int)
     return np.array([m for m in range(n_sim + 1) if _fractions_agree(k, n, m, n_sim)], dtype=int)
 
 
@@ -75,10 +80,15 @@ def p_agree_plugin(k: int, n: int, n_sim: int) -> float:
     return float(binom.pmf(agreeing_counts(k, n, n_sim), n_sim, k / n).sum())
 
 
-def p_agree_perfect(k: int, n: int, n_sim: int) -> float:
+def p_agree_perfect(k: int, n: int, n_sim: int, rule: str = "wilson") -> float:
     """P(agree) for a model whose probability is the robot's, given the robot's recorded k of n."""
     a, b = k + 1, n - k + 1
-    return float(betabinom.pmf(agreeing_counts(k, n, n_sim), n_sim, a, b).sum())
+    return float(betabinom.pmf(agreeing_counts(k, n, n_sim, rule), n_sim, a, b).sum())
+
+
+def p_consistent_perfect(k: int, n: int, n_sim: int) -> float:
+    """:func:`p_agree_perfect` by Fisher's exact test instead of the Wilson rule."""
+    return p_agree_perfect(k, n, n_sim, "fisher")
 
 
 def p_agree_new_data(k: int, n: int, n_sim: int) -> float:
@@ -118,6 +128,7 @@ def power_table(cells: list[tuple[int, int]], trials: list[int], need: int) -> s
             ("perfect, these data", p_agree_perfect),
             ("perfect, new data", p_agree_new_data),
             ("best possible, these data", p_agree_best),
+            ("perfect, these data, Fisher p >= 0.05 instead", p_consistent_perfect),
         ):
             ps = [f(k, n, n_sim) for k, n in cells]
             d = count_distribution(ps)

@@ -26,3 +26,11 @@ def test_the_probabilities(bench):
     assert bench.p_agree_best(4, 5, 10) >= bench.p_agree_plugin(4, 5, 10)
     d = bench.count_distribution([0.5, 0.5, 1.0])
     assert d.tolist() == pytest.approx([0.0, 0.25, 0.5, 0.25])
+
+
+def test_fishers_test_passes_a_perfect_model_in_at_least_95_percent_of_cells_whatever_the_robot_did(bench):
+    for k in range(6):
+        for n_sim in (10, 20):
+            assert bench.p_consistent_perfect(k, 5, n_sim) >= 0.95
+    assert bench.agreeing_counts(5, 5, 10, "fisher").tolist()[-1] == 10  # 10 of 10 is consistent with 5 of 5
+    assert len(bench.agreeing_counts(5, 5, 10, "fisher")) > len(bench.agreeing_counts(5, 5, 10))

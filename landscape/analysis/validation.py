@@ -174,6 +174,9 @@ class CellComparison:
         Each fraction inside the other's interval.
     phys_ttr_median_s, phys_ttr_sd_s, sim_ttr_median_s, sim_ttr_sd_s : float
         Time to right from the first wing opening over the successes (nan without; sd nan below two).
+    fisher_p : float
+        Two-sided p-value of Fisher's exact test that both fractions share one success probability
+        (:func:`fisher_p`); nan in a ``validation.json`` written before it was stored.
     """
 
     theta_w_cmd_deg: float
@@ -195,6 +198,7 @@ class CellComparison:
     phys_ttr_sd_s: float
     sim_ttr_median_s: float
     sim_ttr_sd_s: float
+    fisher_p: float = math.nan
 
     CSV_COLUMNS = (
         "theta_w_cmd_deg",
@@ -216,6 +220,7 @@ class CellComparison:
         "phys_ttr_sd_s",
         "sim_ttr_median_s",
         "sim_ttr_sd_s",
+        "fisher_p",
     )
 
 
@@ -255,6 +260,28 @@ class Validation:
     side: SideComparison
     agree_counts: dict = field(default_factory=dict)
     log_likelihood: dict = field(default_factory=dict)
+
+
+CONSISTENT_P = 0.05
+"""A cell is *consistent* (the recorded and the simulated trials cannot tell the two success probabilities apart)
+when Fisher's exact test gives p >= this."""
+
+
+def fisher_p(k1: int, n1: int, k2: int, n2: int) -> float:
+    """Two-sided p-value of Fisher's exact test of k1 of n1 against k2 of n2 successes (one shared probability).
+
+    Unlike the Wilson rule (:func:`_fractions_agree`), a perfect model passes it in at least 95 % of cells
+    whatever the robot's probability; the Wilson rule needs a simulation that rights every trial to agree with
+    a cell the robot righted 5 of 5 (``benchmarks/referee_power.py``).
+
+    Examples
+    --------
+    >>> round(fisher_p(5, 5, 17, 20), 3), round(fisher_p(0, 5, 10, 10), 4)
+    (1.0, 0.0003)
+    """
+    from scipy.stats import fisher_exact
+
+    return float(fisher_exact([[k1, n1 - k1], [k2, n2 - k2]]).pvalue)
 
 
 def _fractions_agree(k1: int, n1: int, k2: int, n2: int) -> bool:
@@ -352,7 +379,7 @@ def compare(
         sm, ssd = _median_sd([sim_time_to_right_s(r) for r in st])
         c = CellComparison(
             w, ws, leg, split_of(leg), n_p, kp, kp / n_p, pl, ph, n_s, ks, ks / n_s, sl, sh,
-            _fractions_agree(kp, n_p, ks, n_s), pm, psd, sm, ssd,
+            _fractions_agree(kp, n_p, ks, n_s), pm, psd, sm, ssd, fisher_p(kp, n_p, ks, n_s),
         )  # fmt: skip
         out.append(c)
         by_split[c.split].append(c)

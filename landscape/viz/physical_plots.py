@@ -179,6 +179,32 @@ def hold_leans_markdown(cells: Sequence) -> str:
     return "\n".join(lines)
 
 
+def consistent_text(v) -> str:
+    """How many cells the trials cannot tell apart (Fisher's exact test, :data:`validation.CONSISTENT_P`), all and
+    per split, and the cells that differ with their p-values; '' for a validation stored without the test."""
+    from landscape.analysis.validation import CONSISTENT_P
+
+    cells = [c for c in v.cells if math.isfinite(c.fisher_p)]
+    if not cells or len(cells) < len(v.cells):
+        return ""
+    ok = [c for c in cells if c.fisher_p >= CONSISTENT_P]
+    per = ", ".join(
+        f"{split} {sum(c.fisher_p >= CONSISTENT_P for c in cells if c.split == split)} of "
+        f"{sum(c.split == split for c in cells)}"
+        for split in ("fit", "held-out")
+        if any(c.split == split for c in cells)
+    )
+    apart = "; ".join(
+        f"{c.theta_w_cmd_deg:g}°/{c.theta_l_deg:g}° p = {c.fisher_p:.3f}"
+        for c in cells
+        if c.fisher_p < CONSISTENT_P
+    )
+    return (
+        f"cells the trials cannot tell apart (Fisher's exact test, p >= {CONSISTENT_P:g}): {len(ok)} of {len(cells)} "
+        f"({per})" + (f"; apart: {apart}" if apart else "")
+    )
+
+
 def _frac(k: int, n: int, lo: float, hi: float) -> str:
     return f"{k}/{n} [{_pct(lo)}, {_pct(hi)}] %"
 
@@ -214,6 +240,9 @@ def validation_markdown(v) -> str:
         lines.append("")
     k, n = v.agree_counts["all"]
     lines.append(f"all cells: {k} of {n} agree (log-likelihood {v.log_likelihood['all']:.2f})")
+    consistent = consistent_text(v)
+    if consistent:
+        lines.append(consistent)
     if v.attempts:
         lines += [
             "",

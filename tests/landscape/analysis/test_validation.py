@@ -51,6 +51,29 @@ def test_cells_agree_only_when_each_fraction_is_inside_the_others_interval():
     assert v.log_likelihood["all"] == pytest.approx(v.log_likelihood["fit"] + v.log_likelihood["held-out"])
 
 
+def test_fishers_test_counts_the_cells_the_trials_cannot_tell_apart():
+    """5/5 against 17/20 disagrees by the Wilson rule (100 % lies outside [64, 95] %) but the trials cannot tell
+    them apart (Fisher p = 1); 0/5 against 10/10 differs by both (p = 1/3003, the one table as extreme)."""
+    from landscape.viz.physical_plots import consistent_text, validation_markdown
+
+    phys = _phys(75.0, 15.0, 5, 5) + _phys(60.0, 0.0, 0, 5)
+    rows = [_row(74.0, 15.0, i < 17) for i in range(20)] + [_row(59.0, 0.0, True) for _ in range(10)]
+    v = va.compare(phys, rows, [(60.0, 0.0), (75.0, 15.0)], {60.0: 59.0, 75.0: 74.0})
+    by = {(c.theta_w_cmd_deg, c.theta_l_deg): c for c in v.cells}
+    assert not by[(75.0, 15.0)].agree and by[(75.0, 15.0)].fisher_p == pytest.approx(1.0)
+    assert not by[(60.0, 0.0)].agree and by[(60.0, 0.0)].fisher_p == pytest.approx(1 / 3003)
+    text = consistent_text(v)
+    assert text.startswith("cells the trials cannot tell apart (Fisher's exact test, p >= 0.05): 1 of 2 ")
+    assert "(fit 0 of 1, held-out 1 of 1); apart: 60°/0° p = 0.000" in text
+    assert text in validation_markdown(v)
+    # a validation.json from before the test was stored has no p-values: no line, and it still loads
+    doc = {"model_set": "m", "model_set_hash": "h", "attempts": [], "agree_counts": v.agree_counts,
+           "log_likelihood": v.log_likelihood, "side": v.side.__dict__,
+           "cells": [{k: getattr(c, k) for k in va.CellComparison.CSV_COLUMNS if k != "fisher_p"} for c in v.cells]}  # fmt: skip
+    old = va.validation_from_json(doc)
+    assert math.isnan(old.cells[0].fisher_p) and consistent_text(old) == ""
+
+
 def test_time_to_right_counts_from_the_first_opening_and_sides_are_counted():
     phys = _phys(90.0, 30.0, 4, 5, ttr=2.0, side=1)
     rows = [
