@@ -367,9 +367,13 @@ class SweepJobs:
         job_id = uuid.uuid4().hex[:12]
         d = self.root / job_id
         d.mkdir()
+        from .model_sets import shipped_model_set
+
         job = {
             "id": job_id,
             "request": req,
+            # the set as it is when the job is made (name, version, hash): a later version does not relabel it
+            "model_set_label": shipped_model_set(str(req["model"])).label,
             "status": "queued",
             "error": None,
             "done": 0,
@@ -402,6 +406,7 @@ class SweepJobs:
             eta_s=eta,
             report_url=f"/api/sweeps/{job_id}/report",
             model_set=job["request"].get("model", SWEEP_DEFAULTS["model"]),
+            model_set_label=job.get("model_set_label"),  # None for a job stored before labels were
         )
         return job
 

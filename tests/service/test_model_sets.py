@@ -208,6 +208,13 @@ def test_a_physical_sweep_stores_trials_of_the_set(client):
     assert done["status"] == "done" and done["done"] == 1 and done["model_set"] == "physical"
     rows = read_rows(client.app.state.sweeps.root / job["id"] / "trials.sqlite")
     assert [row["model_set"] for row in rows] == ["physical"]
+    # the job names the set as it was when made: its label, with the hash its trials were stored with
+    from sim.model_set import load_model_set
+
+    ms = load_model_set("physical")
+    assert done["model_set_label"] == ms.label and [row["model_set_hash"] for row in rows] == [
+        ms.model_set_hash
+    ]
 
 
 @pytest.mark.parametrize("model", [*BAD_NAMES, None, 1])

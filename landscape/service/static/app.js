@@ -410,7 +410,7 @@ async function refreshSweeps() {
   tb.innerHTML = "";
   for (const j of jobs.slice().reverse()) {
     const tr = document.createElement("tr");
-    const cells = [j.id, setLabel(j.model_set), j.status, "", j.rate_per_s ? j.rate_per_s.toFixed(2) + "/s" : "",
+    const cells = [j.id, j.model_set_label || j.model_set, j.status, "", j.rate_per_s ? j.rate_per_s.toFixed(2) + "/s" : "",
       j.eta_s !== null && j.eta_s !== undefined ? j.eta_s.toFixed(0) + " s" : ""];
     for (const c of cells) { const td = document.createElement("td"); td.textContent = c; tr.appendChild(td); }
     const bar = document.createElement("progress");
