@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -260,6 +260,8 @@ class Validation:
     side: SideComparison
     agree_counts: dict = field(default_factory=dict)
     log_likelihood: dict = field(default_factory=dict)
+    robot_attempts: int | None = None
+    late_rightings: tuple = ()
 
 
 CONSISTENT_P = 0.05
@@ -345,6 +347,7 @@ def compare(
     recorded_attempts: Sequence[AttemptCount] = (),
     *,
     commanded: bool = False,
+    robot_attempts: int | None = None,
 ) -> Validation:
     """Simulated trial rows (one model set) against the physical trials, at ``cells``.
 
@@ -352,7 +355,15 @@ def compare(
     ``commanded``, the cell's wing command: a measured actuation profile).
     ``recorded_attempts`` (the lab's per-attempt record) gives the per-attempt comparison at the wing commands
     of ``cells``; without it that comparison is empty.
+    ``robot_attempts``: count a robot trial as righted (and its time to right) only when it righted within its
+    first that many openings, as the lab's per-attempt table counts its 10 s trials (``LAB_ATTEMPTS_PER_TRIAL``);
+    the later rightings are listed in ``late_rightings`` as (wing command, leg, opening). None: every recorded
+    opening. The side of the roll-overs always counts every recorded righting.
     """
+    if robot_attempts is not None and (isinstance(robot_attempts, bool) or int(robot_attempts) != robot_attempts
+                                       or robot_attempts < 1):  # fmt: skip
+        raise ValidationError(f"robot_attempts must be a whole number >= 1 (or None); got {robot_attempts!r}")
+    late = []
     sets = {(r.get("model_set"), r.get("model_set_hash")) for r in rows}
     if len(sets) > 1:
         raise ValidationError(
@@ -371,6 +382,10 @@ def compare(
             raise ValidationError(
                 f"cell {w:g}:{leg:g} has {len(pt)} physical and {len(st)} simulated trials; both are needed"
             )
+        if robot_attempts is not None:
+            late += [(w, leg, t.attempts) for t in pt if t.success and t.attempts > robot_attempts]
+            pt = [t if not t.success or t.attempts <= robot_attempts
+                  else replace(t, success=False, time_to_right_s=math.nan) for t in pt]  # fmt: skip
         kp, n_p = sum(t.success for t in pt), len(pt)
         ks, n_s = sum(bool(r["success"]) for r in st), len(st)
         pl, ph = wilson_interval(kp, n_p)
@@ -422,6 +437,8 @@ def compare(
         side,
         {k: (sum(c.agree for c in v), len(v)) for k, v in groups.items()},
         {k: log_likelihood((c.phys_k, c.phys_n, c.sim_k, c.sim_n) for c in v) for k, v in groups.items()},
+        robot_attempts,
+        tuple(late),
     )
 
 
@@ -442,9 +459,11 @@ def validate(
     scheduler: str | None = None,
     progress: bool = True,
     phase: float | None = None,
+    robot_attempts: int | None = None,
 ) -> tuple[Validation, object]:
     """Simulate the physical cells with a model set (resuming ``db``) and compare: ``(Validation, SweepSummary)``.
     ``phase``: every trial's first attempt at this phase (None: random phases, :func:`validation_specs`).
+    ``robot_attempts``: count the robot's rightings within its first that many openings only (:func:`compare`).
 
     Raises
     ------
@@ -468,7 +487,11 @@ def validate(
     keys = {s.key() for s in specs}
     rows = [r for r in read_rows(db) if tuple(r[c] for c in KEY_COLUMNS) in keys]
     recorded = [a for a in recorded_attempt_counts(data_dir) if a.theta_w_cmd_deg in WING_COMMANDS_DEG]
-    return compare(phys, rows, chosen, plateaus, recorded, commanded=simulates_commands(model_set)), summary
+    v = compare(
+        phys, rows, chosen, plateaus, recorded, commanded=simulates_commands(model_set),
+        robot_attempts=robot_attempts,
+    )  # fmt: skip
+    return v, summary
 
 
 def validation_from_json(doc: dict) -> Validation:
@@ -498,6 +521,8 @@ def validation_from_json(doc: dict) -> Validation:
             SideComparison(**nan(doc["side"])),
             {k: tuple(v) for k, v in doc["agree_counts"].items()},
             dict(doc["log_likelihood"]),
+            doc.get("robot_attempts"),
+            tuple(tuple(x) for x in doc.get("late_rightings", ())),
         )  # fmt: skip
     except (KeyError, TypeError) as exc:
         raise ValidationError(

@@ -179,6 +179,25 @@ def hold_leans_markdown(cells: Sequence) -> str:
     return "\n".join(lines)
 
 
+def late_text(v) -> str:
+    """What ``--robot-attempts N`` left out: the robot's rightings after its first N openings."""
+    late = sorted(v.late_rightings)
+    where = "; ".join(
+        f"{w:g}°/{leg:g}° at opening {', '.join(str(a) for _, _, a in group)}"
+        for (w, leg), group in _group_cells(late)
+    )
+    return (
+        f"robot trials counted as righted within their first {v.robot_attempts} openings (--robot-attempts): "
+        + (f"{len(late)} later rightings left out ({where})" if late else "no later rightings")
+    )
+
+
+def _group_cells(late):
+    from itertools import groupby
+
+    return [(k, list(g)) for k, g in groupby(late, key=lambda x: (x[0], x[1]))]
+
+
 def consistent_text(v) -> str:
     """How many cells the trials cannot tell apart (Fisher's exact test, :data:`validation.CONSISTENT_P`), all and
     per split, and the cells that differ with their p-values; '' for a validation stored without the test."""
@@ -243,6 +262,8 @@ def validation_markdown(v) -> str:
     consistent = consistent_text(v)
     if consistent:
         lines.append(consistent)
+    if getattr(v, "robot_attempts", None) is not None:
+        lines.append(late_text(v))
     if v.attempts:
         lines += [
             "",

@@ -74,6 +74,44 @@ def test_fishers_test_counts_the_cells_the_trials_cannot_tell_apart():
     assert math.isnan(old.cells[0].fisher_p) and consistent_text(old) == ""
 
 
+def test_robot_attempts_counts_the_robots_rightings_within_its_first_openings_only():
+    """Two robot trials right at openings 6 and 8 (the lab kept trying past its 10 s): with robot_attempts 5 they
+    count as not righted, with their times to right, and are listed; every other number stays."""
+    from dataclasses import replace
+
+    from landscape.viz.physical_plots import validation_markdown
+
+    phys = _phys(60.0, 15.0, 4, 5, ttr=3.0)
+    phys = [replace(t, attempts=a, time_to_right_s=10.0 + a) if a > 5 else t
+            for t, a in zip(phys, (6, 2, 3, 8, 10), strict=True)]  # fmt: skip
+    rows = [_row(59.0, 15.0, i < 3) for i in range(20)]
+    every = va.compare(phys, rows, [(60.0, 15.0)], {60.0: 59.0})
+    first5 = va.compare(phys, rows, [(60.0, 15.0)], {60.0: 59.0}, robot_attempts=5)
+    (a,), (b,) = every.cells, first5.cells
+    assert (a.phys_k, b.phys_k, a.phys_n, b.phys_n) == (4, 2, 5, 5)
+    assert a.phys_ttr_median_s == pytest.approx(9.5) and b.phys_ttr_median_s == pytest.approx(
+        3.0
+    )  # 3, 3, 16, 18
+    assert every.late_rightings == () and every.robot_attempts is None
+    assert first5.late_rightings == ((60.0, 15.0, 6), (60.0, 15.0, 8)) and first5.robot_attempts == 5
+    assert a.sim_k == b.sim_k and every.side == first5.side
+    text = validation_markdown(first5)
+    assert (
+        "within their first 5 openings (--robot-attempts): 2 later rightings left out (60°/15° at opening 6, 8)"
+        in text
+    )
+    assert "--robot-attempts" not in validation_markdown(every)
+    for bad in (0, 2.5, True):
+        with pytest.raises(va.ValidationError, match="robot_attempts must be a whole number"):
+            va.compare(phys, rows, [(60.0, 15.0)], {60.0: 59.0}, robot_attempts=bad)
+    # the JSON round trip keeps both
+    import dataclasses
+
+    doc = json.loads(json.dumps(dataclasses.asdict(first5)))
+    back = va.validation_from_json(doc)
+    assert back.robot_attempts == 5 and back.late_rightings == first5.late_rightings
+
+
 def test_time_to_right_counts_from_the_first_opening_and_sides_are_counted():
     phys = _phys(90.0, 30.0, 4, 5, ttr=2.0, side=1)
     rows = [
@@ -167,6 +205,15 @@ def test_validate_command_end_to_end_and_resumes(tmp_path, capsys):
     assert (tmp_path / "time_to_right.png").stat().st_size > 0 and (tmp_path / "time_to_right.svg").is_file()
     assert main(args) == 0  # rerun: every trial already stored
     assert "2 simulated trials: 2 already in" in capsys.readouterr().out
+    # the robot's rightings after its first opening left out: 75°/15° righted at openings 1, 3, 3, 1, 1
+    assert main([*args, "--robot-attempts", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "75° (73.6°) | 15° | 3/5 [23, 88] %" in out
+    assert "2 later rightings left out (75°/15° at opening 3, 3)" in out
+    doc = json.loads((tmp_path / "validation.json").read_text())
+    assert doc["robot_attempts"] == 1 and doc["late_rightings"] == [[75.0, 15.0, 3], [75.0, 15.0, 3]]
+    assert main([*args, "--robot-attempts", "0"]) == 2
+    assert capsys.readouterr().err.count("\n") == 1
 
 
 @needs_data
