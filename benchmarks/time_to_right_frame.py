@@ -9,7 +9,8 @@ pitch passes 90 deg. The IMU's frame and the body's may differ by a pitch (``lan
 fits 11.5 deg, which the recordings cannot tell from a body held that much further over). This script reapplies
 the rule to every recording with world-up turned about the body's y axis by each ``--mount`` angle (a body
 pitched that much less than its IMU reads) and prints, per cell, the median time to right from the first opening
-(and successes) for each angle; with ``--validation DIR`` (``landscape physical validate --out DIR``) the
+(and successes) for each angle (``landscape.analysis.physical.up_z_mounted``, as ``landscape physical
+validate --imu-mounting`` judges them); with ``--validation DIR`` (``landscape physical validate --out DIR``) the
 simulated median beside them.
 
 Run:  PYTHONPATH=. .venv/bin/python benchmarks/time_to_right_frame.py [--data DIR] [--mount 0,5,11.5]
@@ -68,24 +69,8 @@ def main(argv=None) -> int:
     return 0
 
 
-def up_z_mounted(quat_xyzw: np.ndarray, mount_deg: float) -> np.ndarray:
-    """World-up's z component in a body frame pitched ``mount_deg`` less than the IMU's frame (``quat_xyzw``: the
-    IMU-to-world rotations, (N, 4)).
-
-    Examples
-    --------
-    >>> q = np.array([[0.0, np.sin(np.radians(45)), 0.0, np.cos(np.radians(45))]])  # pitched 90 deg
-    >>> round(float(up_z_mounted(q, 0.0)[0]), 6), round(float(up_z_mounted(q, 10.0)[0]), 4)
-    (0.0, 0.1736)
-    """
-    x, y, z, w = np.asarray(quat_xyzw, dtype=np.float64).T
-    ux, uz = 2.0 * (x * z - w * y), 1.0 - 2.0 * (x * x + y * y)
-    d = math.radians(mount_deg)
-    return -ux * math.sin(d) + uz * math.cos(d)
-
-
 def frame_table(data: str, mounts: list[float], sim: dict) -> str:
-    from landscape.analysis.physical import read_recording, trial_files, trial_outcome
+    from landscape.analysis.physical import read_recording, trial_files, trial_outcome, up_z_mounted
 
     cells: dict[tuple[float, float], list[list]] = defaultdict(lambda: [[] for _ in mounts])
     for f in trial_files(data):

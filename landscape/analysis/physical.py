@@ -36,7 +36,7 @@ import math
 import re
 from collections import defaultdict
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -53,6 +53,8 @@ UPRIGHT_DEPTH = -0.5
 """An upright stretch must reach ``u_z <= UPRIGHT_DEPTH`` (body tilted more than 120 deg from lying on its back):
 near the pole the wings hold the body at u_z ~ 0 and sensor noise alone crosses 0 (run5_90_90_90_90_0_5 stays
 0.68 s at u_z > -0.3 and falls back; every righting reaches u_z < -0.95)."""
+MAX_IMU_MOUNT_DEG = 45.0
+"""Largest IMU mounting pitch :func:`physical_trials` takes, degrees."""
 LAB_ATTEMPTS_PER_TRIAL = 5
 """Openings per trial the lab's per-attempt table counts (the paper's 10 s trials at Tw = 2 s)."""
 HOLD_WINDOW_S = (0.5, 0.95)
@@ -328,22 +330,48 @@ def trial_outcome(rec: Recording, *, theta_w_measured_deg: float = math.nan) -> 
     )
 
 
-def physical_trials(data_dir: str | Path) -> list[PhysicalTrial]:
+def up_z_mounted(quat_xyzw, mount_deg: float) -> NDArray[np.float64]:
+    """World-up's z component in a body frame pitched ``mount_deg`` below the IMU's frame (``quat_xyzw``: the
+    IMU-to-world rotations, (N, 4) as x, y, z, w); 0 gives the recorded ``up_z``.
+
+    Examples
+    --------
+    >>> q = np.array([[0.0, np.sin(np.radians(45)), 0.0, np.cos(np.radians(45))]])  # the IMU pitched 90 deg
+    >>> round(float(up_z_mounted(q, 0.0)[0]), 6), round(float(up_z_mounted(q, 10.0)[0]), 4)
+    (0.0, 0.1736)
+    """
+    x, y, z, w = np.asarray(quat_xyzw, dtype=np.float64).T
+    ux, uz = 2.0 * (x * z - w * y), 1.0 - 2.0 * (x * x + y * y)
+    d = math.radians(mount_deg)
+    return -ux * math.sin(d) + uz * math.cos(d)
+
+
+def physical_trials(data_dir: str | Path, *, imu_mount_deg: float = 0.0) -> list[PhysicalTrial]:
     """Every trial of a data directory (measured wing plateau from ``robot_attempts.mat`` when present).
+
+    ``imu_mount_deg``: judge uprightness (success, time to right, attempts) in a body frame pitched that much
+    below the IMU's (:func:`up_z_mounted`); at the 90 deg wing command the robot stands near 90 deg of pitch and
+    its IMU's frame counts it upright as soon as the IMU's pitch passes 90 deg.
 
     Raises
     ------
     PhysicalDataError
         If the directory or a file is not in the lab's format.
     """
+    if not (math.isfinite(imu_mount_deg) and abs(imu_mount_deg) <= MAX_IMU_MOUNT_DEG):
+        raise PhysicalDataError(
+            f"the IMU's mounting must lie within ±{MAX_IMU_MOUNT_DEG:g} degrees; got {imu_mount_deg!r}"
+        )
     files = trial_files(data_dir)
     try:
         plateau = measured_plateaus_deg(data_dir)
     except PhysicalDataError:
         plateau = {}
+    recs = map(read_recording, files)
+    if imu_mount_deg:
+        recs = (replace(r, up_z=up_z_mounted(r.quat_xyzw, imu_mount_deg)) for r in recs)
     return [
-        trial_outcome(rec, theta_w_measured_deg=plateau.get(rec.theta_w_cmd_deg, math.nan))
-        for rec in map(read_recording, files)
+        trial_outcome(rec, theta_w_measured_deg=plateau.get(rec.theta_w_cmd_deg, math.nan)) for rec in recs
     ]
 
 

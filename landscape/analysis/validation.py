@@ -460,10 +460,13 @@ def validate(
     progress: bool = True,
     phase: float | None = None,
     robot_attempts: int | None = None,
+    imu_mount_deg: float = 0.0,
 ) -> tuple[Validation, object]:
     """Simulate the physical cells with a model set (resuming ``db``) and compare: ``(Validation, SweepSummary)``.
     ``phase``: every trial's first attempt at this phase (None: random phases, :func:`validation_specs`).
     ``robot_attempts``: count the robot's rightings within its first that many openings only (:func:`compare`).
+    ``imu_mount_deg``: judge the robot's uprightness in a body frame pitched that much below its IMU's
+    (:func:`landscape.analysis.physical.physical_trials`).
 
     Raises
     ------
@@ -475,7 +478,7 @@ def validate(
     from sim.store import KEY_COLUMNS, read_rows
     from sim.sweep import run_sweep
 
-    phys = physical_trials(data_dir)
+    phys = physical_trials(data_dir, imu_mount_deg=imu_mount_deg)
     plateaus = measured_plateaus_deg(data_dir)
     available = {(t.theta_w_cmd_deg, t.theta_l_deg) for t in phys}
     chosen = parse_cells(cells, available) if cells is None or isinstance(cells, str) else list(cells)

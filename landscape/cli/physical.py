@@ -232,6 +232,15 @@ def _report_validation(out: Path, validation, tables: dict, doc_name: str, doc: 
     help="Count a robot trial as righted only within its first N wing openings, as the lab's per-attempt table "
     "counts its 10 s trials (5); the robot's recordings run up to 10 openings [default: every recorded opening].",
 )
+@click.option(
+    "--imu-mounting",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="Judge the robot's uprightness (success, time to right) in a body frame pitched this many degrees below "
+    "its IMU's: at 90 deg the robot stands near 90 deg of pitch, and its IMU's frame counts it upright once the "
+    "IMU's pitch passes 90 deg (landscape physical kinematics fits 11.5).",
+)
 @workers_option
 @click.option(
     "--out",
@@ -255,6 +264,7 @@ def validate_cmd(
     duration,
     dt,
     robot_attempts,
+    imu_mounting,
     workers,
     out,
     no_progress,
@@ -288,6 +298,7 @@ def validate_cmd(
             progress=not no_progress,
             phase=phase,
             robot_attempts=robot_attempts,
+            imu_mount_deg=imu_mounting,
         )
     click.echo(
         f"{summary.total} simulated trials: {summary.skipped} already in {db}, ran {summary.ran} in "
@@ -299,6 +310,7 @@ def validate_cmd(
         "phase": phase,
         "cv": cv,
         "seed": seed,
+        "imu_mount_deg": imu_mounting,
         "store": str(db),
     }
     _report_validation(Path(out), v, {"validation.csv": list(v.cells)}, "validation.json", doc)

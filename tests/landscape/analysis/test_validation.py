@@ -214,6 +214,12 @@ def test_validate_command_end_to_end_and_resumes(tmp_path, capsys):
     assert doc["robot_attempts"] == 1 and doc["late_rightings"] == [[75.0, 15.0, 3], [75.0, 15.0, 3]]
     assert main([*args, "--robot-attempts", "0"]) == 2
     assert capsys.readouterr().err.count("\n") == 1
+    assert main([*args, "--imu-mounting", "11.5"]) == 0  # the robot judged in a pitched body frame
+    assert json.loads((tmp_path / "validation.json").read_text())["imu_mount_deg"] == 11.5
+    capsys.readouterr()
+    assert main([*args, "--imu-mounting", "60"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "IMU's mounting must lie within" in err
 
 
 @needs_data
