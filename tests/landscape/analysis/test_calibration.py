@@ -82,6 +82,27 @@ def test_a_candidate_may_take_a_list_and_the_mass_table(tmp_path):
         ca.candidate_set("physical", {"actuation.wing_extra_deg": [15.0, 12.0]}, "c", tmp_path / "d.toml")
 
 
+def test_a_candidate_may_scale_one_wing_and_the_world_refuses_a_wrong_count(tmp_path):
+    """`--vary compliance.wing_scale=1/0.6/1/0.6` (README: one softer wing) is one factor per wing joint on the
+    base's compliance; a list of another length loads (the set knows no robot) and is refused by the trial."""
+    from sim.compliance import ComplianceError
+    from sim.trial import run_trial
+
+    assert ca.parse_vary(["compliance.wing_scale=1/0.6/1/0.6"]) == {
+        "compliance.wing_scale": [[1.0, 0.6, 1.0, 0.6]]
+    }
+    ms = ca.candidate_set(
+        "physical-posed", {"compliance.wing_scale": [1.0, 0.6, 1.0, 0.6]}, "c", tmp_path / "c.toml"
+    )
+    base = load_model_set("physical-posed").compliance
+    assert ms.compliance.wing_scale == (1.0, 0.6, 1.0, 0.6)
+    assert ms.compliance.wing_stiffness_n_m_rad == base.wing_stiffness_n_m_rad
+    short = ca.candidate_set("paper", {"compliance.wing_stiffness_n_m_rad": 0.9, "compliance.wing_scale": [1.0, 0.5]},
+                             "d", tmp_path / "d.toml")  # fmt: skip
+    with pytest.raises(ComplianceError, match="wing_scale has 2 factors for the robot's 4 wing joints"):
+        run_trial(75.0, 0.0, phase=0.5, cv=0.0, rng=1, duration_s=0.5, model_set=short)
+
+
 @needs_data
 def test_calibrate_command_picks_the_likeliest_candidate_and_holds_cells_out(tmp_path, capsys):
     args = ["physical", "calibrate", "--data", str(DATA), "--base", "paper"]
