@@ -68,11 +68,11 @@ def main(argv=None) -> int:
 def agreeing_counts(k: int, n: int, n_sim: int, rule: str = "wilson") -> np.ndarray:
     """The simulated success counts (0..n_sim) that agree with k of n: by the validation's Wilson rule, or
     (``rule="fisher"``) those Fisher's exact test cannot tell apart (p >= ``CONSISTENT_P``)."""
-    from landscape.analysis.validation import CONSISTENT_P, _fractions_agree, fisher_p
+    from landscape.analysis.validation import CONSISTENT_P, fisher_p, fractions_agree
 
     if rule == "fisher":
         return np.array([m for m in range(n_sim + 1) if fisher_p(k, n, m, n_sim) >= CONSISTENT_P], dtype=int)
-    return np.array([m for m in range(n_sim + 1) if _fractions_agree(k, n, m, n_sim)], dtype=int)
+    return np.array([m for m in range(n_sim + 1) if fractions_agree(k, n, m, n_sim)], dtype=int)
 
 
 def p_agree_plugin(k: int, n: int, n_sim: int) -> float:

@@ -272,7 +272,7 @@ when Fisher's exact test gives p >= this."""
 def fisher_p(k1: int, n1: int, k2: int, n2: int) -> float:
     """Two-sided p-value of Fisher's exact test of k1 of n1 against k2 of n2 successes (one shared probability).
 
-    Unlike the Wilson rule (:func:`_fractions_agree`), a perfect model passes it in at least 95 % of cells
+    Unlike the Wilson rule (:func:`fractions_agree`), a perfect model passes it in at least 95 % of cells
     whatever the robot's probability; the Wilson rule needs a simulation that rights every trial to agree with
     a cell the robot righted 5 of 5 (``benchmarks/referee_power.py``).
 
@@ -286,7 +286,15 @@ def fisher_p(k1: int, n1: int, k2: int, n2: int) -> float:
     return float(fisher_exact([[k1, n1 - k1], [k2, n2 - k2]]).pvalue)
 
 
-def _fractions_agree(k1: int, n1: int, k2: int, n2: int) -> bool:
+def fractions_agree(k1: int, n1: int, k2: int, n2: int) -> bool:
+    """The referee's rule (issue #15): k1 of n1 and k2 of n2 agree when each fraction lies inside the other's
+    Wilson 95 % interval; a fraction of 100 % (or 0 %) therefore agrees only with another of 100 % (or 0 %).
+
+    Examples
+    --------
+    >>> fractions_agree(5, 5, 19, 20), fractions_agree(5, 5, 10, 10), fractions_agree(4, 5, 7, 10)
+    (False, True, True)
+    """
     lo1, hi1 = wilson_interval(k1, n1)
     lo2, hi2 = wilson_interval(k2, n2)
     p1, p2 = k1 / n1, k2 / n2
@@ -394,7 +402,7 @@ def compare(
         sm, ssd = _median_sd([sim_time_to_right_s(r) for r in st])
         c = CellComparison(
             w, ws, leg, split_of(leg), n_p, kp, kp / n_p, pl, ph, n_s, ks, ks / n_s, sl, sh,
-            _fractions_agree(kp, n_p, ks, n_s), pm, psd, sm, ssd, fisher_p(kp, n_p, ks, n_s),
+            fractions_agree(kp, n_p, ks, n_s), pm, psd, sm, ssd, fisher_p(kp, n_p, ks, n_s),
         )  # fmt: skip
         out.append(c)
         by_split[c.split].append(c)
@@ -417,7 +425,7 @@ def compare(
         lo, hi = wilson_interval(k, n)
         sim = AttemptCount(rec.theta_w_cmd_deg, plateaus_deg.get(rec.theta_w_cmd_deg, math.nan), n, k,
                            k / n if n else math.nan, lo, hi)  # fmt: skip
-        ok = n > 0 and _fractions_agree(rec.successes, rec.attempts, k, n)
+        ok = n > 0 and fractions_agree(rec.successes, rec.attempts, k, n)
         attempts.append(AttemptComparison(rec.theta_w_cmd_deg, rec, sim, ok))
     lat = lateralisation(t for t in phys if (t.theta_w_cmd_deg, t.theta_l_deg) in set(cells))
     n_lat = lat.positive + lat.negative
