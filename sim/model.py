@@ -346,6 +346,38 @@ def _base_link(root: ET._Element) -> ET._Element:
     return next(lk for lk in root.findall("link") if lk.get("name") not in children)
 
 
+def _add_hinge(
+    root: ET._Element,
+    link: str,
+    joint: str,
+    parent: str,
+    child: str,
+    axis_xyz: str,
+    limit_rad: float,
+    *,
+    mass_kg: float = 0.0,
+) -> None:
+    """Append a new link ``link`` (``mass_kg``, inertia ``mass_kg * 1e-6`` about each axis; 0: massless) and a
+    revolute joint ``joint`` from ``parent`` to ``child`` at the parent's frame, about ``axis_xyz``, within
+    ``±limit_rad``: the hinge of :func:`add_body_torsion` and :func:`add_leg_bend`, which a spring drives."""
+    frame = ET.Element("link", name=link)
+    inertial = ET.SubElement(frame, "inertial")
+    i = mass_kg * 1e-6
+    ET.SubElement(inertial, "mass", value=f"{mass_kg:.17g}")
+    ET.SubElement(
+        inertial, "inertia", ixx=f"{i:.17g}", ixy="0", ixz="0", iyy=f"{i:.17g}", iyz="0", izz=f"{i:.17g}"
+    )
+    hinge = ET.Element("joint", name=joint, type="revolute")
+    ET.SubElement(hinge, "parent", link=parent)
+    ET.SubElement(hinge, "child", link=child)
+    ET.SubElement(hinge, "origin", xyz="0 0 0", rpy="0 0 0")
+    ET.SubElement(hinge, "axis", xyz=axis_xyz)
+    lim = f"{limit_rad:g}"
+    ET.SubElement(hinge, "limit", lower=f"-{lim}", upper=lim, effort="1000", velocity="1000")
+    root.append(frame)
+    root.append(hinge)
+
+
 def add_body_torsion(root: ET._Element, wing_joints: tuple[str, ...]) -> list[str]:
     """Let the part of the body that carries the wings twist against the rest, in place; return the re-hung
     joints.
@@ -396,19 +428,7 @@ def add_body_torsion(root: ET._Element, wing_joints: tuple[str, ...]) -> list[st
         raise RobotDescriptionError(
             f"no wing joint hangs below the base link '{base}'; [body_torsion] needs one"
         )
-    frame = ET.Element("link", name=TORSION_LINK)
-    inertial = ET.SubElement(frame, "inertial")
-    ET.SubElement(inertial, "mass", value="0")
-    ET.SubElement(inertial, "inertia", ixx="0", ixy="0", ixz="0", iyy="0", iyz="0", izz="0")
-    joint = ET.Element("joint", name=TORSION_JOINT, type="revolute")
-    ET.SubElement(joint, "parent", link=base)
-    ET.SubElement(joint, "child", link=TORSION_LINK)
-    ET.SubElement(joint, "origin", xyz="0 0 0", rpy="0 0 0")
-    ET.SubElement(joint, "axis", xyz="1 0 0")
-    lim = f"{TORSION_LIMIT_RAD:g}"
-    ET.SubElement(joint, "limit", lower=f"-{lim}", upper=lim, effort="1000", velocity="1000")
-    root.append(frame)
-    root.append(joint)
+    _add_hinge(root, TORSION_LINK, TORSION_JOINT, base, TORSION_LINK, "1 0 0", TORSION_LIMIT_RAD)
     for name in rehang:
         joints[name].find("parent").set("link", TORSION_LINK)
     return rehang
@@ -472,22 +492,9 @@ def add_leg_bend(root: ET._Element, leg_joint: str) -> str:
             f"the leg link '{leg}' has no mass off its joint's axis, so it has no bending axis; [leg_bend] needs one"
         )
     bend /= np.linalg.norm(bend)
-    frame = ET.Element("link", name=BEND_LINK)
-    inertial = ET.SubElement(frame, "inertial")
-    tiny = mass * 1e-6
-    ET.SubElement(inertial, "mass", value=f"{tiny:.17g}")
-    ET.SubElement(inertial, "inertia", ixx=f"{tiny * 1e-6:.17g}", ixy="0", ixz="0", iyy=f"{tiny * 1e-6:.17g}",
-                  iyz="0", izz=f"{tiny * 1e-6:.17g}")  # fmt: skip
-    joint = ET.Element("joint", name=BEND_JOINT, type="revolute")
-    ET.SubElement(joint, "parent", link=BEND_LINK)
-    ET.SubElement(joint, "child", link=leg)
-    ET.SubElement(joint, "origin", xyz="0 0 0", rpy="0 0 0")
-    ET.SubElement(joint, "axis", xyz=" ".join(f"{v:.17g}" if abs(v) > 1e-12 else "0" for v in bend))
-    lim = f"{BEND_LIMIT_RAD:g}"
-    ET.SubElement(joint, "limit", lower=f"-{lim}", upper=lim, effort="1000", velocity="1000")
     j.find("child").set("link", BEND_LINK)
-    root.append(frame)
-    root.append(joint)
+    axis_xyz = " ".join(f"{v:.17g}" if abs(v) > 1e-12 else "0" for v in bend)
+    _add_hinge(root, BEND_LINK, BEND_JOINT, BEND_LINK, leg, axis_xyz, BEND_LIMIT_RAD, mass_kg=mass * 1e-6)
     return leg
 
 

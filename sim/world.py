@@ -408,9 +408,6 @@ class World:
             self.body, joints, pb.TORQUE_CONTROL, forces=tau, physicsClientId=self.cid
         )
 
-    def _drive_torsion(self) -> None:
-        self._drive_spring(self.torsion_joint, self.torsion.stiffness_n_m_rad, self.torsion.damping_n_m_s_rad)
-
     def _drive_spring(self, joint: int, k: float, c: float) -> None:
         q, dq = pb.getJointState(self.body, joint, physicsClientId=self.cid)[:2]
         pb.setJointMotorControl2(
@@ -466,12 +463,12 @@ class World:
         """Advance ``n_steps`` physics steps of ``dt_s`` (a multiple of ``substeps``)."""
         assert n_steps % self.substeps == 0, (n_steps, self.substeps)
         self._elapsed_s += n_steps * self.dt_s
+        pairs = ((self.torsion, self.torsion_joint), (self.bend, self.bend_joint))
+        springs = [(s, j) for s, j in pairs if s is not None]
         for _ in range(n_steps // self.substeps):
-            # the twist's spring is renewed before every stepSimulation call, settling's too
-            if self.torsion is not None:
-                self._drive_torsion()
-            if self.bend is not None:
-                self._drive_spring(self.bend_joint, self.bend.stiffness_n_m_rad, self.bend.damping_n_m_s_rad)
+            # the twist's and the bend's springs are renewed before every stepSimulation call, settling's too
+            for spring, joint in springs:
+                self._drive_spring(joint, spring.stiffness_n_m_rad, spring.damping_n_m_s_rad)
             pb.stepSimulation(physicsClientId=self.cid)
 
     def base_pose(self) -> tuple[tuple[float, float, float], tuple[float, float, float, float]]:

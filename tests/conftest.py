@@ -35,6 +35,15 @@ LAB_ABSENT = f"{LAB_URDF} is absent (set LANDSCAPE_SHARED to the directory holdi
 needs_lab = pytest.mark.skipif(not HAVE_LAB, reason=LAB_ABSENT)
 
 
+def set_with_table(directory: Path, table: str, text: str, base: str = "paper") -> Path:
+    """A model-set file in ``directory``: the shipped set ``base`` with ``[table]`` and ``text`` appended."""
+    from sim.model_set import load_model_set
+
+    f = directory / f"{table}.toml"
+    f.write_text(Path(load_model_set(base).source).read_text() + f"\n[{table}]\n" + text)
+    return f
+
+
 def load_script(relative: str):
     """A script of the repository that is no package module (``benchmarks/NAME.py``, ``figures/NAME.py``),
     imported as a module for its tests."""

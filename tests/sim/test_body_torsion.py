@@ -3,17 +3,16 @@ one line, the model-set table, a joint that changes neither mass nor pose, and t
 the hold does not twist the body (no sag, unlike a spring in each wing joint), a stiff torsion acts rigid, and a
 soft one lets the leg's swing rock the body further."""
 
-from pathlib import Path
-
 import numpy as np
 import pybullet as pb
 import pytest
 
 from sim.compliance import BodyTorsion, ComplianceError, check_spring_stability
 from sim.model import TORSION_JOINT, TORSION_LINK, sim_model
-from sim.model_set import ModelSetError, load_model_set
+from sim.model_set import load_model_set
 from sim.trial import run_trial
 from sim.world import World
+from tests.conftest import set_with_table
 
 
 @pytest.mark.parametrize(
@@ -31,27 +30,6 @@ def test_stability_bound():
         check_spring_stability(BodyTorsion(8.0), 3e-5, 1e-3)
     with pytest.raises(ComplianceError, match=r"damping_n_m_s_rad 0\.02 is too high.*give c <= 0\.015"):
         check_spring_stability(BodyTorsion(1.0, 0.02), 3e-5, 1e-3)
-
-
-def _with_table(tmp_path, table: str, base: str = "paper") -> Path:
-    f = tmp_path / "t.toml"
-    f.write_text(Path(load_model_set(base).source).read_text() + "\n[body_torsion]\n" + table)
-    return f
-
-
-def test_model_set_table(tmp_path):
-    ms = load_model_set(_with_table(tmp_path, "stiffness_n_m_rad = 0.05\ndamping_n_m_s_rad = 0.002\n"))
-    assert ms.body_torsion == BodyTorsion(0.05, 0.002)
-    paper = load_model_set("paper")
-    assert paper.body_torsion is None and ms.model_set_hash != paper.model_set_hash
-    # damping is optional; the stiffness is what makes the table
-    assert load_model_set(_with_table(tmp_path, "stiffness_n_m_rad = 0.1\n")).body_torsion == BodyTorsion(0.1)
-    with pytest.raises(ModelSetError, match=r"\[body_torsion\].*unknown key"):
-        load_model_set(_with_table(tmp_path, "stifness_n_m_rad = 0.1\n"))
-    with pytest.raises(ModelSetError, match=r"\[body_torsion\].*stiffness_n_m_rad"):
-        load_model_set(_with_table(tmp_path, "damping_n_m_s_rad = 0.1\n"))
-    with pytest.raises(ModelSetError, match=r"\[body_torsion\].*must be > 0"):
-        load_model_set(_with_table(tmp_path, "stiffness_n_m_rad = -1.0\n"))
 
 
 def _link_poses(w: World) -> dict[str, tuple]:
@@ -108,10 +86,12 @@ def _opening(model_set, theta_l_deg: float):
 
 def test_the_hold_does_not_sag_and_the_leg_rocks_a_soft_body_further(tmp_path):
     rigid = load_model_set("paper")
-    soft = load_model_set(_with_table(tmp_path, "stiffness_n_m_rad = 0.03\ndamping_n_m_s_rad = 0.001\n"))
+    soft = load_model_set(
+        set_with_table(tmp_path, "body_torsion", "stiffness_n_m_rad = 0.03\ndamping_n_m_s_rad = 0.001\n")
+    )
     (tmp_path / "s").mkdir()
     stiff = load_model_set(
-        _with_table(tmp_path / "s", "stiffness_n_m_rad = 5.0\ndamping_n_m_s_rad = 0.005\n")
+        set_with_table(tmp_path / "s", "body_torsion", "stiffness_n_m_rad = 5.0\ndamping_n_m_s_rad = 0.005\n")
     )
     pitch_rigid, _ = _opening(rigid, 0.0)
     pitch_soft, _ = _opening(soft, 0.0)
@@ -126,6 +106,6 @@ def test_the_hold_does_not_sag_and_the_leg_rocks_a_soft_body_further(tmp_path):
 
 
 def test_too_stiff_a_torsion_is_refused_before_the_trial(tmp_path):
-    ms = load_model_set(_with_table(tmp_path, "stiffness_n_m_rad = 500.0\n"))
+    ms = load_model_set(set_with_table(tmp_path, "body_torsion", "stiffness_n_m_rad = 500.0\n"))
     with pytest.raises(ComplianceError, match="too stiff"):
         run_trial(74.0, 0.0, phase=0.0, cv=0.0, rng=0, model_set=ms, duration_s=0.1)

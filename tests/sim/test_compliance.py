@@ -2,14 +2,13 @@
 physics: the wings give under load by about load / k, so a softer spring deflects more and a stiff one behaves
 like the rigid servo; with an integral time the servo takes a steady load over and the sag goes."""
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-from sim.compliance import Compliance, ComplianceError, check_stability
+from sim.compliance import BodyTorsion, Compliance, ComplianceError, LegBend, LegCompliance, check_stability
 from sim.model_set import ModelSetError, load_model_set
 from sim.trial import run_trial
+from tests.conftest import set_with_table
 
 
 @pytest.mark.parametrize(
@@ -38,16 +37,11 @@ def test_stability_bound():
         check_stability(Compliance(0.2, 0.005, 0.001), 4.7e-5, 1e-3)
 
 
-def _with_table(tmp_path, table: str):
-    text = Path(load_model_set("paper").source).read_text() + "\n[compliance]\n" + table
-    f = tmp_path / "c.toml"
-    f.write_text(text)
-    return f
-
-
 def test_model_set_table(tmp_path):
     ms = load_model_set(
-        _with_table(tmp_path, "wing_stiffness_n_m_rad = 0.9\nwing_damping_n_m_s_rad = 0.005\n")
+        set_with_table(
+            tmp_path, "compliance", "wing_stiffness_n_m_rad = 0.9\nwing_damping_n_m_s_rad = 0.005\n"
+        )
     )
     assert ms.compliance == Compliance(0.9, 0.005)
     assert (
@@ -55,19 +49,46 @@ def test_model_set_table(tmp_path):
         and load_model_set("paper").compliance is None
     )
     with pytest.raises(ModelSetError, match="unknown key"):
-        load_model_set(_with_table(tmp_path, "wing_stifness_n_m_rad = 1.0\n"))
+        load_model_set(set_with_table(tmp_path, "compliance", "wing_stifness_n_m_rad = 1.0\n"))
     with pytest.raises(ModelSetError, match="wing_stiffness_n_m_rad"):
-        load_model_set(_with_table(tmp_path, "wing_stiffness_n_m_rad = -1.0\n"))
+        load_model_set(set_with_table(tmp_path, "compliance", "wing_stiffness_n_m_rad = -1.0\n"))
     pi = load_model_set(
-        _with_table(
+        set_with_table(
             tmp_path,
+            "compliance",
             "wing_stiffness_n_m_rad = 0.9\nwing_damping_n_m_s_rad = 0.005\nwing_integral_time_s = 0.3\n",
         )
     )
     assert pi.compliance == Compliance(0.9, 0.005, 0.3)
     assert pi.model_set_hash != ms.model_set_hash  # the integral enters the hash; sets without it keep theirs
     with pytest.raises(ModelSetError, match="wing_integral_time_s must be > 0"):
-        load_model_set(_with_table(tmp_path, "wing_stiffness_n_m_rad = 0.9\nwing_integral_time_s = 0\n"))
+        load_model_set(
+            set_with_table(tmp_path, "compliance", "wing_stiffness_n_m_rad = 0.9\nwing_integral_time_s = 0\n")
+        )
+
+
+@pytest.mark.parametrize(
+    "cls, k, c", [(BodyTorsion, 0.05, 0.002), (LegCompliance, 0.08, 0.001), (LegBend, 0.135, 0.00055)]
+)
+def test_a_spring_table_in_a_model_set(tmp_path, cls, k, c):
+    """``[body_torsion]``, ``[leg_compliance]``, ``[leg_bend]``: one reader; the table enters the hash, its
+    damping is optional, and a wrong key, a missing stiffness or a stiffness <= 0 is refused naming the table."""
+    table = cls.TABLE
+    ms = load_model_set(
+        set_with_table(tmp_path, table, f"stiffness_n_m_rad = {k}\ndamping_n_m_s_rad = {c}\n")
+    )
+    paper = load_model_set("paper")
+    assert getattr(ms, table) == cls(k, c) and getattr(paper, table) is None
+    assert ms.model_set_hash != paper.model_set_hash
+    assert getattr(
+        load_model_set(set_with_table(tmp_path, table, "stiffness_n_m_rad = 0.1\n")), table
+    ) == cls(0.1)
+    with pytest.raises(ModelSetError, match=rf"\[{table}\].*unknown key"):
+        load_model_set(set_with_table(tmp_path, table, "stifness_n_m_rad = 0.1\n"))
+    with pytest.raises(ModelSetError, match=rf"\[{table}\].*missing key 'stiffness_n_m_rad'"):
+        load_model_set(set_with_table(tmp_path, table, "damping_n_m_s_rad = 0.1\n"))
+    with pytest.raises(ModelSetError, match=rf"\[{table}\].*must be > 0"):
+        load_model_set(set_with_table(tmp_path, table, "stiffness_n_m_rad = -1.0\n"))
 
 
 def _hold(comp, duration=2.0):
@@ -113,7 +134,7 @@ def test_a_set_refused_on_a_worker_is_one_line_of_bad_input(tmp_path, capsys):
     error it is (exit 2, one line), not as an aborted sweep or a bug report."""
     from landscape.cli import main
 
-    f = _with_table(tmp_path, "wing_stiffness_n_m_rad = 1000.0\n")
+    f = set_with_table(tmp_path, "compliance", "wing_stiffness_n_m_rad = 1000.0\n")
     args = ["sweep", "--theta-w", "74", "--theta-l", "30", "--cv", "0", "--trials", "1", "--duration", "0.5"]
     args += ["--model", str(f), "--db", str(tmp_path / "t.sqlite"), "--workers", "2", "--no-progress"]
     assert main(args) == 2
@@ -139,13 +160,13 @@ def test_wing_scale_needs_one_factor_per_wing_joint_and_its_stiffest_joint_decid
 
 def test_model_set_wing_scale(tmp_path):
     base = "wing_stiffness_n_m_rad = 0.9\nwing_damping_n_m_s_rad = 0.005\n"
-    plain = load_model_set(_with_table(tmp_path, base))
-    scaled = load_model_set(_with_table(tmp_path, base + "wing_scale = [1, 0.6, 1, 0.6]\n"))
+    plain = load_model_set(set_with_table(tmp_path, "compliance", base))
+    scaled = load_model_set(set_with_table(tmp_path, "compliance", base + "wing_scale = [1, 0.6, 1, 0.6]\n"))
     assert scaled.compliance == Compliance(0.9, 0.005, wing_scale=(1.0, 0.6, 1.0, 0.6))
     assert scaled.model_set_hash != plain.model_set_hash and plain.compliance.wing_scale is None
     for bad in ("0.6", "[]", "[1, -0.6]", '["a"]'):
         with pytest.raises(ModelSetError, match="wing_scale"):
-            load_model_set(_with_table(tmp_path, base + f"wing_scale = {bad}\n"))
+            load_model_set(set_with_table(tmp_path, "compliance", base + f"wing_scale = {bad}\n"))
 
 
 def _hold_roll(comp) -> float:

@@ -2,15 +2,12 @@
 ``[leg_bend]``): values refused in one line, the table, a joint that changes neither mass nor pose, a stiff bend
 that barely sags, and a soft one that sags by its load and rings at its frequency."""
 
-from pathlib import Path
-
 import numpy as np
 import pybullet as pb
 import pytest
 
 from sim.compliance import ComplianceError, LegBend, check_spring_stability
 from sim.model import BEND_JOINT, BEND_LINK, sim_model
-from sim.model_set import ModelSetError, load_model_set
 from sim.world import World
 from tests.sim.test_body_torsion import _link_poses
 
@@ -27,23 +24,6 @@ def test_stability_bound():
     check_spring_stability(LegBend(0.135, 0.00055), 2.25e-4, 1e-3)
     with pytest.raises(ComplianceError, match=r"leg_bend stiffness_n_m_rad 100 is too stiff.*the leg's"):
         check_spring_stability(LegBend(100.0), 2.25e-4, 1e-3)
-
-
-def _with_table(tmp_path, table: str, base: str = "paper") -> Path:
-    f = tmp_path / "bend.toml"
-    f.write_text(Path(load_model_set(base).source).read_text() + "\n[leg_bend]\n" + table)
-    return f
-
-
-def test_model_set_table(tmp_path):
-    ms = load_model_set(_with_table(tmp_path, "stiffness_n_m_rad = 0.135\ndamping_n_m_s_rad = 0.00055\n"))
-    paper = load_model_set("paper")
-    assert ms.leg_bend == LegBend(0.135, 0.00055) and paper.leg_bend is None
-    assert ms.model_set_hash != paper.model_set_hash
-    with pytest.raises(ModelSetError, match=r"\[leg_bend\].*unknown key"):
-        load_model_set(_with_table(tmp_path, "stifness_n_m_rad = 0.1\n"))
-    with pytest.raises(ModelSetError, match=r"\[leg_bend\].*missing key 'stiffness_n_m_rad'"):
-        load_model_set(_with_table(tmp_path, "damping_n_m_s_rad = 0.1\n"))
 
 
 def test_the_joint_changes_neither_mass_nor_pose():

@@ -2,14 +2,13 @@
 the table and its hash, a stiff spring that follows the profile like the servo, a soft one that lags and swings
 past it, and too stiff a spring refused before the trial."""
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 from sim.compliance import ComplianceError, LegCompliance, check_spring_stability
-from sim.model_set import ModelSetError, load_model_set
+from sim.model_set import load_model_set
 from sim.trial import run_trial
+from tests.conftest import set_with_table
 
 
 @pytest.mark.parametrize(
@@ -29,29 +28,13 @@ def test_stability_bound():
         check_spring_stability(LegCompliance(100.0), 2e-4, 1e-3)
 
 
-def _with_table(tmp_path, table: str, base: str = "paper") -> Path:
-    f = tmp_path / "leg.toml"
-    f.write_text(Path(load_model_set(base).source).read_text() + "\n[leg_compliance]\n" + table)
-    return f
-
-
-def test_model_set_table(tmp_path):
-    ms = load_model_set(_with_table(tmp_path, "stiffness_n_m_rad = 0.08\ndamping_n_m_s_rad = 0.001\n"))
-    paper = load_model_set("paper")
-    assert ms.leg_compliance == LegCompliance(0.08, 0.001) and paper.leg_compliance is None
-    assert ms.model_set_hash != paper.model_set_hash
-    assert load_model_set(_with_table(tmp_path, "stiffness_n_m_rad = 0.1\n")).leg_compliance == LegCompliance(
-        0.1
-    )
-    with pytest.raises(ModelSetError, match=r"\[leg_compliance\].*unknown key"):
-        load_model_set(_with_table(tmp_path, "stifness_n_m_rad = 0.1\n"))
-    with pytest.raises(ModelSetError, match=r"\[leg_compliance\].*missing key 'stiffness_n_m_rad'"):
-        load_model_set(_with_table(tmp_path, "damping_n_m_s_rad = 0.1\n"))
-
-
 def _leg(tmp_path, table: str | None):
     """One 1.5 s trial at 74/30 deg: (time, leg command, leg angle) after the first opening starts, degrees."""
-    ms = load_model_set(_with_table(tmp_path, table)) if table else load_model_set("paper")
+    ms = (
+        load_model_set(set_with_table(tmp_path, "leg_compliance", table))
+        if table
+        else load_model_set("paper")
+    )
     r = run_trial(74.0, 30.0, phase=0.3, cv=0.0, rng=1, duration_s=1.5, trace=True, model_set=ms)
     tr = r.trace
     m = tr.t_s > r.attempt_starts_s[0]
@@ -72,6 +55,6 @@ def test_a_stiff_leg_follows_its_profile_and_a_soft_one_swings_past_it(tmp_path)
 
 
 def test_too_stiff_a_leg_is_refused_before_the_trial(tmp_path):
-    ms = load_model_set(_with_table(tmp_path, "stiffness_n_m_rad = 1000.0\n"))
+    ms = load_model_set(set_with_table(tmp_path, "leg_compliance", "stiffness_n_m_rad = 1000.0\n"))
     with pytest.raises(ComplianceError, match="leg_compliance stiffness_n_m_rad 1000 is too stiff"):
         run_trial(74.0, 30.0, phase=0.3, cv=0.0, rng=1, duration_s=0.5, model_set=ms)
