@@ -26,16 +26,14 @@ from pathlib import Path
 import numpy as np
 
 from geometry.errors import UsageError
+from landscape.analysis.opening import PROTOCOL_PHASE, lateral_tilt_deg, opening_response, simulated_openings
+from sim.protocol import PAPER_LEG_PERIOD_S
 
 ROOT = Path(__file__).resolve().parents[1]
 SWING_S = 0.12
 """Duration of the free body's leg swing from +A to -A, s (the measured profile's +A to -A takes 0.10-0.14 s)."""
 TIMES_S = (0.2, 0.25, 0.3, 0.35, 0.4, 0.45, 0.5)
 """Times after the opening starts at which the second table reads the tilt, s."""
-HOLD_PITCH_DEG = {60.0: 68.1, 75.0: 81.0, 90.0: 85.2}
-"""The robot's hold pitch in its IMU's frame per wing command (``landscape physical kinematics``, first openings
-with the leg still), degrees: the pitch at which the first table turns the body's turn into a tilt."""
-LEG_PERIOD_S = 0.8
 
 
 def main(argv=None) -> int:
@@ -44,21 +42,27 @@ def main(argv=None) -> int:
     ap.add_argument("--robot", default=str(ROOT.parent / "shared/ref/lab_robot/lab_robot.urdf"))
     ap.add_argument("--models", default="physical-offset")
     ap.add_argument("--cells", default="60:30,75:45,90:15,90:30,90:45")
-    ap.add_argument("--phase", type=float, default=0.17, help="leg phase of the simulated first opening")
+    ap.add_argument(
+        "--phase", type=float, default=PROTOCOL_PHASE, help="leg phase of the simulated first opening"
+    )
     args = ap.parse_args(argv)
     if not 0.0 <= args.phase < 1.0:
         ap.exit(2, f"{ap.prog}: error: --phase must lie in [0, 1); got {args.phase!r}\n")
+    if not Path(args.robot).is_file():
+        ap.exit(2, f"{ap.prog}: error: --robot {args.robot} not found; give the lab robot's URDF\n")
     try:
         from landscape.analysis.physical import read_recording, trial_files
         from landscape.analysis.validation import parse_cells
         from sim.model_set import load_model_set
 
-        sets = [load_model_set(m) for m in args.models.split(",")]
+        names = args.models.split(",")
+        for m in names:
+            load_model_set(m)  # every set checked before anything runs
         recs = [read_recording(f) for f in trial_files(args.data)]
         cells = parse_cells(args.cells, {(r.theta_w_cmd_deg, r.theta_l_deg) for r in recs})
-        print(free_body_table(args.robot, sets[0]))
+        print(free_body_table(args.robot, load_model_set(names[0]), hold_pitch_deg(recs)))
         print()
-        print(tilt_table(recs, args.robot, sets, cells, args.phase))
+        print(tilt_table(recs, args.robot, names, cells, args.phase))
     except (UsageError, FileNotFoundError) as exc:  # bad data, cells or sets: one line, as the command does
         ap.exit(2, f"{ap.prog}: error: {exc}\n")
     return 0
@@ -108,7 +112,20 @@ def _rotation(pb, body, cid) -> np.ndarray:
     return np.array(pb.getMatrixFromQuaternion(q, physicsClientId=cid)).reshape(3, 3)
 
 
-def free_body_table(urdf: str, model_set) -> str:
+def hold_pitch_deg(recs) -> dict[float, float]:
+    """The robot's hold pitch in its IMU's frame per wing command, degrees: the median over the first openings
+    with the leg still (``landscape physical kinematics``' second table), from the recordings ``recs``."""
+    holds: dict[float, list[float]] = {}
+    for rec in recs:
+        if rec.theta_l_deg == 0.0:
+            r = opening_response(rec.t_s, rec.pitch_deg, rec.roll_deg, float(rec.openings_s[0]))
+            holds.setdefault(rec.theta_w_cmd_deg, []).append(r.hold_pitch_deg)
+    return {c: float(np.nanmedian(v)) for c, v in sorted(holds.items())}
+
+
+def free_body_table(urdf: str, model_set, hold_deg: dict[float, float]) -> str:
+    """The first table: per wing command (``hold_deg``: the robot's hold pitch there), the free body's turn and
+    the tilt it gives, for leg amplitudes 15, 30 and 45 deg."""
     from geometry.robot import JointMap
 
     wing_names = JointMap().wing
@@ -118,7 +135,7 @@ def free_body_table(urdf: str, model_set) -> str:
         "| wing cmd | hold pitch | leg 15° | leg 30° | leg 45° |",
         "|---|---|---|---|---|",
     ]
-    for cmd, p in HOLD_PITCH_DEG.items():
+    for cmd, p in hold_deg.items():
         joints = model_set.wing_joints_deg(wing_names, cmd) or dict.fromkeys(wing_names, cmd)
         cells = []
         for amp in (15.0, 30.0, 45.0):
@@ -129,14 +146,9 @@ def free_body_table(urdf: str, model_set) -> str:
     return "\n".join(lines)
 
 
-def _tilt_deg(pitch_deg, roll_deg):
-    return np.degrees(np.arcsin(np.cos(np.radians(pitch_deg)) * np.sin(np.radians(roll_deg))))
-
-
-def tilt_table(recs, urdf: str, sets, cells, phase: float) -> str:
+def tilt_table(recs, urdf: str, sets: list[str], cells, phase: float) -> str:
     """The second table (see the module docstring) from the recordings ``recs``
-    (:func:`landscape.analysis.physical.read_recording`)."""
-    from sim.trial import run_trial
+    (:func:`landscape.analysis.physical.read_recording`) and the model sets ``sets`` (names or files, as given)."""
 
     ts = np.asarray(TIMES_S)
     head = " | ".join(f"{t:g} s" for t in ts)
@@ -153,29 +165,25 @@ def tilt_table(recs, urdf: str, sets, cells, phase: float) -> str:
                 continue
             s = float(rec.openings_s[0])
             t = rec.t_s - s
-            tilts.append(np.interp(ts, t, _tilt_deg(rec.pitch_deg, rec.roll_deg)))
+            tilts.append(np.interp(ts, t, lateral_tilt_deg(rec.pitch_deg, rec.roll_deg)))
             ups = rec.leg_up_s[rec.leg_up_s <= s + 1e-9]
             if len(ups) and leg > 0:
-                downs.append(float(ups[-1]) + LEG_PERIOD_S / 2 - s)
+                downs.append(float(ups[-1]) + PAPER_LEG_PERIOD_S / 2 - s)
         if not tilts:
             continue
         row = " | ".join(f"{v:+.1f}°" for v in np.median(tilts, axis=0))
         down = f"{np.median(downs):.2f} s" if downs else "–"
         lines.append(f"| {w:.0f}° | {leg:.0f}° | robot ({len(tilts)}) | {row} | {down} |")
-        for ms in sets:
-            act = ms.actuation(w, leg)
-            start = phase * act.leg_period_s
-            res = run_trial(
-                w, leg, phase=phase, cv=0.0, rng=0, robot=urdf, model_set=ms, trace=True, attempts=1,
-                duration_s=start + max(TIMES_S) + 0.05,
-            )  # fmt: skip
-            tr, s = res.trace, res.attempt_starts_s[0]
-            t = tr.t_s - s
-            row = " | ".join(f"{v:+.1f}°" for v in np.interp(ts, t, _tilt_deg(tr.pitch_deg, tr.roll_deg)))
+        for name in sets:
+            tr, starts = simulated_openings(w, leg, model_set=name, robot=urdf, seed=0, phase=phase)
+            t = tr.t_s - starts[0]
+            row = " | ".join(
+                f"{v:+.1f}°" for v in np.interp(ts, t, lateral_tilt_deg(tr.pitch_deg, tr.roll_deg))
+            )
             legd = np.asarray(tr.leg_deg)
             cross = np.flatnonzero((legd[:-1] > 0) & (legd[1:] <= 0) & (t[1:] > 0))
             down = f"{t[cross[0] + 1]:.2f} s" if len(cross) and leg > 0 else "–"
-            lines.append(f"| {w:.0f}° | {leg:.0f}° | {ms.name} | {row} | {down} |")
+            lines.append(f"| {w:.0f}° | {leg:.0f}° | {name} | {row} | {down} |")
     return "\n".join(lines)
 
 

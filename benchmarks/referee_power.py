@@ -61,6 +61,10 @@ def main(argv=None) -> int:
         cells = [(c.successes, c.n) for c in physical_cells(physical_trials(args.data))]
     except UsageError as exc:  # bad data: one line, as the landscape command does
         ap.exit(2, f"{ap.prog}: error: {exc}\n")
+    if not 1 <= args.need <= len(cells):
+        ap.exit(
+            2, f"{ap.prog}: error: --need must lie in 1..{len(cells)} (the robot's cells); got {args.need}\n"
+        )
     print(power_table(cells, trials, args.need))
     return 0
 

@@ -41,27 +41,29 @@ def main(argv=None) -> int:
     )
     ap.add_argument("--validation", default=None, help="a `landscape physical validate --out` directory")
     args = ap.parse_args(argv)
+    from landscape.analysis.physical import MAX_IMU_MOUNT_DEG
+
     try:
         mounts = [float(x) for x in args.mount.split(",")]
-        if not mounts or not all(math.isfinite(m) and abs(m) <= 45 for m in mounts):
+        if not mounts or not all(math.isfinite(m) and abs(m) <= MAX_IMU_MOUNT_DEG for m in mounts):
             raise ValueError
     except ValueError:
-        ap.exit(
-            2,
-            f"{ap.prog}: error: --mount must be angles in [-45, 45] degrees, e.g. 0,11.5; got {args.mount!r}\n",
-        )
+        ap.exit(2, f"{ap.prog}: error: --mount must be angles within ±{MAX_IMU_MOUNT_DEG:g} degrees, e.g. 0,11.5; "
+                f"got {args.mount!r}\n")  # fmt: skip
     sim = {}
     if args.validation is not None:
+        from landscape.analysis.validation import validation_from_json
+
         f = Path(args.validation) / "validation.json"
-        if not f.is_file():
+        try:
+            v = validation_from_json(json.loads(f.read_text()))
+        except (OSError, json.JSONDecodeError, UsageError) as exc:
             ap.exit(
                 2,
-                f"{ap.prog}: error: {f} not found; give the --out directory of `landscape physical validate`\n",
+                f"{ap.prog}: error: {f}: {exc}; give the --out directory of `landscape physical validate`\n",
             )
-        doc = json.loads(f.read_text())
-        sim = {(c["theta_w_cmd_deg"], c["theta_l_deg"]): (c["sim_ttr_median_s"], c["sim_k"], c["sim_n"])
-               for c in doc["cells"]}  # fmt: skip
-        sim["name"] = doc.get("model_set", "?")
+        sim = {(c.theta_w_cmd_deg, c.theta_l_deg): (c.sim_ttr_median_s, c.sim_k, c.sim_n) for c in v.cells}
+        sim["name"] = v.model_set or "?"
     try:
         print(frame_table(args.data, mounts, sim))
     except UsageError as exc:  # bad data: one line, as the landscape command does
@@ -93,7 +95,7 @@ def frame_table(data: str, mounts: list[float], sim: dict) -> str:
             row.append(f"{med} ({len(times)}/{len(trials)})")
         if sim:
             s = sim.get((w, leg))
-            row.append("–" if s is None or s[0] is None else f"{s[0]:.2f} s ({s[1]}/{s[2]})")
+            row.append("–" if s is None or not math.isfinite(s[0]) else f"{s[0]:.2f} s ({s[1]}/{s[2]})")
         lines.append(f"| {w:g}° | {leg:g}° | " + " | ".join(row) + " |")
     return "\n".join(lines)
 

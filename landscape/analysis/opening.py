@@ -370,13 +370,13 @@ def simulated_opening(
 ) -> OpeningResponse:
     """:func:`opening_response` of a simulated first opening (one attempt, ``SIM_OPENING_S`` after it starts;
     ``theta_w_deg`` is what the set simulates: the command for a measured profile, the wing angle otherwise)."""
-    tr, starts = _simulated_openings(
+    tr, starts = simulated_openings(
         theta_w_deg, theta_l_deg, model_set=model_set, robot=robot, seed=seed, phase=phase, cv=cv, attempts=1
     )
     return opening_response(tr.t_s, tr.pitch_deg, tr.roll_deg, starts[0])
 
 
-def _simulated_openings(theta_w_deg, theta_l_deg, *, model_set, robot, seed, phase, cv=0.0, attempts=1):
+def simulated_openings(theta_w_deg, theta_l_deg, *, model_set, robot, seed, phase, cv=0.0, attempts=1):
     """A traced simulated trial of ``attempts`` openings, the first at leg phase ``phase``, that ends
     ``SIM_OPENING_S`` after the last one starts (or once the body has righted): ``(trace, attempt starts)``."""
     from sim.model_set import load_model_set
@@ -731,7 +731,7 @@ def simulated_leans(
     """
     if attempts < 1:
         raise ValueError(f"attempts must be >= 1; got {attempts!r}")
-    tr, starts = _simulated_openings(
+    tr, starts = simulated_openings(
         theta_w_deg, theta_l_deg, model_set=model_set, robot=robot, seed=seed, phase=phase, attempts=attempts
     )
     if theta_l_deg > 0:

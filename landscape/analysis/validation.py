@@ -262,6 +262,7 @@ class Validation:
     log_likelihood: dict = field(default_factory=dict)
     robot_attempts: int | None = None
     late_rightings: tuple = ()
+    imu_mount_deg: float = 0.0
 
 
 CONSISTENT_P = 0.05
@@ -368,8 +369,9 @@ def compare(
     the later rightings are listed in ``late_rightings`` as (wing command, leg, opening). None: every recorded
     opening. The side of the roll-overs always counts every recorded righting.
     """
-    if robot_attempts is not None and (isinstance(robot_attempts, bool) or int(robot_attempts) != robot_attempts
-                                       or robot_attempts < 1):  # fmt: skip
+    if robot_attempts is not None and (
+        isinstance(robot_attempts, bool) or not isinstance(robot_attempts, int) or robot_attempts < 1
+    ):
         raise ValidationError(f"robot_attempts must be a whole number >= 1 (or None); got {robot_attempts!r}")
     late = []
     sets = {(r.get("model_set"), r.get("model_set_hash")) for r in rows}
@@ -502,7 +504,7 @@ def validate(
         phys, rows, chosen, plateaus, recorded, commanded=simulates_commands(model_set),
         robot_attempts=robot_attempts,
     )  # fmt: skip
-    return v, summary
+    return replace(v, imu_mount_deg=float(imu_mount_deg)), summary
 
 
 def validation_from_json(doc: dict) -> Validation:
@@ -534,6 +536,7 @@ def validation_from_json(doc: dict) -> Validation:
             dict(doc["log_likelihood"]),
             doc.get("robot_attempts"),
             tuple(tuple(x) for x in doc.get("late_rightings", ())),
+            float(doc.get("imu_mount_deg", 0.0)),
         )  # fmt: skip
     except (KeyError, TypeError) as exc:
         raise ValidationError(

@@ -310,7 +310,6 @@ def validate_cmd(
         "phase": phase,
         "cv": cv,
         "seed": seed,
-        "imu_mount_deg": imu_mounting,
         "store": str(db),
     }
     _report_validation(Path(out), v, {"validation.csv": list(v.cells)}, "validation.json", doc)

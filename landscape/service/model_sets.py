@@ -8,6 +8,8 @@ service never reads a model file named by a request: anything but a shipped name
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 from geometry.errors import UsageError
 
 _SHOWN_CHARS = 40
@@ -24,7 +26,7 @@ def shipped_model_set(model: str | None):
     """
     if model is None:
         return None
-    from sim.model_set import load_model_set, shipped_model_sets
+    from sim.model_set import shipped_model_sets
 
     names = shipped_model_sets()
     if model not in names:
@@ -33,7 +35,18 @@ def shipped_model_set(model: str | None):
             f"model must be a shipped model set ({', '.join(names)}); got {shown!r}: "
             "the service reads no model files"
         )
-    return load_model_set(model)
+    from sim.model_set import MODELS_DIR
+
+    return _load(model, (MODELS_DIR / f"{model}.toml").stat().st_mtime_ns)
+
+
+@lru_cache(maxsize=32)
+def _load(name: str, mtime_ns: int):
+    """The shipped set ``name`` as its file was at ``mtime_ns``: every request that names a set (its key, its
+    wing joints, its CoM) reads the file once, and an edited file is read again."""
+    from sim.model_set import load_model_set
+
+    return load_model_set(name)
 
 
 def model_set_list() -> list[dict]:

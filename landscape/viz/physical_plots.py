@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import math
 from collections.abc import Sequence
+from itertools import groupby
 from pathlib import Path
 
 import numpy as np
@@ -179,23 +180,25 @@ def hold_leans_markdown(cells: Sequence) -> str:
     return "\n".join(lines)
 
 
-def late_text(v) -> str:
-    """What ``--robot-attempts N`` left out: the robot's rightings after its first N openings."""
-    late = sorted(v.late_rightings)
-    where = "; ".join(
-        f"{w:g}°/{leg:g}° at opening {', '.join(str(a) for _, _, a in group)}"
-        for (w, leg), group in _group_cells(late)
-    )
-    return (
-        f"robot trials counted as righted within their first {v.robot_attempts} openings (--robot-attempts): "
-        + (f"{len(late)} later rightings left out ({where})" if late else "no later rightings")
-    )
-
-
-def _group_cells(late):
-    from itertools import groupby
-
-    return [(k, list(g)) for k, g in groupby(late, key=lambda x: (x[0], x[1]))]
+def robot_rule_text(v) -> str:
+    """How the robot's trials were judged when not as recorded: ``--robot-attempts N`` (the rightings after its
+    first N openings it left out) and ``--imu-mounting DEG``; '' when as recorded."""
+    parts = []
+    if v.robot_attempts is not None:
+        late = sorted(v.late_rightings)
+        where = "; ".join(
+            f"{w:g}°/{leg:g}° at opening {', '.join(str(a) for _, _, a in group)}"
+            for (w, leg), group in groupby(late, key=lambda x: (x[0], x[1]))
+        )
+        parts.append(
+            f"robot trials counted as righted within their first {v.robot_attempts} openings (--robot-attempts): "
+            + (f"{len(late)} later rightings left out ({where})" if late else "no later rightings")
+        )
+    if v.imu_mount_deg:
+        parts.append(
+            f"the robot judged upright in a body frame pitched {v.imu_mount_deg:g}° below its IMU's (--imu-mounting)"
+        )
+    return "; ".join(parts)
 
 
 def consistent_text(v) -> str:
@@ -259,11 +262,7 @@ def validation_markdown(v) -> str:
         lines.append("")
     k, n = v.agree_counts["all"]
     lines.append(f"all cells: {k} of {n} agree (log-likelihood {v.log_likelihood['all']:.2f})")
-    consistent = consistent_text(v)
-    if consistent:
-        lines.append(consistent)
-    if getattr(v, "robot_attempts", None) is not None:
-        lines.append(late_text(v))
+    lines += [t for t in (consistent_text(v), robot_rule_text(v)) if t]
     if v.attempts:
         lines += [
             "",

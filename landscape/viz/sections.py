@@ -960,7 +960,7 @@ def section_validation(
 
     from landscape.analysis import physical as ph
     from landscape.analysis.validation import validation_from_json
-    from landscape.viz.physical_plots import consistent_text, late_text, time_to_right_figure
+    from landscape.viz.physical_plots import consistent_text, robot_rule_text, time_to_right_figure
 
     title = "The simulation against the physical robot"
     docs = []
@@ -999,8 +999,7 @@ def section_validation(
             f"{v.log_likelihood['all']:.1f}. Per-attempt rates agreeing: "
             f"{sum(a.agree for a in v.attempts)} of {len(v.attempts)} wing commands. Righting to + roll: "
             f"simulated {side}, physical {s.phys_positive}/{s.phys_events}."
-            + (f" The {consistent_text(v)}." if consistent_text(v) else "")
-            + (f" The {late_text(v)}." if v.robot_attempts is not None else "")
+            + "".join(f" {t[0].upper()}{t[1:]}." for t in (consistent_text(v), robot_rule_text(v)) if t)
         )
         d = out / "validation" / f"{k}_{v.model_set}"
         cells = _write_csv(d / "cells.csv", [{c: getattr(x, c) for c in x.CSV_COLUMNS} for x in v.cells])

@@ -216,7 +216,9 @@ def test_validate_command_end_to_end_and_resumes(tmp_path, capsys):
     assert capsys.readouterr().err.count("\n") == 1
     assert main([*args, "--imu-mounting", "11.5"]) == 0  # the robot judged in a pitched body frame
     assert json.loads((tmp_path / "validation.json").read_text())["imu_mount_deg"] == 11.5
-    capsys.readouterr()
+    assert "the robot judged upright in a body frame pitched 11.5° below its IMU's (--imu-mounting)" in (
+        capsys.readouterr().out
+    )
     assert main([*args, "--imu-mounting", "60"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "IMU's mounting must lie within" in err
