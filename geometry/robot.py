@@ -10,7 +10,7 @@ import hashlib
 import io
 import logging
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cache, cached_property, lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -1087,15 +1087,62 @@ class Robot:
         )
         key = ",".join(f"{v:.17g}" for v in d)
         digest = hashlib.sha256(f"{self.description_hash}|com_offset_m={key}".encode()).hexdigest()[:16]
+        return self._variant(parts, self.joints, digest)
+
+    def with_joint_shift(self, joint: str, offset_m: ArrayLike) -> Robot:
+        """The same robot with one joint's origin moved by ``offset_m`` (m, in its parent link's frame): the
+        joint's child link and everything it carries move with it, geometry and mass alike. It stands for a part
+        the description places where the real one does not touch the ground, e.g. the lab robot's head
+        (``head_mount``; README, "The physical robot"). ``description_hash`` folds the shift in.
+
+        Raises
+        ------
+        UnknownJointError
+            If the robot has no joint of that name.
+        UsageError
+            If the offset is not three finite numbers.
+
+        Examples
+        --------
+        >>> from geometry.robots import load_robot
+        >>> robot = load_robot(None)
+        >>> moved = robot.with_joint_shift("head_mount", [-0.01, 0.0, 0.0])
+        >>> float(robot.pose(0, 0).com_m[0] - moved.pose(0, 0).com_m[0]) > 0, moved.robot_hash != robot.robot_hash
+        (True, True)
+        """
+        d = np.asarray(offset_m, dtype=np.float64)
+        if d.shape != (3,) or not np.all(np.isfinite(d)):
+            raise UsageError(f"a joint shift must be three finite numbers (m); got {offset_m!r}")
+        if joint not in self._joint_by_name:
+            names = ", ".join(sorted(self._joint_by_name)) or "none"
+            raise UnknownJointError(f"{self.name} has no joint {joint!r} to shift; its joints are {names}")
+        if not np.any(d):
+            return self
+        joints = []
+        for j in self.joints:
+            if j.name == joint:
+                origin = j.origin.copy()
+                origin[:3, 3] += d
+                j = replace(j, origin=origin)
+            joints.append(j)
+        key = ",".join(f"{v:.17g}" for v in d)
+        digest = hashlib.sha256(f"{self.description_hash}|shift {joint}={key}".encode()).hexdigest()[:16]
+        return self._variant(self.parts, tuple(joints), digest)
+
+    def _variant(
+        self, parts: tuple[Part, ...], joints: tuple[JointSpec, ...], description_hash: str
+    ) -> Robot:
+        """This robot with other parts or joints (a CoM offset, a joint shift) under a new description hash. The
+        yourdfpy model stays the file's."""
         return Robot(
             self.name,
             parts,
             urdf=self._urdf,
             joint_map=self.joint_map,
             source=self.source,
-            description_hash=digest,
+            description_hash=description_hash,
             urdf_file=self.urdf_file,
             element_vertices=self._element_vertices,
-            joints=self.joints,
+            joints=joints,
             base_link=self.base_link,
         )

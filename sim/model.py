@@ -32,7 +32,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import ConvexHull
 
 from geometry import JointMap, Robot
-from geometry.errors import RobotDescriptionError
+from geometry.errors import RobotDescriptionError, UnknownJointError
 from geometry.frames import rpy_from_matrix
 from geometry.urdf import origin_matrix, read_urdf
 
@@ -533,6 +533,30 @@ def shift_com(root: ET._Element, offset_m: ArrayLike) -> str:
     return str(base.get("name"))
 
 
+def shift_joint(root: ET._Element, joint: str, offset_m: ArrayLike) -> None:
+    """Move one joint's origin by ``offset_m`` (m, in its parent link's frame), in place, as
+    :meth:`geometry.Robot.with_joint_shift` does: its child link and everything below move with it.
+
+    Raises
+    ------
+    UnknownJointError
+        If the URDF has no joint of that name.
+
+    Examples
+    --------
+    >>> root = ET.fromstring('<robot name="r"><joint name="j" type="fixed"><origin xyz="0.05 0 0.008"/></joint></robot>')
+    >>> shift_joint(root, "j", [-0.018, 0.0, 0.0]); root.find("joint/origin").get("xyz")
+    '0.032000000000000001 0 0.0080000000000000002'
+    """
+    el = next((j for j in root.findall("joint") if j.get("name") == joint), None)
+    if el is None:
+        names = ", ".join(sorted(j.get("name") for j in root.findall("joint"))) or "none"
+        raise UnknownJointError(f"the robot has no joint {joint!r} to shift; its joints are {names}")
+    t = _origin(el)
+    t[:3, 3] += np.asarray(offset_m, dtype=np.float64)
+    _set_origin(el, t)
+
+
 def rest_pitch_deg(robot: Robot) -> float:
     """Pitch (degrees) of the lowest CoM at roll 0 near the upside-down pose, wings closed, leg centred.
 
@@ -558,10 +582,13 @@ def _build(
     body_torsion: bool = False,
     com_offset_m: tuple[float, float, float] = (0.0, 0.0, 0.0),
     leg_bend: bool = False,
+    joint_shift: tuple[str, tuple[float, float, float]] | None = None,
 ) -> SimModel:
     """The model (cached by the robot's description hash, so an edited URDF or mesh file is rebuilt)."""
     path = Path(path_str)
     robot = Robot.from_urdf(path, joint_map=joint_map)
+    # the set's variant (its rest pitch); the file's hashes stay the model's, as for a CoM offset
+    variant = robot.with_joint_shift(*joint_shift) if joint_shift is not None else robot
     if not robot.has_joints:
         raise RobotDescriptionError(
             f"'{path.name}' has none of the default wing/leg joints, so it would be a rigid body; the simulation "
@@ -590,6 +617,8 @@ def _build(
             counts[name] = (hull.n_full, len(hull.vertices))
             max_gap = max(max_gap, hull.gap * scale)
             mesh_el.set("filename", MESH_PLACEHOLDER.format(name=name))
+    if joint_shift is not None:
+        shift_joint(root, *joint_shift)
     rehung = add_body_torsion(root, robot.joint_map.wing) if body_torsion else []
     if leg_bend:
         if len(robot.joint_map.leg) != 1:
@@ -614,7 +643,7 @@ def _build(
         h.hexdigest()[:16],
         max_gap,
         counts,
-        rest_pitch_deg(robot.with_com_offset(com_offset_m)),
+        rest_pitch_deg(variant.with_com_offset(com_offset_m)),
         robot.theta_limits_deg(),
         path,
     )
@@ -639,6 +668,7 @@ def sim_model(
     body_torsion: bool = False,
     com_offset_m: ArrayLike = (0.0, 0.0, 0.0),
     leg_bend: bool = False,
+    joint_shift: tuple[str, ArrayLike] | None = None,
 ) -> SimModel:
     """The simulation model of a URDF robot (cached per process).
 
@@ -665,6 +695,8 @@ def sim_model(
     leg_bend : bool
         Let the leg bend out of its swing plane (:func:`add_leg_bend`; :class:`sim.compliance.LegBend` gives the
         spring).
+    joint_shift : (str, array_like of 3 floats), optional
+        Move one joint's origin (parent frame, m; :func:`shift_joint`), e.g. a model set's ``[geometry]``.
 
     Raises
     ------
@@ -686,4 +718,10 @@ def sim_model(
         bool(body_torsion),
         tuple(float(v) for v in np.asarray(com_offset_m, dtype=np.float64).reshape(3)),
         bool(leg_bend),
+        None
+        if joint_shift is None
+        else (
+            str(joint_shift[0]),
+            tuple(float(v) for v in np.asarray(joint_shift[1], dtype=np.float64).reshape(3)),
+        ),
     )

@@ -50,12 +50,24 @@ from .world import MAX_ROLLING_FRICTION, Contact
 MODELS_DIR = Path(__file__).resolve().parent / "models"
 DEFAULT_MODEL_SET = "paper"
 PROFILES = ("idealised", "measured")
-_OPTIONAL_TOP = {"description", "compliance", "body_torsion", "leg_compliance", "leg_bend", "mass"}
+_OPTIONAL_TOP = {
+    "description",
+    "compliance",
+    "body_torsion",
+    "leg_compliance",
+    "leg_bend",
+    "mass",
+    "geometry",
+}
 _TOP = {"name", "version", "actuation", "contact"} | _OPTIONAL_TOP
 _MASS = {"com_offset_y_mm"}
 MAX_COM_OFFSET_MM = 10.0
 """Largest ``[mass] com_offset_y_mm`` (either way), mm: a correction for mass the description misplaces, not a
 new robot."""
+_GEOMETRY = {"shift_joint", "shift_mm"}
+MAX_JOINT_SHIFT_MM = 30.0
+"""Largest ``[geometry] shift_mm`` component (either way), mm: a correction for a part the description places
+where the real one does not touch the ground, not a new robot."""
 _SPRING = {"stiffness_n_m_rad", "damping_n_m_s_rad"}
 _COMPLIANCE = {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad", "wing_integral_time_s", "wing_scale"}
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
@@ -82,6 +94,8 @@ OPTIONAL_KEYS = frozenset(
         "body_torsion.damping_n_m_s_rad",
         "actuation.wing_extra_deg",
         "mass.com_offset_y_mm",
+        "geometry.shift_joint",
+        "geometry.shift_mm",
         "leg_compliance.stiffness_n_m_rad",
         "leg_compliance.damping_n_m_s_rad",
         "leg_bend.stiffness_n_m_rad",
@@ -90,7 +104,8 @@ OPTIONAL_KEYS = frozenset(
 )
 """Dotted keys a set may omit (and a calibration candidate may add): rolling and spinning friction; the
 ``[compliance]``, ``[body_torsion]``, ``[leg_compliance]`` and ``[leg_bend]`` tables' (their stiffness is required
-once the table is there); the wing pose correction; and the ``[mass]`` table's CoM offset."""
+once the table is there); the wing pose correction; the ``[mass]`` table's CoM offset; and the ``[geometry]``
+table's joint shift (both of its keys once the table is there)."""
 _CONTACT = {
     "lateral_friction",
     "restitution",
@@ -144,6 +159,12 @@ class ModelSet:
         optional ``[mass]`` table: mass the robot's description lacks or misplaces (cables, glue, a tether).
         It applies to the simulation (:func:`sim.model.shift_com`) and to every landscape the set poses
         (:meth:`robot_for`); 0: the description's CoM.
+    joint_shift_mm : (str, (float, float, float)) or None
+        One joint's origin moved (mm, in its parent link's frame), from an optional ``[geometry]`` table
+        (``shift_joint``, ``shift_mm``): a part the description places where the real one does not touch the
+        ground, with everything it carries (e.g. ``physical-head``: the lab robot's head 18 mm further back). It
+        applies to the simulation (:func:`sim.model.shift_joint`) and to every landscape the set poses
+        (:meth:`robot_for`); None: the description's geometry.
     """
 
     name: str
@@ -163,15 +184,33 @@ class ModelSet:
     com_offset_y_mm: float = 0.0
     leg_compliance: LegCompliance | None = None
     leg_bend: LegBend | None = None
+    joint_shift_mm: tuple[str, tuple[float, float, float]] | None = None
 
     @property
     def com_offset_m(self) -> tuple[float, float, float]:
         """The set's CoM offset as a body-frame vector, m."""
         return (0.0, self.com_offset_y_mm * 1e-3, 0.0)
 
+    @property
+    def joint_shift_m(self) -> tuple[str, tuple[float, float, float]] | None:
+        """The set's joint shift as (joint, parent-frame vector in m), or None."""
+        if self.joint_shift_mm is None:
+            return None
+        name, mm = self.joint_shift_mm
+        return name, (mm[0] * 1e-3, mm[1] * 1e-3, mm[2] * 1e-3)
+
     def robot_for(self, robot):
-        """``robot`` as this set models it: its CoM moved by :attr:`com_offset_m`
-        (:meth:`geometry.Robot.with_com_offset`), or ``robot`` itself when the set moves nothing."""
+        """``robot`` as this set models it: one joint shifted by :attr:`joint_shift_m`
+        (:meth:`geometry.Robot.with_joint_shift`) and its CoM moved by :attr:`com_offset_m`
+        (:meth:`geometry.Robot.with_com_offset`), or ``robot`` itself when the set moves nothing.
+
+        Raises
+        ------
+        geometry.errors.UnknownJointError
+            If the set shifts a joint the robot lacks.
+        """
+        if self.joint_shift_m is not None:
+            robot = robot.with_joint_shift(*self.joint_shift_m)
         return robot.with_com_offset(self.com_offset_m) if self.com_offset_y_mm else robot
 
     def wing_joints_deg(self, joint_names, theta_w_deg: float) -> dict[str, float] | None:
@@ -244,8 +283,9 @@ class ModelSet:
             whether it holds each wing joint at its own measured plateau (True) or every wing joint at theta_w
             (False); ``wing_command_deg``: the wing commands it measured (theta_w must lie within them), degrees,
             or None; ``com_offset_y_mm``: how far it moves the CoM along the body's y axis, mm, and
-            ``moves_com``; ``elements``: the optional model elements it switches on, by table (``compliance``,
-            ``body_torsion``, ``leg_compliance``, ``leg_bend``, ``mass``).
+            ``moves_com``; ``joint_shift``: the joint it moves and how far (``{"joint": ..., "shift_mm": [x, y,
+            z]}``) or None; ``elements``: the optional model elements it switches on, by table (``compliance``,
+            ``body_torsion``, ``leg_compliance``, ``leg_bend``, ``mass``, ``geometry``).
 
         Examples
         --------
@@ -259,6 +299,7 @@ class ModelSet:
             "leg_compliance": self.leg_compliance,
             "leg_bend": self.leg_bend,
             "mass": self.com_offset_y_mm or None,
+            "geometry": self.joint_shift_mm,
         }
         return {
             "name": self.name,
@@ -273,6 +314,9 @@ class ModelSet:
             else [float(w) for w in self.measured.wing_command_deg],
             "com_offset_y_mm": float(self.com_offset_y_mm),
             "moves_com": bool(self.com_offset_y_mm),
+            "joint_shift": None
+            if self.joint_shift_mm is None
+            else {"joint": self.joint_shift_mm[0], "shift_mm": list(self.joint_shift_mm[1])},
             "elements": [k for k, v in present.items() if v is not None],
         }
 
@@ -283,7 +327,7 @@ def shipped_model_sets() -> list[str]:
     Examples
     --------
     >>> shipped_model_sets()
-    ['paper', 'physical', 'physical-offset', 'physical-posed']
+    ['paper', 'physical', 'physical-head', 'physical-offset', 'physical-posed']
     """
     return sorted(p.stem for p in MODELS_DIR.glob("*.toml"))
 
@@ -540,6 +584,10 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
                 f"got {com_offset_y_mm!r}"
             )
         canonical["mass"] = {"com_offset_y_mm": com_offset_y_mm}
+    joint_shift_mm = None
+    if "geometry" in data:  # enters the hash only when present, so the sets of before keep their hashes
+        joint_shift_mm = _joint_shift(data["geometry"], f"{where} [geometry]")
+        canonical["geometry"] = {"shift_joint": joint_shift_mm[0], "shift_mm": list(joint_shift_mm[1])}
     digest = hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()[:16]
     ms = ModelSet(
         data["name"],
@@ -555,6 +603,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         com_offset_y_mm=com_offset_y_mm,
         leg_compliance=leg,
         leg_bend=bend,
+        joint_shift_mm=joint_shift_mm,
         **timing,
     )
     try:
@@ -565,6 +614,23 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     except ValueError as exc:
         raise ModelSetError(f"{wa}: {exc}") from None
     return ms
+
+
+def _joint_shift(table, where: str) -> tuple[str, tuple[float, float, float]]:
+    """``[geometry]``: ``shift_joint`` (a joint's name) and ``shift_mm`` (three numbers, each within
+    ``MAX_JOINT_SHIFT_MM``)."""
+    geo = _check_keys(table, _GEOMETRY, _GEOMETRY, where)
+    name, v = geo["shift_joint"], geo["shift_mm"]
+    if not isinstance(name, str) or not name:
+        raise ModelSetError(f"{where}: shift_joint must be a joint's name; got {name!r}")
+    ok = isinstance(v, list) and len(v) == 3
+    ok = ok and all(not isinstance(x, bool) and isinstance(x, (int, float)) and math.isfinite(x) for x in v)
+    if not ok or max(abs(x) for x in v) > MAX_JOINT_SHIFT_MM:
+        raise ModelSetError(
+            f"{where}: shift_mm must be three numbers (x, y, z in the joint's parent frame, mm), each within "
+            f"±{MAX_JOINT_SHIFT_MM:g}; got {v!r}"
+        )
+    return name, (float(v[0]), float(v[1]), float(v[2]))
 
 
 def _knot_table(table, n_cmd: int, where: str, *, closed_ends: bool, period_s: float | None = None):

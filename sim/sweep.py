@@ -220,12 +220,12 @@ def sweep_specs(
         theta_w_deg, theta_l_deg, cv, phase, wing_period_s, leg_period_s, trials=trials, attempts=attempts
     )
     path = Path(robot) if robot is not None else default_robot_urdf()
-    model = sim_model(path, joint_map=joint_map)
-    joints = "" if joint_map is None or joint_map == JointMap() else joint_map.text()
-    _check_joint_ranges(grids, model.theta_limits_deg)
     from .model_set import MODELS_DIR, load_model_set
 
     ms = load_model_set(model_set)
+    model = sim_model(path, joint_map=joint_map, joint_shift=ms.joint_shift_m)  # refuses a joint it lacks
+    joints = "" if joint_map is None or joint_map == JointMap() else joint_map.text()
+    _check_joint_ranges(grids, model.theta_limits_deg)
     ms_ref = ms.name if Path(ms.source).parent == MODELS_DIR else str(Path(ms.source).resolve())
     robot_str = str(path.resolve())
     n_att = int(attempts)

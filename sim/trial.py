@@ -483,6 +483,7 @@ def run_trial(
         body_torsion=model_set.body_torsion is not None,
         com_offset_m=model_set.com_offset_m,
         leg_bend=model_set.leg_bend is not None,
+        joint_shift=model_set.joint_shift_m,
     )
     theta_w_deg, theta_l_deg, phase, cv = float(theta_w_deg), float(theta_l_deg), float(phase), float(cv)
     duration_s, dt_s = float(duration_s), float(default_dt_s(model.source) if dt_s is None else dt_s)

@@ -160,6 +160,14 @@ def compute(
         if wing_joints:
             joints = ", ".join(f"{k} {v:.2f}°" for k, v in wing_joints.items())
             click.echo(f"model set    {pose_model}: each wing servo at its measured plateau ({joints})")
+        if ms is not None and ms.joint_shift_mm is not None:
+            joint, mm = ms.joint_shift_mm
+            shift = ", ".join(f"{v:g}" for v in mm)
+            click.echo(f"model set    {pose_model}: joint {joint} moved by ({shift}) mm with what it carries")
+        if ms is not None and ms.com_offset_y_mm:
+            click.echo(
+                f"model set    {pose_model}: CoM moved {ms.com_offset_y_mm:+g} mm along the body's y axis"
+            )
         if out:
             click.echo(f"wrote        {out}/landscape.npz, landscape.csv, summary.json")
 

@@ -102,6 +102,28 @@ def hold_frames_markdown(rows: Sequence) -> str:
     return "\n".join(lines)
 
 
+def rest_mounting_markdown(frames: Sequence, mounting) -> str:
+    """The IMU's mounting measured from the robot's two rests (:class:`~landscape.analysis.opening.RestMounting`)
+    as one line, then a Markdown table of the first openings' hold (:class:`~landscape.analysis.opening.HoldFrame`
+    rows) in the body frame that mounting gives, beside the model's: issue #15's resting-pose check."""
+    m = mounting
+    lines = [
+        f"IMU mounting from the two rests ({m.n} righted trials; recorded on its back {m.recorded_back_deg:+.1f}°, "
+        f"upright {m.recorded_upright_deg:+.1f}°; model {m.model_back_deg:+.1f}°, {m.model_upright_deg:+.1f}°): "
+        f"{m.mount_deg:.1f}° [{m.mount_q25_deg:.1f}, {m.mount_q75_deg:.1f}]",
+        "",
+        "| wing command | robot, IMU frame | robot, body frame | model | model - robot |",
+        "|---|---|---|---|---|",
+    ]
+    for r in frames:
+        body = r.recorded_deg - m.mount_deg
+        lines.append(
+            f"| {r.theta_w_cmd_deg:g}° | {r.recorded_deg:.1f}° | {body:.1f}° | {r.model_deg:.1f}° | "
+            f"{r.model_deg - body:+.1f}° |"
+        )
+    return "\n".join(lines)
+
+
 def first_openings_markdown(openings: Sequence) -> str:
     """Markdown table of the recorded first openings per cell (:class:`~landscape.analysis.opening.RecordedOpening`):
     medians of the leg command's lead, the overshoot, the rise and the lateral tilt (with its range), the tilt when

@@ -1070,7 +1070,71 @@ def section_validation(
             )
         )
         tables += _opening_tables(out, data_dir, frames)
+        body_rows, mount = _body_frame_rows(data_dir, docs)
+        if mount is not None:
+            paras.append(
+                f"The IMU's mounting, measured from the two rests every righted trial records (on its back before "
+                f"the first opening, upright after righting; {mount.n} trials): {mount.mount_deg:.1f}° "
+                f"[{mount.mount_q25_deg:.1f}, {mount.mount_q75_deg:.1f}]. In the body frame it gives, each set's "
+                "hold (each wing servo at its own measured plateau) beside the robot's, first openings with the leg "
+                "still: "
+                + "; ".join(
+                    f"{r['model_set']} {r['wing_command_deg']:g}° {r['model_minus_robot_deg']:+.1f}°"
+                    for r in body_rows
+                )
+                + "."
+            )
+            tables.append(
+                Table(
+                    "Hold pitch of first openings (leg still) in the body frame (the IMU's reading minus the mounting "
+                    "the two rests measure), robot beside each model set",
+                    _write_csv(out / "validation" / "hold_body_frame.csv", body_rows),
+                )
+            )
     return Section("validation", title, tuple(paras), tuple(figures), tuple(tables))
+
+
+def _body_frame_rows(data_dir, docs: list[dict]):
+    """Per validated set (a shipped set, or a file set whose hash still matches) and wing command: the robot's
+    hold in the body frame the two rests give and the set's own hold (its robot as the set models it), and the
+    mounting (:class:`landscape.analysis.opening.RestMounting`; None when no validation names a robot)."""
+    from geometry.robots import load_robot
+    from landscape.analysis import opening as op
+    from landscape.minima import metastable_orientation
+    from sim.model_set import ModelSetError, load_model_set
+
+    rows, mount = [], None
+    for doc in docs:
+        if not doc.get("robot"):
+            continue
+        try:
+            ms = load_model_set(doc["model_set"])
+        except ModelSetError:
+            continue  # a file set given by path: its name alone does not find it again
+        if ms.model_set_hash != doc.get("model_set_hash"):
+            continue
+        robot = ms.robot_for(load_robot(doc["robot"]))
+        mount = op.mounting_from_rests(data_dir, robot) if mount is None else mount
+        commands = (60.0, 75.0, 90.0)
+        if ms.measured is not None:
+            hold = op.per_servo_hold_deg(robot, ms.measured, commands)
+        else:
+            hold = op.plateau_hold_deg(robot, data_dir, commands)
+        frames = op.hold_pitch_frames(data_dir, hold, metastable_orientation(robot, 0.0, 0.0)[0])
+        for f in frames:
+            body = f.recorded_deg - mount.mount_deg
+            rows.append(
+                {
+                    "model_set": ms.name,
+                    "wing_command_deg": f.theta_w_cmd_deg,
+                    "robot_imu_deg": f.recorded_deg,
+                    "imu_mount_deg": mount.mount_deg,
+                    "robot_body_deg": body,
+                    "model_deg": f.model_deg,
+                    "model_minus_robot_deg": f.model_deg - body,
+                }
+            )
+    return rows, mount
 
 
 def _opening_tables(out: Path, data_dir, frames: list[dict]) -> list[Table]:

@@ -83,6 +83,16 @@ def test_report_with_validation_adds_the_simulated_against_physical_section(caps
         frames = list(csv.DictReader(f))
     assert [float(r["theta_w_cmd_deg"]) for r in frames] == [60.0, 75.0, 90.0]
     assert {r["robot"] for r in frames} == {"builtin_robot"} and all(r["n"] == "5" for r in frames)
+    with open(out / "validation" / "hold_body_frame.csv", newline="") as f:
+        body = list(csv.DictReader(f))
+    assert [(r["model_set"], float(r["wing_command_deg"])) for r in body] == [
+        ("paper", w) for w in (60, 75, 90)
+    ]
+    for r in body:
+        assert float(r["robot_body_deg"]) == pytest.approx(
+            float(r["robot_imu_deg"]) - float(r["imu_mount_deg"])
+        )
+    assert "measured from the two rests every righted trial records" in html and "paper 60° " in html
     with open(out / "validation" / "first_openings.csv", newline="") as f:
         first = list(csv.DictReader(f))
     assert len(first) == 60 and {r["leg_lead_s"] for r in first if float(r["leg_deg"]) == 0} == {"nan"}

@@ -37,7 +37,7 @@ def test_the_route_lists_the_shipped_sets_as_the_library_reads_them(client):
     assert (
         [m["name"] for m in got]
         == shipped_model_sets()
-        == ["paper", "physical", "physical-offset", "physical-posed"]
+        == ["paper", "physical", "physical-head", "physical-offset", "physical-posed"]
     )
     for m in got:
         ms = load_model_set(m["name"])
@@ -50,9 +50,16 @@ def test_the_route_lists_the_shipped_sets_as_the_library_reads_them(client):
         assert m["label"] == ms.label == f"{ms.name} v{ms.version} ({ms.model_set_hash})"
         assert m["com_offset_y_mm"] == ms.com_offset_y_mm and m["moves_com"] == (ms.com_offset_y_mm != 0)
     by = {m["name"]: m for m in got}
-    assert [n for n, m in by.items() if m["poses_wings"]] == ["physical", "physical-offset", "physical-posed"]
+    assert [n for n, m in by.items() if m["poses_wings"]] == [
+        "physical",
+        "physical-head",
+        "physical-offset",
+        "physical-posed",
+    ]
     assert [n for n, m in by.items() if m["moves_com"]] == ["physical-offset"]
     assert by["physical-offset"]["com_offset_y_mm"] == -1.5
+    assert [n for n, m in by.items() if m["joint_shift"]] == ["physical-head"]
+    assert by["physical-head"]["joint_shift"] == {"joint": "head_mount", "shift_mm": [-17.0, 0.0, 0.0]}
     assert by["paper"]["wing_command_deg"] is None and by["physical"]["wing_command_deg"] == [
         60.0,
         75.0,
@@ -147,7 +154,10 @@ def test_paper_landscape_equals_no_model(client, capsys):
 @pytest.mark.parametrize("url", ["/api/landscape", "/api/barrier-map", "/api/robot-pose"])
 def test_only_a_shipped_set_name_is_taken(client, url, model):
     r = client.get(url, params={"theta_w": "75", "theta_l": "0", "model": model})
-    _refused(r, "model must be a shipped model set (paper, physical, physical-offset, physical-posed)")
+    _refused(
+        r,
+        "model must be a shipped model set (paper, physical, physical-head, physical-offset, physical-posed)",
+    )
 
 
 @pytest.mark.parametrize("url", ["/api/landscape", "/api/barrier-map", "/api/robot-pose"])
@@ -220,5 +230,8 @@ def test_a_physical_sweep_stores_trials_of_the_set(client):
 @pytest.mark.parametrize("model", [*BAD_NAMES, None, 1])
 def test_a_sweep_takes_only_a_shipped_set_name(client, model):
     r = client.post("/api/sweeps", json={**TINY, "model": model})
-    _refused(r, "model must be a shipped model set (paper, physical, physical-offset, physical-posed)")
+    _refused(
+        r,
+        "model must be a shipped model set (paper, physical, physical-head, physical-offset, physical-posed)",
+    )
     assert client.get("/api/sweeps").json() == []

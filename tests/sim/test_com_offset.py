@@ -2,8 +2,6 @@
 (geometry.Robot.with_com_offset) and in the simulation (sim.model.shift_com); the table refused in one line when
 wrong; the hash; and a one-sided barrier."""
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -13,14 +11,9 @@ from landscape.computation import compute
 from sim.model import sim_model
 from sim.model_set import ModelSetError, load_model_set
 from sim.world import World
+from tests.conftest import set_with_table
 
 OFFSET_M = np.array([0.0, -2e-3, 0.0])
-
-
-def _with_mass(tmp_path, table: str, base: str = "physical") -> Path:
-    f = tmp_path / "m.toml"
-    f.write_text(Path(load_model_set(base).source).read_text() + "\n[mass]\n" + table)
-    return f
 
 
 def test_the_landscape_robot_moves_its_com_and_nothing_else():
@@ -51,7 +44,7 @@ def test_the_simulated_com_moves_as_the_landscape_one():
 
 
 def test_the_mass_table(tmp_path):
-    ms = load_model_set(_with_mass(tmp_path, "com_offset_y_mm = -1.5\n"))
+    ms = load_model_set(set_with_table(tmp_path, "mass", "com_offset_y_mm = -1.5\n", base="physical"))
     phys = load_model_set("physical")
     assert ms.com_offset_y_mm == -1.5 and ms.com_offset_m == (0.0, -1.5e-3, 0.0)
     assert phys.com_offset_y_mm == 0.0 and ms.model_set_hash != phys.model_set_hash
@@ -65,7 +58,7 @@ def test_the_mass_table(tmp_path):
         ("", r"\[mass\]: missing key 'com_offset_y_mm'"),
     ):
         with pytest.raises(ModelSetError, match=match):
-            load_model_set(_with_mass(tmp_path, table))
+            load_model_set(set_with_table(tmp_path, "mass", table, base="physical"))
 
 
 def test_an_offset_lowers_the_barrier_on_one_side():

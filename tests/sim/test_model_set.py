@@ -22,6 +22,7 @@ def test_the_paper_set_holds_the_defaults_of_before():
     assert ms.name == "paper" and shipped_model_sets() == [
         "paper",
         "physical",
+        "physical-head",
         "physical-offset",
         "physical-posed",
     ]
@@ -78,7 +79,8 @@ def test_a_bad_set_is_refused_in_one_line(tmp_path, edit, match):
 
 def test_an_unknown_name_says_what_exists():
     with pytest.raises(
-        ModelSetError, match="unknown model set 'papr'.*paper, physical, physical-offset, physical-posed"
+        ModelSetError,
+        match="unknown model set 'papr'.*paper, physical, physical-head, physical-offset, physical-posed",
     ):
         load_model_set("papr")
     with pytest.raises(ModelSetError, match="not found"):

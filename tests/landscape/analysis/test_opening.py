@@ -204,7 +204,49 @@ def test_kinematics_command_prints_both_frames_the_support_and_the_first_opening
     # the lean table: to +roll with the leg on + only, and the roll-overs leave the hold before the wings close
     assert "| 60° | 30° | +7.8° (3) | -1.0° (7) | 0.81 s (6/8) |" in out
     assert "| 90° | 45° | – (0) | – (0) | 0.28 s (5/5) |" in out
+    # the body frame from the mounting the two rests measure: the CAD holds 8-10 deg short of the robot
+    assert "IMU mounting from the two rests (37 righted trials;" in out and "): 2.6° [1.8, 3.8]" in out
+    assert "| 60° | 68.1° | 65.5° | 57.6° | -7.9° |" in out
     assert main(args[:-2] + ["--model", "nosuchset"]) == 2
+    # the set that rests where the robot rests: its head 17 mm further back
+    assert main(args[:-2] + ["--model", "physical-head"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    at = next(i for i, ln in enumerate(lines) if ln.startswith("IMU mounting from the two rests"))
+    body = lines[at + 4 : at + 7]  # the line, a blank, the header and its rule, then one row per command
+    errors = [float(ln.split("|")[5].strip().rstrip("°")) for ln in body]
+    assert [ln.split("|")[1].strip() for ln in body] == ["60°", "75°", "90°"]
+    assert max(abs(e) for e in errors) <= 0.5, body
+
+
+def test_the_mounting_algebra_recovers_a_pitched_imu():
+    """An IMU pitched d about the body's y axis reads the body's pitch + d on its back and - d upright (rolled
+    half a turn), so half the difference of the two rests' differences, recorded minus model, is d."""
+    from scipy.spatial.transform import Rotation
+
+    from landscape.analysis.physical import pitch_roll_from_quat_deg
+
+    imu = Rotation.from_euler("y", 7.0, degrees=True)
+    back = Rotation.from_euler("ZYX", [20.0, -6.0, 0.0], degrees=True)  # body pitch -6 on its back
+    upright = Rotation.from_euler("ZYX", [-40.0, 1.5, 180.0], degrees=True)  # body pitch 1.5 upright
+    rec = [pitch_roll_from_quat_deg([(r * imu).as_quat()])[0][0] for r in (back, upright)]
+    assert rec[0] == pytest.approx(1.0) and rec[1] == pytest.approx(-5.5)
+    assert op.rest_mounting_deg(rec[0], rec[1], -6.0, 1.5) == pytest.approx(7.0)
+    assert op.nose_pitch_deg(-174.0, -180.0) == pytest.approx(-6.0)
+
+
+@needs_data
+@pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
+def test_the_two_rests_measure_a_small_mounting():
+    """37 righted trials give both rests; their mounting (median 2.6 deg) is far from the 11.5 deg the open hold
+    would need, and the head, which neither closed rest touches, does not move it."""
+    from geometry.robots import load_robot
+
+    robot = load_robot(LAB_URDF)
+    m = op.mounting_from_rests(DATA, robot)
+    assert m.n == 37 and 1.5 < m.mount_q25_deg < m.mount_deg < m.mount_q75_deg < 4.5
+    assert m.model_back_deg == pytest.approx(-6.34, abs=0.05) and abs(m.model_upright_deg) < 1.0
+    moved = op.mounting_from_rests(DATA, robot.with_joint_shift("head_mount", [-0.017, 0.0, 0.0]))
+    assert moved.mount_deg == pytest.approx(m.mount_deg, abs=0.1)
 
 
 @needs_data
