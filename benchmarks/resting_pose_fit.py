@@ -8,10 +8,11 @@ model's hold at the three wing commands (each wing servo at its own measured pla
 error against the robot's and the minimal (righting) barrier at each command (``landscape compute``'s exact
 method). Candidates: the head moved back along the body (``[geometry] shift_joint = "head_mount"``, mm) crossed
 with every wing servo opened further than its measured plateau (degrees: ``[actuation] wing_extra_deg`` as one
-constant); and the shipped sets as they pose the robot.
+constant; ``--extra-on pitch`` or ``roll`` opens only those servos); and the shipped sets as they pose the robot.
 
 Run:  PYTHONPATH=. .venv/bin/python benchmarks/resting_pose_fit.py [--data DIR] [--robot URDF]
-      [--head 0,-5,-10,-15,-17] [--extra 0,4,8] [--models physical,physical-posed,physical-offset,physical-head]
+      [--head 0,-5,-10,-15,-17] [--extra 0,4,8] [--extra-on all|pitch|roll]
+      [--models physical,physical-posed,physical-offset,physical-head]
 """
 
 from __future__ import annotations
@@ -67,6 +68,12 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--extra", default="0,4,8", help="wing servo angles past the measured plateau, deg, a list"
     )
+    ap.add_argument(
+        "--extra-on",
+        choices=("all", "pitch", "roll"),
+        default="all",
+        help="which wing servos --extra opens further (the joint map's first two are the pitch servos)",
+    )
     ap.add_argument("--models", default="physical,physical-posed,physical-offset,physical-head")
     a = ap.parse_args(argv)
     try:
@@ -121,14 +128,22 @@ def main(argv=None) -> int:
         joints = {c: ms.wing_joints_deg(r.joint_map.wing, c) for c in COMMANDS}
         extra = "0°" if ms.measured.wing_knots_deg == measured.wing_knots_deg else "the set's"
         row(ms.name, shift, extra, r, joints)
+    on = {"all": [1, 1, 1, 1], "pitch": [1, 1, 0, 0], "roll": [0, 0, 1, 1]}[a.extra_on]
     for h in heads:
         r = base.with_joint_shift("head_mount", [h * 1e-3, 0.0, 0.0])
         for e in extras:
             joints = {
-                c: dict(zip(r.joint_map.wing, (measured.wing_plateaus_deg(c) + e).tolist(), strict=True))
+                c: dict(
+                    zip(
+                        r.joint_map.wing,
+                        (measured.wing_plateaus_deg(c) + e * np.array(on)).tolist(),
+                        strict=True,
+                    )
+                )
                 for c in COMMANDS
             }
-            row("candidate", f"{h:g} mm", f"{e:g}°", r, joints)
+            label = f"{e:g}°" if a.extra_on == "all" else f"{e:g}° ({a.extra_on})"
+            row("candidate", f"{h:g} mm", label, r, joints)
     if fits:
         b60 = [f[3][0] for f in fits]
         print(

@@ -24,6 +24,24 @@ def test_the_head_fits_every_hold_and_the_wing_extra_does_not(bench, capsys):
     assert "| physical-head | -17 mm | 0° | +0.3° / -0.1° / -0.1° | 0.3° | 28.4 / 7.5 / 1.9 |" in out
     assert "| candidate | 0 mm | 10° | -0.7° / -2.5° / -4.1° | 4.1° | 14.6 / 2.7 / 0.0 |" in out
     assert "rows within 1.5° of the robot at every command: 1; their barrier at 60°: 28.4-28.4 mJ" in out
+    # the pitch servos alone opened further raise the hold about evenly too
+    pitch = [
+        "--data",
+        str(DATA),
+        "--robot",
+        str(LAB_URDF),
+        "--head",
+        "-5",
+        "--extra",
+        "12",
+        "--extra-on",
+        "pitch",
+    ]
+    assert bench.main([*pitch, "--models", "physical"]) == 0
+    assert (
+        "| candidate | -5 mm | 12° (pitch) | -0.8° / -0.5° / -0.1° | 0.8° | 24.1 / 6.0 / 1.5 |"
+        in capsys.readouterr().out
+    )
     assert bench.main([*argv, "--models", "paper"]) == 2
     assert "give measured sets" in capsys.readouterr().err
     assert bench.main([*argv[:-2], "--extra", "x"]) == 2

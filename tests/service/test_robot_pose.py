@@ -234,3 +234,25 @@ def test_a_rigid_robot_takes_an_idealised_set_but_not_a_measured_one(client):
         r.status_code == 422
         and "measures 4 wing servos, but the robot drives 0 wing joints" in r.json()["detail"]
     )
+
+
+def test_the_head_set_moves_the_head_by_its_shift(client):
+    """physical-head holds the wings where physical does and moves the head 17 mm back: against physical at the
+    same orientation, the head's vertices move by that shift (turned into the world) more than the rest, which
+    move as one (the body is placed on the ground with its CoM above the origin)."""
+    from geometry.frames import body_to_world
+    from geometry.robots import load_robot
+
+    links = [p.link for p in load_robot(None).parts if len(p.hull_link_m)]
+    q = {"theta_w": 60, "theta_l": 10, "pitch": 20, "roll": 150}
+    plain = client.get("/api/robot-pose", params={**q, "model": "physical"}).json()
+    moved = client.get("/api/robot-pose", params={**q, "model": "physical-head"}).json()
+    assert moved["wing_joints_deg"] == plain["wing_joints_deg"] and moved["model_set"] == "physical-head"
+    d = _displacements(plain, moved)
+    rest = [x for link, x in zip(links, d, strict=True) if link != "head"]
+    common = rest[0][0]
+    for x in rest:
+        assert x == pytest.approx(np.broadcast_to(common, x.shape), abs=2e-7)
+    shift = body_to_world(np.deg2rad(20.0), np.deg2rad(150.0)) @ np.array([-0.017, 0.0, 0.0])
+    head = d[links.index("head")]
+    assert head - common == pytest.approx(np.broadcast_to(shift, head.shape), abs=2e-7)
