@@ -55,6 +55,7 @@ from landscape.analysis.physical import (
     measured_plateaus_deg,
     read_recording,
     trial_files,
+    trial_outcome,
     upright_stretches,
 )
 
@@ -1036,7 +1037,6 @@ def mounting_from_rests(data_dir: str | Path, robot) -> RestMounting:
     PhysicalDataError
         If no righted trial has both rests.
     """
-    from landscape.analysis.physical import trial_outcome
     from landscape.minima import metastable_orientation
 
     model_back = nose_pitch_deg(*metastable_orientation(robot, 0.0, 0.0))
