@@ -266,6 +266,34 @@ def _leg_trace(data: dict, amp: int):
     return np.mod(t[keep] - t_up[0], LEG_PERIOD_S), y[keep]
 
 
+def leg_crossing_lag_s(mat_path: str | Path) -> dict[float, float]:
+    """How long after its command changes side the measured leg crosses the midline, per leg amplitude command,
+    s: the median over every midline crossing of its time modulo half the period. The recording starts as a
+    command does (the leg at rest at 0 deg, ``tVib`` = 0) and the command changes side every half period.
+
+    Raises
+    ------
+    MeasuredDataError
+        If the file is missing or a trace crosses the midline fewer than four times.
+    """
+    data = _loadmat(mat_path)
+    out = {}
+    for amp in LEG_COMMANDS_DEG:
+        name = f"Vib{int(amp)}"
+        if "tVib" not in data or name not in data:
+            raise MeasuredDataError(f"vib_pulse_v2.mat has no {'tVib' if 'tVib' not in data else name!r}")
+        t = np.asarray(data["tVib"], dtype=np.float64).ravel()
+        y = np.asarray(data[name], dtype=np.float64).ravel()
+        i = np.flatnonzero(np.sign(y[:-1]) * np.sign(y[1:]) < 0)
+        if len(i) < 4:
+            raise MeasuredDataError(
+                f"vib_pulse_v2.mat: {name} crosses 0 {len(i)} times; not a leg oscillation"
+            )
+        t_cross = t[i] - y[i] * (t[i + 1] - t[i]) / (y[i + 1] - y[i])
+        out[float(amp)] = float(np.median(np.mod(t_cross, LEG_PERIOD_S / 2)))
+    return out
+
+
 def _leg_init(tau, y):
     """Initial knot times: around the upward crossing (t = 0) and the downward one, and along each side."""
     order = np.argsort(tau)

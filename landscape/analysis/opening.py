@@ -72,8 +72,9 @@ ROLLED_TILT_DEG = 45.0
 CLOSING_WINDOW_S = (0.95, 1.05)
 """Window after an opening's start, just before the wings start closing, in which the tilt at closing is read, s."""
 PROTOCOL_PHASE = 0.17
-"""The first attempt's leg phase under the lab's protocol (``landscape physical kinematics``: the leg's midline
-crossing about 0.13 s before the first opening, phi_1 about 0.16, IQR 0.14-0.17)."""
+"""The first attempt's leg phase under the lab's protocol, one number (``landscape physical kinematics``: the leg's
+midline crossing about 0.13 s before the first opening, phi_1 about 0.16, IQR 0.14-0.17); per leg amplitude
+:func:`protocol_phases` gives 0.195, 0.166 and 0.129 at 15, 30 and 45 deg."""
 OPENING_SD_FLOOR_DEG = 1.0
 """Smallest spread of a recorded measure in :func:`opening_log_likelihood`, degrees: five trials can agree more
 closely than the model can be asked to."""
@@ -358,6 +359,34 @@ def _fastest_roll_before_s(t, roll_deg) -> float:
     ts, rs = t[sel], np.asarray(roll_deg, dtype=np.float64)[sel]
     i = int(np.argmax(np.abs(np.diff(rs) / np.diff(ts))))
     return float(-(ts[i] + ts[i + 1]) / 2)
+
+
+def protocol_phases(data_dir: str | Path) -> dict[tuple[float, float], float]:
+    """The first attempt's leg phase under the lab's protocol, per recorded cell with the leg moving:
+    ``(lead - lag) / period``, where ``lead`` is the cell's median time from the leg command's last rise to the
+    first opening (servo log) and ``lag`` how long the measured leg takes from its command to the midline at
+    that amplitude (:func:`landscape.analysis.measured.leg_crossing_lag_s`, ``vib_pulse_v2.mat``): the leg's
+    upward crossing precedes the opening by ``lead - lag``, as the simulation's phase counts (rounded to 1e-6,
+    so that a store keyed by phase resumes).
+
+    Raises
+    ------
+    PhysicalDataError
+        If no recorded first opening has the leg moving.
+    """
+    from landscape.analysis.measured import LEG_PERIOD_S, leg_crossing_lag_s
+
+    lag = leg_crossing_lag_s(Path(data_dir) / "vib_pulse_v2.mat")
+    leads: dict[tuple[float, float], list[float]] = defaultdict(list)
+    for o in recorded_first_openings(data_dir):
+        if o.theta_l_deg > 0 and np.isfinite(o.leg_lead_s):
+            leads[(o.theta_w_cmd_deg, o.theta_l_deg)].append(o.leg_lead_s)
+    if not leads:
+        raise PhysicalDataError(f"no first opening with the leg moving in '{data_dir}'")
+    return {
+        cell: round(float(np.mod((np.median(v) - lag[cell[1]]) / LEG_PERIOD_S, 1.0)), 6)
+        for cell, v in sorted(leads.items())
+    }
 
 
 def simulated_opening(

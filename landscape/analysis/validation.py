@@ -25,7 +25,7 @@ Cells with leg amplitude 15° or 45° are the *held-out* cells of issue #15's ca
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -120,11 +120,12 @@ def validation_specs(
     duration_s: float | None = None,
     dt_s: float | None = None,
     joint_map=None,
-    phase: float | None = None,
+    phase: float | Mapping[tuple[float, float], float] | None = None,
 ):
     """The simulated trials of the cells: ``trials`` random phases each (or ``trials`` seeds at the one first-attempt
-    ``phase`` in [0, 1)), at the cell's measured plateau (or at its command for a set with a measured actuation
-    profile, :func:`simulates_commands`).
+    ``phase`` in [0, 1), or at each cell's own phase from a mapping ``{(wing command, leg): phase}``, cells it lacks,
+    e.g. the leg still, at ``landscape.analysis.opening.PROTOCOL_PHASE``), at the cell's measured plateau (or at its
+    command for a set with a measured actuation profile, :func:`simulates_commands`).
 
     Returns a list of :class:`sim.sweep.TrialSpec` for :func:`sim.sweep.run_sweep`.
     """
@@ -135,17 +136,25 @@ def validation_specs(
         raise ValidationError(f"--trials must be at least 1; got {trials}")
     if not cells:
         raise ValidationError("no cells to simulate; give --cells WING:LEG,... from the recorded cells")
-    if phase is not None and not (np.isfinite(phase) and 0.0 <= phase < 1.0):
-        raise ValidationError(f"--phase must be a first-attempt phase in [0, 1); got {phase!r}")
+    if isinstance(phase, Mapping):
+        from landscape.analysis.opening import PROTOCOL_PHASE
+
+        per_cell = {(float(w), float(leg)): float(p) for (w, leg), p in phase.items()}
+        phases = {c: per_cell.get((float(c[0]), float(c[1])), PROTOCOL_PHASE) for c in cells}
+    else:
+        phases = {c: phase for c in cells}
+    for p in set(phases.values()) - {None}:
+        if not (np.isfinite(p) and 0.0 <= p < 1.0):
+            raise ValidationError(f"--phase must be a first-attempt phase in [0, 1); got {p!r}")
     specs = []
     commanded = simulates_commands(model_set)
     for w, leg in cells:
-        fixed = phase is not None
+        fixed = phases[(w, leg)] is not None
         specs += sweep_specs(
             [w if commanded else plateaus_deg.get(w, w)],
             [leg],
             [cv],
-            phase=[float(phase)] if fixed else cell_phases(w, leg, trials, seed),
+            phase=[float(phases[(w, leg)])] if fixed else cell_phases(w, leg, trials, seed),
             trials=int(trials) if fixed else 1,
             duration_s=DEFAULT_DURATION_S if duration_s is None else duration_s,
             dt_s=dt_s,
@@ -468,12 +477,14 @@ def validate(
     workers: int | None = None,
     scheduler: str | None = None,
     progress: bool = True,
-    phase: float | None = None,
+    phase: float | str | Mapping[tuple[float, float], float] | None = None,
     robot_attempts: int | None = None,
     imu_mount_deg: float = 0.0,
 ) -> tuple[Validation, object]:
     """Simulate the physical cells with a model set (resuming ``db``) and compare: ``(Validation, SweepSummary)``.
-    ``phase``: every trial's first attempt at this phase (None: random phases, :func:`validation_specs`).
+    ``phase``: every trial's first attempt at this phase, or at each cell's (a mapping, or ``"protocol"``: the lab
+    protocol's phase of each cell, :func:`landscape.analysis.opening.protocol_phases`); None: random phases
+    (:func:`validation_specs`).
     ``robot_attempts``: count the robot's rightings within its first that many openings only (:func:`compare`).
     ``imu_mount_deg``: judge the robot's uprightness in a body frame pitched that much below its IMU's
     (:func:`landscape.analysis.physical.physical_trials`).
@@ -492,6 +503,12 @@ def validate(
     plateaus = measured_plateaus_deg(data_dir)
     available = {(t.theta_w_cmd_deg, t.theta_l_deg) for t in phys}
     chosen = parse_cells(cells, available) if cells is None or isinstance(cells, str) else list(cells)
+    if isinstance(phase, str):
+        if phase != "protocol":
+            raise ValidationError(f"--phase must be a number in [0, 1) or 'protocol'; got {phase!r}")
+        from landscape.analysis.opening import protocol_phases
+
+        phase = protocol_phases(data_dir)
     specs = validation_specs(
         chosen, plateaus, trials=trials, cv=cv, seed=seed, robot=robot, model_set=model_set,
         duration_s=duration_s, dt_s=dt_s, joint_map=joint_map, phase=phase,

@@ -137,6 +137,17 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
         "recorded tilt strays from the tilt the gyro alone gives, -0.3 to 1.05 s (medians)"
     )
     click.echo(first_openings_markdown(op.recorded_first_openings(data)))
+    from landscape.analysis.measured import leg_crossing_lag_s
+
+    lag = leg_crossing_lag_s(Path(data) / "vib_pulse_v2.mat")
+    phases = sorted({(leg, round(p, 3)) for (_, leg), p in op.protocol_phases(data).items()})
+    click.echo(
+        "the first attempt's leg phase under the protocol (validate --phase protocol): "
+        + ", ".join(f"leg {leg:g}° {p:.3f}" for leg, p in phases)
+        + " (the leg command's lead above minus the measured leg's lag from its command to the midline, "
+        + ", ".join(f"{lag[leg]:.3f} s" for leg, _ in phases)
+        + " (vib_pulse_v2.mat), over its 0.8 s period)"
+    )
     click.echo(
         "\nevery opening until the robot first rights, leg moving: the held body's median lateral tilt in each window "
         "with the leg settled on one side (0.2 s after it gets there, 0.4-1.0 s after the opening starts; "
@@ -215,10 +226,12 @@ def _report_validation(out: Path, validation, tables: dict, doc_name: str, doc: 
 )
 @click.option(
     "--phase",
-    type=float,
+    type=str,
     default=None,
-    help="Every trial's first attempt at this phase phi_1 in [0, 1): the lab's protocol starts the leg at a "
-    "fixed time before the first opening (landscape physical kinematics) [default: a random phase per trial].",
+    help="Every trial's first attempt at this phase phi_1 in [0, 1), or 'protocol': each cell at the phase the "
+    "lab's protocol gives it (the leg command's lead before the first opening, servo log, minus the measured "
+    "leg's lag to the midline at its amplitude, vib_pulse_v2.mat; landscape physical kinematics) [default: a "
+    "random phase per trial].",
 )
 @validation_cv_option
 @validation_seed_option
@@ -285,6 +298,7 @@ def validate_cmd(
     from sim.model_set import load_model_set
 
     writable_dir(out, "--out")
+    phase = _phase_arg(phase, data)
     ms = load_model_set(model_set)
     Path(out).mkdir(parents=True, exist_ok=True)
     db = Path(out) / f"trials_{ms.name}_{ms.model_set_hash}.sqlite"
@@ -314,12 +328,37 @@ def validate_cmd(
     doc = asdict(v) | {
         "robot": str(robot_urdf(robot)),
         "trials": trials,
-        "phase": phase,
+        "phase": "protocol" if isinstance(phase, dict) else phase,
+        "cell_phases": {f"{w:g}:{leg:g}": p for (w, leg), p in phase.items()}
+        if isinstance(phase, dict)
+        else None,
         "cv": cv,
         "seed": seed,
         "store": str(db),
     }
     _report_validation(Path(out), v, {"validation.csv": list(v.cells)}, "validation.json", doc)
+
+
+def _phase_arg(text: str | None, data):
+    """``--phase``: None, a number in [0, 1), or ``protocol`` (each cell's phase under the lab's protocol,
+    :func:`landscape.analysis.opening.protocol_phases`, printed as it is used)."""
+    if text is None:
+        return None
+    if text.strip().lower() == "protocol":
+        from landscape.analysis.opening import protocol_phases
+
+        phases = protocol_phases(data)
+        shown = sorted({(leg, round(p, 3)) for (_, leg), p in phases.items()})
+        click.echo(
+            "first-attempt phases by the protocol: " + ", ".join(f"leg {leg:g}° {p:.3f}" for leg, p in shown)
+        )
+        return phases
+    try:
+        return float(text)
+    except ValueError:
+        raise click.BadParameter(
+            f"give a phase in [0, 1) or 'protocol'; got {text!r}", param_hint="--phase"
+        ) from None
 
 
 @physical.command("calibrate")

@@ -992,6 +992,8 @@ def section_validation(
             + (
                 "random first-attempt phases"
                 if doc.get("phase") is None
+                else "first attempts at each cell's phase under the lab's protocol"
+                if doc.get("phase") == "protocol"
                 else f"first attempts at phase {doc['phase']}"
             )
             + f", Cv {doc.get('cv', '?')}: {every[0]} of {every[1]} cells agree ({fit[0]} of {fit[1]} fit cells, "

@@ -218,3 +218,43 @@ def test_the_shipped_knots_reproduce_the_traces_and_regenerate():
     assert max(leg["max_error_deg"]) < 2.5
     text = measured_actuation_toml(DATA, servo_sides="mirrored")
     assert text in PHYSICAL_TEXT  # the shipped block is what the function generates
+
+
+def test_the_legs_lag_to_the_midline_is_read_modulo_the_half_period(tmp_path):
+    """A leg that crosses the midline 0.05, 0.07 and 0.1 s after each command change (every 0.4 s) gives those
+    lags, whatever its shape."""
+    from scipy.io import savemat
+
+    from landscape.analysis.measured import leg_crossing_lag_s
+
+    t = np.arange(0.0, 4.0, 0.002)
+    traces = {
+        f"Vib{a}": a * np.sin(2 * np.pi * (t - lag) / 0.8 + np.pi)
+        for a, lag in ((15, 0.05), (30, 0.07), (45, 0.1))
+    }
+    savemat(tmp_path / "v.mat", {"tVib": t[None, :], **{k: v[:, None] for k, v in traces.items()}})
+    got = leg_crossing_lag_s(tmp_path / "v.mat")
+    assert got == {
+        15.0: pytest.approx(0.05, abs=1e-3),
+        30.0: pytest.approx(0.07, abs=1e-3),
+        45.0: pytest.approx(0.1, abs=1e-3),
+    }
+
+
+@pytest.mark.skipif(
+    not (DATA / "vib_pulse_v2.mat").is_file(), reason="../shared/ref/physical_robot is absent"
+)
+def test_the_robots_leg_takes_longer_to_the_midline_the_wider_it_swings():
+    from landscape.analysis.measured import leg_crossing_lag_s
+    from landscape.analysis.opening import protocol_phases
+
+    lag = leg_crossing_lag_s(DATA / "vib_pulse_v2.mat")
+    assert lag == {
+        15.0: pytest.approx(0.044, abs=2e-3),
+        30.0: pytest.approx(0.067, abs=2e-3),
+        45.0: pytest.approx(0.097, abs=2e-3),
+    }
+    phases = protocol_phases(DATA)
+    assert len(phases) == 9 and all(leg > 0 for _, leg in phases)
+    for (_, leg), p in phases.items():  # the command's lead, 0.2 s, minus the lag, over 0.8 s
+        assert p == pytest.approx((0.2 - lag[leg]) / 0.8, abs=2e-3)

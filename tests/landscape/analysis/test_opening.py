@@ -204,6 +204,10 @@ def test_kinematics_command_prints_both_frames_the_support_and_the_first_opening
     # the lean table: to +roll with the leg on + only, and the roll-overs leave the hold before the wings close
     assert "| 60° | 30° | +7.8° (3) | -1.0° (7) | 0.81 s (6/8) |" in out
     assert "| 90° | 45° | – (0) | – (0) | 0.28 s (5/5) |" in out
+    assert (
+        "leg phase under the protocol (validate --phase protocol): leg 15° 0.195, leg 30° 0.166, leg 45° 0.129"
+        in out
+    )
     # the body frame from the mounting the two rests measure: the CAD holds 8-10 deg short of the robot
     assert "IMU mounting from the two rests (37 righted trials;" in out and "): 2.6° [1.8, 3.8]" in out
     assert "| 60° | 68.1° | 65.5° | 57.6° | -7.9° |" in out

@@ -181,6 +181,21 @@ def test_a_fixed_phase_gives_every_trial_that_phase_and_its_own_seed():
             va.validation_specs([(75.0, 15.0)], {75.0: 73.6}, phase=bad)
 
 
+def test_a_phase_per_cell_gives_each_cell_its_own_and_the_leg_still_the_protocols():
+    from landscape.analysis.opening import PROTOCOL_PHASE
+
+    cells = [(75.0, 15.0), (75.0, 45.0), (60.0, 0.0)]
+    specs = va.validation_specs(
+        cells, {75.0: 73.6, 60.0: 59.1}, trials=2, phase={(75, 15): 0.195, (75, 45): 0.129}
+    )
+    by = {(s.theta_w_deg, s.theta_l_deg): s.phase for s in specs}
+    assert by == {(73.6, 15.0): 0.195, (73.6, 45.0): 0.129, (59.1, 0.0): PROTOCOL_PHASE} and len(specs) == 6
+    with pytest.raises(
+        va.ValidationError, match=r"--phase must be a first-attempt phase in \[0, 1\); got 1.2"
+    ):
+        va.validation_specs(cells, {75.0: 73.6}, phase={(75.0, 15.0): 1.2})
+
+
 @needs_data
 def test_validate_command_end_to_end_and_resumes(tmp_path, capsys):
     args = [
@@ -222,6 +237,13 @@ def test_validate_command_end_to_end_and_resumes(tmp_path, capsys):
     assert main([*args, "--imu-mounting", "60"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "IMU's mounting must lie within" in err
+    # each cell at the phase the lab's protocol gives it: a new key in the store, so two new trials
+    assert main([*args, "--phase", "protocol"]) == 0
+    out = capsys.readouterr().out
+    assert "first-attempt phases by the protocol: leg 15° 0.195, leg 30° 0.166, leg 45° 0.129" in out
+    assert "2 simulated trials: 0 already in" in out
+    doc = json.loads((tmp_path / "validation.json").read_text())
+    assert doc["phase"] == "protocol" and doc["cell_phases"]["75:15"] == pytest.approx(0.195, abs=1e-3)
 
 
 @needs_data
@@ -234,6 +256,9 @@ def test_validate_command_bad_input_is_one_line(tmp_path, capsys):
     assert main(base + ["--phase", "1.5"]) == 2
     err = capsys.readouterr().err
     assert "--phase must be a first-attempt phase in [0, 1); got 1.5" in err and "Traceback" not in err
+    assert main(base + ["--phase", "sideways"]) == 2
+    err = capsys.readouterr().err
+    assert "give a phase in [0, 1) or 'protocol'; got 'sideways'" in err and err.count("\n") == 1
     assert main(["physical", "validate", "--data", str(tmp_path / "nowhere"), "--out", str(tmp_path)]) == 2
 
 
