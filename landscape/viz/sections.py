@@ -1105,7 +1105,7 @@ def _body_frame_rows(data_dir, docs: list[dict]):
     from landscape.minima import metastable_orientation
     from sim.model_set import ModelSetError, load_model_set
 
-    rows, mount = [], None
+    rows, mount, seen = [], None, set()
     for doc in docs:
         if not doc.get("robot"):
             continue
@@ -1113,8 +1113,10 @@ def _body_frame_rows(data_dir, docs: list[dict]):
             ms = load_model_set(doc["model_set"])
         except ModelSetError:
             continue  # a file set given by path: its name alone does not find it again
-        if ms.model_set_hash != doc.get("model_set_hash"):
-            continue
+        key = (ms.model_set_hash, doc["robot"])
+        if ms.model_set_hash != doc.get("model_set_hash") or key in seen:
+            continue  # another version of the set, or one already shown (validated twice, e.g. at two phases)
+        seen.add(key)
         robot = ms.robot_for(load_robot(doc["robot"]))
         mount = op.mounting_from_rests(data_dir, robot) if mount is None else mount
         commands = (60.0, 75.0, 90.0)
