@@ -3,10 +3,10 @@
 A set is a small TOML file; the package ships ``sim/models/paper.toml`` (the source paper's idealised profiles
 and the default contact: the default, identical to trials made before model sets existed) and the physical
 robot's sets (``physical``: the lab's measured servo and leg profiles; ``physical-posed`` and ``physical-offset``:
-posed further over, with compliant wing joints, and the latter with its CoM off the midline; each file's header
-says how it was chosen). ``--model NAME`` picks a shipped set, ``--model FILE.toml`` any other. Optional tables:
-``[compliance]`` (wing joints), ``[body_torsion]``, ``[leg_compliance]``, ``[leg_bend]`` and ``[mass]`` (see
-:class:`ModelSet`).
+posed further over, with compliant wing joints, and the latter with its CoM off the midline; ``physical-head``:
+resting where the robot rests, its head further back; each file's header says how it was chosen). ``--model NAME``
+picks a shipped set, ``--model FILE.toml`` any other. Optional tables: ``[compliance]`` (wing joints),
+``[body_torsion]``, ``[leg_compliance]``, ``[leg_bend]``, ``[mass]`` and ``[geometry]`` (see :class:`ModelSet`).
 Layout::
 
     name = "paper"
