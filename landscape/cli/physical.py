@@ -137,17 +137,21 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
         "recorded tilt strays from the tilt the gyro alone gives, -0.3 to 1.05 s (medians)"
     )
     click.echo(first_openings_markdown(op.recorded_first_openings(data)))
-    from landscape.analysis.measured import leg_crossing_lag_s
+    from landscape.analysis.measured import MeasuredDataError, leg_crossing_lag_s
 
-    lag = leg_crossing_lag_s(Path(data) / "vib_pulse_v2.mat")
-    phases = sorted({(leg, round(p, 3)) for (_, leg), p in op.protocol_phases(data).items()})
-    click.echo(
-        "the first attempt's leg phase under the protocol (validate --phase protocol): "
-        + ", ".join(f"leg {leg:g}° {p:.3f}" for leg, p in phases)
-        + " (the leg command's lead above minus the measured leg's lag from its command to the midline, "
-        + ", ".join(f"{lag[leg]:.3f} s" for leg, _ in phases)
-        + " (vib_pulse_v2.mat), over its 0.8 s period)"
-    )
+    try:
+        lag = leg_crossing_lag_s(Path(data) / "vib_pulse_v2.mat")
+        phases = sorted({(leg, round(p, 3)) for (_, leg), p in op.protocol_phases(data).items()})
+    except MeasuredDataError as exc:  # a folder without the leg's trace still gets every other table
+        click.echo(f"the first attempt's leg phase under the protocol: not measured ({exc})")
+    else:
+        click.echo(
+            "the first attempt's leg phase under the protocol (validate --phase protocol): "
+            + ", ".join(f"leg {leg:g}° {p:.3f}" for leg, p in phases)
+            + " (the leg command's lead above minus the measured leg's lag from its command to the midline, "
+            + ", ".join(f"{lag[leg]:.3f} s" for leg, _ in phases)
+            + " (vib_pulse_v2.mat), over its 0.8 s period)"
+        )
     click.echo(
         "\nevery opening until the robot first rights, leg moving: the held body's median lateral tilt in each window "
         "with the leg settled on one side (0.2 s after it gets there, 0.4-1.0 s after the opening starts; "

@@ -271,3 +271,28 @@ def test_actuation_command_prints_the_shipped_block(tmp_path, capsys):
     assert "[actuation.wing.LP]" in out and (tmp_path / "a.toml").read_text() == measured_actuation_toml(DATA)
     assert main(["physical", "actuation", "--data", str(tmp_path)]) == 2
     assert "motor_pulse_v2.mat' not found" in capsys.readouterr().err
+
+
+@needs_data
+def test_the_protocols_phase_needs_the_legs_trace(tmp_path, capsys):
+    """Without vib_pulse_v2.mat the kinematics say the phase is not measured and print the rest; validate at the
+    protocol's phase refuses in one line."""
+    for f in [*DATA.glob("run5_*.bag.mat"), DATA / "robot_attempts.mat"]:
+        (tmp_path / f.name).symlink_to(f)
+    assert main(["physical", "kinematics", "--data", str(tmp_path), "--no-model"]) == 0
+    out = capsys.readouterr().out
+    assert "the first attempt's leg phase under the protocol: not measured (data file" in out
+    assert "roll-overs to + roll: 43 of 46" in out
+    args = [
+        "physical",
+        "validate",
+        "--data",
+        str(tmp_path),
+        "--phase",
+        "protocol",
+        "--out",
+        str(tmp_path / "v"),
+    ]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "vib_pulse_v2.mat' not found" in err
