@@ -98,6 +98,15 @@ def main(argv=None) -> int:
         f"rests measure, {mount.n} trials): "
         + ", ".join(f"{c:g}° {h:.1f}°" for c, h in zip(COMMANDS, robot_deg, strict=True))
     )
+    others = [
+        op.mounting_from_rests(a.data, base, settle_s=s, up_z_below=z).mount_deg
+        for s in (0.3, 0.5, 1.0)
+        for z in (-0.8, -0.85, -0.9)
+    ]
+    print(
+        "the mounting with the upright rest read from 0.3, 0.5 or 1 s after righting, below u_z -0.8, -0.85 or "
+        f"-0.9: {min(others):.1f}-{max(others):.1f} deg"
+    )
     print(
         "| model | head shift | wing extra | hold - robot, 60 / 75 / 90° | largest | barrier 60 / 75 / 90°, mJ |"
     )

@@ -20,6 +20,7 @@ def test_the_head_fits_every_hold_and_the_wing_extra_does_not(bench, capsys):
     assert bench.main([*argv, "--models", "physical,physical-head"]) == 0
     out = capsys.readouterr().out
     assert "in the body frame (IMU minus the 2.6 deg mounting the two rests measure, 37 trials)" in out
+    assert "after righting, below u_z -0.8, -0.85 or -0.9: 2.5-3.1 deg" in out
     assert "| physical | 0 mm | 0° | -7.9° / -9.3° / -9.5° | 9.5° | 31.0 / 9.2 / 2.6 |" in out
     assert "| physical-head | -17 mm | 0° | +0.3° / -0.1° / -0.1° | 0.3° | 28.4 / 7.5 / 1.9 |" in out
     assert "| candidate | 0 mm | 10° | -0.7° / -2.5° / -4.1° | 4.1° | 14.6 / 2.7 / 0.0 |" in out

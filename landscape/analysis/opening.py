@@ -1050,10 +1050,12 @@ def rest_mounting_deg(back_deg, upright_deg, model_back_deg: float, model_uprigh
     return ((np.asarray(back_deg) - upright_deg) - (model_back_deg - model_upright_deg)) / 2.0
 
 
-def mounting_from_rests(data_dir: str | Path, robot) -> RestMounting:
+def mounting_from_rests(
+    data_dir: str | Path, robot, *, settle_s: float = UPRIGHT_SETTLE_S, up_z_below: float = UPRIGHT_UP_Z
+) -> RestMounting:
     """The IMU's mounting pitch from the two rests every righted trial records: on its back before the first
-    opening (the median of ``REST_WINDOW_S``) and upright after it rights (from ``UPRIGHT_SETTLE_S`` after, the
-    samples with world-up's body-z component below ``UPRIGHT_UP_Z``).
+    opening (the median of ``REST_WINDOW_S``) and upright after it rights (from ``settle_s`` after, the samples
+    with world-up's body-z component below ``up_z_below``).
 
     An IMU pitched ``d`` against the body reads the body's pitch plus ``d`` on its back and minus ``d`` upright
     (rolled half a turn about x, its pitch axis is reversed), so each trial gives
@@ -1077,7 +1079,7 @@ def mounting_from_rests(data_dir: str | Path, robot) -> RestMounting:
         if not out.success:
             continue
         before = (rec.t_s >= -REST_WINDOW_S) & (rec.t_s < 0.0)
-        after = (rec.t_s > out.time_to_right_s + UPRIGHT_SETTLE_S) & (rec.up_z < UPRIGHT_UP_Z)
+        after = (rec.t_s > out.time_to_right_s + settle_s) & (rec.up_z < up_z_below)
         if before.any() and after.sum() >= MIN_UPRIGHT_SAMPLES:
             back.append(float(np.median(rec.pitch_deg[before])))
             upright.append(float(np.median(rec.pitch_deg[after])))
