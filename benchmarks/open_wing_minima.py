@@ -25,9 +25,10 @@ import numpy as np
 from geometry.errors import UsageError
 from geometry.frames import up_vector
 from geometry.robots import load_robot
+from landscape import _kernels
 from landscape.analysis.opening import support_links
 from landscape.computation import compute, posed, start_orientation
-from landscape.energy import energy_landscape, height_at
+from landscape.energy import G_M_S2, energy_landscape, height_at
 from landscape.minima import local_descent
 from sim.model_set import load_model_set
 
@@ -38,12 +39,7 @@ def local_minima(pose) -> list[tuple[float, float]]:
     """Every local minimum of the 1-degree landscape (no lower 8-neighbour), refined by descent, without
     repeats: (pitch, roll) in degrees."""
     ls = energy_landscape(pose, step_deg=1.0)
-    e = ls.energy_j
-    low = np.ones_like(e, dtype=bool)
-    for di in (-1, 0, 1):
-        for dj in (-1, 0, 1):
-            if di or dj:
-                low &= e <= np.roll(np.roll(e, di, 0), dj, 1)
+    low = _kernels.local_minima(ls.energy_j, 0.0).reshape(ls.energy_j.shape)
     out: list[tuple[float, float]] = []
     for i, j in np.argwhere(low):
         p, r = local_descent(pose, float(ls.angles_deg[i]), float(ls.angles_deg[j]))
@@ -60,7 +56,7 @@ def describe(pose, mass_kg: float, p: float, r: float) -> dict:
     u = up_vector(math.radians(p), math.radians(r))
     return {
         "at_deg": (p, r),
-        "energy_mj": float(height_at(pose, p, r)) * mass_kg * 9.81e3,
+        "energy_mj": float(height_at(pose, p, r)) * mass_kg * G_M_S2 * 1e3,
         "up_z": float(u[2]),
         "tilt_deg": math.degrees(math.asin(max(-1.0, min(1.0, float(u[1]))))),
         "touching": support_links(pose, p, r),
@@ -100,6 +96,12 @@ def main(argv=None) -> int:
         if ms.measured is None:
             raise UsageError(f"--model {a.model} sets every wing joint to theta_w; give a measured set")
         robot = ms.robot_for(load_robot(a.robot))
+        joints = {
+            c: ms.wing_joints_deg(robot.joint_map.wing, c) for c in commands
+        }  # refuses unmeasured commands
+        poses = {
+            (c, leg): posed(robot, c, leg, joints[c]) for c in commands for leg in legs
+        }  # and leg limits
     except ValueError as exc:  # UsageError is one; float() of a bad list too
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -109,22 +111,19 @@ def main(argv=None) -> int:
         "on; righting barrier | lowest upright: E, u_z, tilt, on |"
     )
     print("|---|---|---|---|---|")
-    for c in commands:
-        joints = ms.wing_joints_deg(robot.joint_map.wing, c)
-        for leg in legs:
-            pose = posed(robot, c, leg, joints)
-            hold = start_orientation(robot, pose, c, leg, wing_joints_deg=joints)
-            h = describe(pose, pose.mass_kg, *hold)
-            found = [describe(pose, pose.mass_kg, p, r) for p, r in local_minima(pose)]
-            below = [m for m in found if m["energy_mj"] < h["energy_mj"] - 0.1]
-            side = min((m for m in below if m["up_z"] >= 0), key=lambda m: m["energy_mj"], default=None)
-            upright = min((m for m in found if m["up_z"] < 0), key=lambda m: m["energy_mj"], default=None)
-
-            side_b = righting_mj(robot, c, leg, joints, side["at_deg"]) if side else None
-            print(
-                f"| {c:g}° | {leg:+g}° | {cell(h, tilt=False, barrier_mj=righting_mj(robot, c, leg, joints, hold))} | "
-                f"{cell(side, barrier_mj=side_b)} | {cell(upright)} |"
-            )
+    for (c, leg), pose in poses.items():
+        hold = start_orientation(robot, pose, c, leg, wing_joints_deg=joints[c])
+        h = describe(pose, pose.mass_kg, *hold)
+        found = [describe(pose, pose.mass_kg, p, r) for p, r in local_minima(pose)]
+        below = [m for m in found if m["energy_mj"] < h["energy_mj"] - 0.1]
+        side = min((m for m in below if m["up_z"] >= 0), key=lambda m: m["energy_mj"], default=None)
+        upright = min((m for m in found if m["up_z"] < 0), key=lambda m: m["energy_mj"], default=None)
+        hold_b = righting_mj(robot, c, leg, joints[c], hold)
+        side_b = righting_mj(robot, c, leg, joints[c], side["at_deg"]) if side else None
+        print(
+            f"| {c:g}° | {leg:+g}° | {cell(h, tilt=False, barrier_mj=hold_b)} | {cell(side, barrier_mj=side_b)} | "
+            f"{cell(upright)} |"
+        )
     return 0
 
 

@@ -41,6 +41,7 @@ import math
 from collections import defaultdict
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -256,15 +257,24 @@ class RecordedOpening:
 
 
 def recorded_first_openings(data_dir: str | Path) -> list[RecordedOpening]:
-    """:func:`opening_response` of every recorded trial's first opening, in file order.
+    """:func:`opening_response` of every recorded trial's first opening, in file order. Computed once per version
+    of the files (``kinematics``, the report and a calibration ask for them several times; an edited file is read
+    again).
 
     Raises
     ------
     PhysicalDataError
         If the directory or a file is not in the lab's format.
     """
+    files = trial_files(data_dir)
+    return list(_first_openings(tuple((str(f.resolve()), f.stat().st_mtime_ns) for f in files)))
+
+
+@lru_cache(maxsize=4)
+def _first_openings(files: tuple[tuple[str, int], ...]) -> tuple[RecordedOpening, ...]:
+    """:func:`recorded_first_openings` of these files (path, modification time)."""
     out = []
-    for f in trial_files(data_dir):
+    for f, _ in files:
         rec = read_recording(f)
         start = float(rec.openings_s[0])
         resp = opening_response(rec.t_s, rec.pitch_deg, rec.roll_deg, start)
@@ -290,7 +300,7 @@ def recorded_first_openings(data_dir: str | Path) -> list[RecordedOpening]:
                 gyro_tilt_deviation_deg(rec, start),
             )
         )
-    return out
+    return tuple(out)
 
 
 def gyro_tilt_deviation_deg(
