@@ -1024,13 +1024,13 @@ def nose_pitch_deg(pitch_deg: float, roll_deg: float) -> float:
 
     Examples
     --------
-    >>> nose_pitch_deg(-174.0, -180.0), nose_pitch_deg(0.5, -178.0)
+    >>> round(nose_pitch_deg(-174.0, -180.0), 9), round(nose_pitch_deg(0.5, -178.0), 9)
     (-6.0, 0.5)
     """
     from geometry.frames import up_vector
 
     u = up_vector(math.radians(pitch_deg), math.radians(roll_deg))
-    return round(math.degrees(math.asin(max(-1.0, min(1.0, -float(u[0]))))), 12)
+    return math.degrees(math.asin(max(-1.0, min(1.0, -float(u[0])))))
 
 
 def upright_rest_deg(robot) -> tuple[float, float]:

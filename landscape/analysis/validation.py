@@ -477,14 +477,13 @@ def validate(
     workers: int | None = None,
     scheduler: str | None = None,
     progress: bool = True,
-    phase: float | str | Mapping[tuple[float, float], float] | None = None,
+    phase: float | Mapping[tuple[float, float], float] | None = None,
     robot_attempts: int | None = None,
     imu_mount_deg: float = 0.0,
 ) -> tuple[Validation, object]:
     """Simulate the physical cells with a model set (resuming ``db``) and compare: ``(Validation, SweepSummary)``.
-    ``phase``: every trial's first attempt at this phase, or at each cell's (a mapping, or ``"protocol"``: the lab
-    protocol's phase of each cell, :func:`landscape.analysis.opening.protocol_phases`); None: random phases
-    (:func:`validation_specs`).
+    ``phase``: every trial's first attempt at this phase, or at each cell's (a mapping, e.g. the lab protocol's,
+    :func:`landscape.analysis.opening.protocol_phases`); None: random phases (:func:`validation_specs`).
     ``robot_attempts``: count the robot's rightings within its first that many openings only (:func:`compare`).
     ``imu_mount_deg``: judge the robot's uprightness in a body frame pitched that much below its IMU's
     (:func:`landscape.analysis.physical.physical_trials`).
@@ -503,12 +502,6 @@ def validate(
     plateaus = measured_plateaus_deg(data_dir)
     available = {(t.theta_w_cmd_deg, t.theta_l_deg) for t in phys}
     chosen = parse_cells(cells, available) if cells is None or isinstance(cells, str) else list(cells)
-    if isinstance(phase, str):
-        if phase != "protocol":
-            raise ValidationError(f"--phase must be a number in [0, 1) or 'protocol'; got {phase!r}")
-        from landscape.analysis.opening import protocol_phases
-
-        phase = protocol_phases(data_dir)
     specs = validation_specs(
         chosen, plateaus, trials=trials, cv=cv, seed=seed, robot=robot, model_set=model_set,
         duration_s=duration_s, dt_s=dt_s, joint_map=joint_map, phase=phase,
