@@ -1,7 +1,10 @@
 """The first wing opening, recorded and simulated: where the body holds, and how it gets there (issue #15).
 
 Every quantity is taken from one pitch-roll time series and the start of a wing opening (the first rise of the
-wing command), so the physical robot's recordings and the simulation's traces are measured by the same code:
+wing command), so the physical robot's recordings and the simulation's traces are measured by the same code. The
+rest, hold, overshoot, rise and pitch wobble read the nose's pitch (:func:`landscape.analysis.physical.sagittal_pitch_deg`),
+which goes on past 90 deg where the ZYX pitch folds back: at the 90 deg command the robot's opening carries its
+nose past vertical.
 
 - *rest*: the median pitch in the ``REST_WINDOW_S`` before the opening;
 - *hold*: the median pitch ``HOLD_WINDOW_S`` (0.5-0.95 s) after it, while the wings are held open;
@@ -55,6 +58,7 @@ from landscape.analysis.physical import (
     _median,
     measured_plateaus_deg,
     read_recording,
+    sagittal_pitch_deg,
     trial_files,
     trial_outcome,
     upright_stretches,
@@ -152,22 +156,25 @@ def opening_response(
     (0.0, nan)
     """
     t = np.asarray(t_s, dtype=np.float64) - float(start_s)
-    p = np.asarray(pitch_deg, dtype=np.float64)
     r = np.asarray(roll_deg, dtype=np.float64)
+    zyx_pitch = np.asarray(pitch_deg, dtype=np.float64)
+    # the nose's pitch, on past vertical (the ZYX pitch folds back at 90), unwrapped so that a body rolling on to
+    # upright (where it passes 180) does not jump by a turn
+    p = np.rad2deg(np.unwrap(np.deg2rad(sagittal_pitch_deg(zyx_pitch, r)))) if len(zyx_pitch) else zyx_pitch
     rest = _median_between(t, p, -REST_WINDOW_S, -1e-12)
     hold = _median_between(t, p, *HOLD_WINDOW_S)
     win = (t >= TRANSIENT_WINDOW_S[0]) & (t <= TRANSIENT_WINDOW_S[1])
     overshoot = float(p[win].max()) - hold if win.any() else math.nan
     tilt = math.nan
     if win.any():
-        tl = lateral_tilt_deg(p[win], r[win])
+        tl = lateral_tilt_deg(zyx_pitch[win], r[win])
         tilt = float(tl[np.argmax(np.abs(tl))])
     held = (t >= HOLD_WINDOW_S[0]) & (t <= HOLD_WINDOW_S[1])
     wobble_p = wobble_t = math.nan
     if held.sum() >= 2:
         wobble_p = float(np.std(p[held]))
-        wobble_t = float(np.std(lateral_tilt_deg(p[held], r[held])))
-    tilt_all = lateral_tilt_deg(p, r)
+        wobble_t = float(np.std(lateral_tilt_deg(zyx_pitch[held], r[held])))
+    tilt_all = lateral_tilt_deg(zyx_pitch, r)
     closing = _median_between(t, tilt_all, *CLOSING_WINDOW_S)
     over = (t >= 0) & (t <= SIM_OPENING_S) & (np.abs(tilt_all) >= ROLLED_TILT_DEG)
     rolled = float(t[np.flatnonzero(over)[0]]) if over.any() else math.nan

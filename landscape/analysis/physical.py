@@ -23,7 +23,8 @@ Definitions (times from the start of the first wing opening, the first rise of t
   if it falls back later: :func:`attempt_outcomes` applies that rule to the trials and reproduces the file's
   counts (12/58, 15/42, 17/34).
 
-Resting pitch (issue #15, section 0): per wing opening of a trial with the leg still, the median pitch between
+Resting pitch (issue #15, section 0): per wing opening of a trial with the leg still, the median pitch (the nose's,
+:func:`sagittal_pitch_deg`, which does not fold back past 90 deg as the ZYX pitch does) between
 ``HOLD_WINDOW_S`` (0.5-0.95 s) after the opening starts, minus the median pitch in the ``REST_WINDOW_S`` (0.3 s)
 before the first opening (this removes the IMU's mounting); only openings that end before the robot first
 becomes upright (the attempt that rights, or rights and falls back, is left out) and whose window lies inside the
@@ -110,6 +111,24 @@ class Recording:
     quat_xyzw: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 4)))
     gyro_t_s: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0))
     gyro_rad_s: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
+
+
+def sagittal_pitch_deg(pitch_deg, roll_deg) -> NDArray[np.float64]:
+    """How far the body's nose has pitched over, degrees: the angle of world-up in the body's x-z plane,
+    ``atan2(-u_x, u_z) = atan2(sin p, cos p cos r)``. It equals the ZYX pitch while ``|roll| < 90`` deg and goes on
+    past 90 deg where the ZYX pitch folds back (a body whose nose has gone 5 deg past vertical reads pitch 85 deg,
+    roll +-180 deg): at the 90 deg wing command the robot's opening carries it past vertical, so a hold, an
+    overshoot or a rise read from the ZYX pitch comes out low there. The same for either of the two (pitch, roll)
+    pairs of one orientation.
+
+    Examples
+    --------
+    >>> sagittal_pitch_deg([60.0, 85.0, 85.0], [0.0, 180.0, -180.0]).round(9).tolist()
+    [60.0, 95.0, 95.0]
+    """
+    p = np.deg2rad(np.asarray(pitch_deg, dtype=np.float64))
+    r = np.deg2rad(np.asarray(roll_deg, dtype=np.float64))
+    return np.rad2deg(np.arctan2(np.sin(p), np.cos(p) * np.cos(r)))
 
 
 def _data_dir(data_dir: str | Path) -> Path:
@@ -700,7 +719,8 @@ def opening_pitches_deg(
     rest = (t >= -rest_s) & (t < 0)
     if not rest.any():
         return np.full(len(rec.openings_s), math.nan)
-    ref = float(np.median(rec.pitch_deg[rest]))
+    pitch = sagittal_pitch_deg(rec.pitch_deg, rec.roll_deg)  # past vertical at 90 deg: not folded back
+    ref = float(np.median(pitch[rest]))
     st = upright_stretches(t, rec.up_z)
     t_up = float(t[st[0][0]]) if st else math.inf
     ends = np.concatenate([rec.openings_s[1:], [math.inf]])
@@ -710,7 +730,7 @@ def opening_pitches_deg(
         if start + window_s[1] > t[-1] or min(end, t[-1]) >= t_up or not sel.any():
             out.append(math.nan)
         else:
-            out.append(float(np.median(rec.pitch_deg[sel])) - ref)
+            out.append(float(np.median(pitch[sel])) - ref)
     return np.asarray(out, dtype=np.float64)
 
 

@@ -32,9 +32,12 @@ def _series(overshoot_deg=8.0, tilt_roll_deg=-20.0, start_s=0.4):
 def test_opening_response_reads_rest_hold_overshoot_rise_and_signed_tilt():
     t, pitch, roll = _series()
     r = op.opening_response(t, pitch, roll, 0.4)
-    assert r.rest_pitch_deg == pytest.approx(2.0)
-    assert r.hold_pitch_deg == pytest.approx(62.0)
-    assert r.overshoot_deg == pytest.approx(8.0)
+    # the nose's pitch atan2(sin p, cos p cos r), at roll 1 deg a few thousandths above the ZYX pitch
+    assert r.rest_pitch_deg == pytest.approx(float(op.sagittal_pitch_deg(2.0, 1.0)))
+    assert r.hold_pitch_deg == pytest.approx(float(op.sagittal_pitch_deg(62.0, 1.0)))
+    assert r.hold_pitch_deg == pytest.approx(62.0, abs=0.01)
+    # the overshoot's peak is the sample rolled -20 deg at pitch 70: its nose stands at atan2(sin 70, cos 70 cos 20)
+    assert r.overshoot_deg == pytest.approx(float(op.sagittal_pitch_deg(70.0, -20.0)) - r.hold_pitch_deg)
     assert r.rise_s == pytest.approx(0.13, abs=0.011)  # halfway (32 deg) at 0.125 s, sampled every 10 ms
     # the peak roll -20 deg at pitch 62 (+8 inside the overshoot): tilt = asin(cos 70 sin -20)
     assert r.tilt_deg == pytest.approx(
@@ -52,11 +55,38 @@ def test_wobble_is_the_spread_while_the_wings_hold():
     roll = np.where(held, 10.0 * square, 0.0)
     r = op.opening_response(t, pitch, roll, 0.0)
     win = (t >= 0.5) & (t <= 0.95)
-    assert r.wobble_pitch_deg == pytest.approx(np.std(pitch[win]))
+    # the nose's pitch: tipped 10 deg sideways the body's nose stands a little higher than its ZYX pitch
+    assert r.wobble_pitch_deg == pytest.approx(np.std(op.sagittal_pitch_deg(pitch[win], roll[win])))
     assert 1.9 < r.wobble_pitch_deg < 2.1
     assert r.wobble_tilt_deg == pytest.approx(np.std(op.lateral_tilt_deg(pitch[win], roll[win])))
     still = op.opening_response(t, np.where(t < 0.3, 0.0, 60.0), np.zeros_like(t), 0.0)
     assert still.wobble_pitch_deg == 0.0 and still.wobble_tilt_deg == 0.0
+
+
+def test_a_nose_past_vertical_is_not_folded_back():
+    """At the 90 deg command the robot's opening carries its nose past vertical, where the ZYX pitch folds back
+    (nose 96 deg: pitch 84 deg, roll 180 deg). The hold, overshoot and rise read the nose's pitch: an opening that
+    peaks 6 deg past vertical over a hold at 86 deg has an overshoot of 10 deg; the ZYX pitch sees a dip."""
+    t = np.arange(-0.5, 1.2, 0.01)
+    nose = np.where(t < 0, 0.0, 86.0 * np.clip(t / 0.3, 0.0, 1.0)) + 10.0 * ((t > 0.3) & (t < 0.4))
+    # the same orientations as ZYX angles on the branch |pitch| <= 90 (what an IMU's quaternion gives)
+    over = nose > 90.0
+    pitch, roll = np.where(over, 180.0 - nose, nose), np.where(over, 180.0, 0.0)
+    assert np.allclose(op.sagittal_pitch_deg(pitch, roll), nose)
+    r = op.opening_response(t, pitch, roll, 0.0)
+    assert r.hold_pitch_deg == pytest.approx(86.0) and r.overshoot_deg == pytest.approx(10.0)
+    assert r.rise_s == pytest.approx(0.15, abs=0.011) and r.tilt_deg == pytest.approx(0.0, abs=1e-9)
+    # the ZYX pitch reads the 96 deg nose as 84 deg: a dip below the hold, no overshoot at all
+    assert float(pitch[(t >= 0.2) & (t <= 0.6)].max()) - 86.0 == pytest.approx(0.0)
+    # a body going over on to its belly passes a nose pitch of 180 deg (-180 on the branch atan2 gives): the
+    # measures follow it through, without a jump of a turn
+    nose = np.where(t < 0.5, 86.0, 170.0 + 40.0 * (t - 0.5))  # 170 -> 188 deg over the hold window
+    over = nose > 90.0
+    pitch, roll = np.where(over, 180.0 - nose, nose), np.where(over, 180.0, 0.0)
+    win = (t >= 0.5) & (t <= 0.95)
+    r = op.opening_response(t, pitch, roll, 0.0)
+    assert r.wobble_pitch_deg == pytest.approx(float(np.std(nose[win])), abs=1e-6)
+    assert r.hold_pitch_deg == pytest.approx(float(np.median(nose[win])), abs=1e-6)
 
 
 def test_opening_response_is_nan_where_a_window_is_empty():
@@ -196,8 +226,12 @@ def test_kinematics_command_prints_both_frames_the_support_and_the_first_opening
     args = ["physical", "kinematics", "--data", str(DATA), "--robot", str(LAB_URDF), "--model", "physical"]
     assert main(args) == 0
     out = capsys.readouterr().out
-    assert "| 60° | 5 | 68.1° (0.3°) | 68.2° (0.9°) | 0.9° | 57.6° | -1.0° | -1.4° |" in out
-    assert "IMU mounting (recorded minus model, mean over the commands): 11.5°" in out
+    assert "| 60° | 5 | 68.1° (0.3°) | 68.2° (0.9°) | 0.9° | 57.6° | -1.3° | -2.0° |" in out
+    assert "IMU mounting (recorded minus model, mean over the commands): 11.8°" in out
+    # the nose's pitch does not fold back where the robot passes vertical: at 90 deg it holds at 86.3, not 85.2,
+    # and its opening overshoots that hold by 10.9 deg
+    assert "| 90° | 5 | 86.3° (1.1°) | 86.2° (1.6°) | 1.0° | 73.1° |" in out
+    assert "| 90° | 0° | 5 | – | – | – | +10.9° | 0.23 s |" in out
     assert "the model rests with the wings closed on: base_link, motor3, motor4" in out
     assert "| 60° | 45° | 5 | 0.2 s |" in out and "| 60° | 0° | 5 | – |" in out
     assert "| +8.2° [-5.3, +10.2] | +20.9° [+4.5, +38.7] | 4/5 at 1.13 s | 2.7° |" in out
@@ -219,7 +253,7 @@ def test_kinematics_command_prints_both_frames_the_support_and_the_first_opening
     body = lines[at + 4 : at + 7]  # the line, a blank, the header and its rule, then one row per command
     errors = [float(ln.split("|")[5].strip().rstrip("°")) for ln in body]
     assert [ln.split("|")[1].strip() for ln in body] == ["60°", "75°", "90°"]
-    assert max(abs(e) for e in errors) <= 0.5, body
+    assert max(abs(e) for e in errors) <= 1.2, body  # +0.3, -0.1, -1.1
 
 
 def test_the_mounting_algebra_recovers_a_pitched_imu():

@@ -1,0 +1,104 @@
+"""How far does the first wing opening throw the body's nose? (issue #15: the time to right at 90 deg)
+
+At the 90 deg command the robot holds its body about 7 deg short of vertical, standing on its head. Its opening
+throws it further: the nose's pitch (``landscape.analysis.physical.sagittal_pitch_deg``, which goes on past
+90 deg where the ZYX pitch folds back) peaks past vertical, and then the leg's swing turns the body about its
+own z axis, which there lies level: it falls to its side. This script puts, per cell, the robot's peak nose
+pitch 0.2-0.6 s after its first opening starts, in the body frame (the IMU's reading minus the mounting the two
+rests measure, ``mounting_from_rests``), beside each model set's in one simulated first opening at the phase the
+lab's protocol gives the cell (``protocol_phases``; 0.17 with the leg still), no noise. Each entry: the peak
+nose pitch, and how many first openings passed vertical (robot: median over its five, in brackets the range).
+
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/nose_over.py [--data DIR] [--robot URDF]
+      [--models physical-head,physical-offset] [--cells 90:0,90:30]
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections import defaultdict
+from pathlib import Path
+
+import numpy as np
+
+from geometry.errors import UsageError
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def peak_nose_deg(response) -> float:
+    """The highest nose pitch of an opening's transient window, degrees (its hold plus its overshoot)."""
+    return response.hold_pitch_deg + response.overshoot_deg
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--data", default=str(ROOT.parent / "shared/ref/physical_robot"))
+    ap.add_argument("--robot", default=str(ROOT.parent / "shared/ref/lab_robot/lab_robot.urdf"))
+    ap.add_argument("--models", default="physical-head,physical-offset", help="model sets, comma-separated")
+    ap.add_argument("--cells", default=None, help="WING:LEG,... [default: every recorded cell]")
+    a = ap.parse_args(argv)
+    from geometry.robots import load_robot
+    from landscape.analysis.opening import (
+        PROTOCOL_PHASE,
+        mounting_from_rests,
+        protocol_phases,
+        recorded_first_openings,
+        simulated_opening,
+    )
+    from sim.model_set import load_model_set
+
+    try:
+        names = [m for m in a.models.split(",") if m]
+        sets = [load_model_set(m) for m in names]  # an unknown set: one line before any simulation
+        if not sets:
+            raise UsageError("--models names no model set; give e.g. physical-head")
+        openings = recorded_first_openings(a.data)
+        mount = mounting_from_rests(a.data, load_robot(a.robot)).mount_deg
+        phases = protocol_phases(a.data)
+        recorded = defaultdict(list)
+        for o in openings:
+            recorded[(o.theta_w_cmd_deg, o.theta_l_deg)].append(peak_nose_deg(o.response) - mount)
+        cells = sorted(recorded)
+        if a.cells:
+            try:
+                want = [tuple(float(v) for v in c.split(":")) for c in a.cells.split(",")]
+            except ValueError:
+                want = [()]
+            if any(c not in recorded for c in want):
+                raise UsageError(
+                    f"--cells {a.cells}: give recorded cells as WING:LEG, e.g. 90:0,90:30 "
+                    f"(recorded: {', '.join(f'{w:g}:{leg:g}' for w, leg in cells)})"
+                )
+            cells = want
+        rows = []
+        for cell in cells:
+            peaks = recorded[cell]
+            sim = []
+            for name in names:
+                r = simulated_opening(
+                    cell[0], cell[1], phase=phases.get(cell, PROTOCOL_PHASE), seed=0, robot=a.robot,
+                    model_set=name,
+                )  # fmt: skip
+                sim.append(peak_nose_deg(r))
+            rows.append((cell, peaks, sim))
+    except (UsageError, ValueError) as exc:  # PhysicalDataError, an unknown set, a bad number: one line
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    print(
+        f"peak nose pitch 0.2-0.6 s after the first opening starts, body frame (the robot's IMU minus the "
+        f"{mount:.1f} deg mounting its two rests measure); past vertical: > 90 deg"
+    )
+    print(f"| wing cmd | leg | robot (past vertical) | {' | '.join(ms.name for ms in sets)} |")
+    print("|---|---|---|" + "---|" * len(sets))
+    for (w, leg), peaks, sim in rows:
+        p = np.asarray(peaks)
+        robot = f"{np.median(p):.1f}° [{p.min():.1f}, {p.max():.1f}] ({int((p > 90).sum())}/{len(p)})"
+        model = " | ".join(f"{s:.1f}° ({'past' if s > 90 else 'short of'} vertical)" for s in sim)
+        print(f"| {w:g}° | {leg:g}° | {robot} | {model} |")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
