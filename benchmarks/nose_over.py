@@ -7,16 +7,23 @@ own z axis, which there lies level: it falls to its side. This script puts, per 
 pitch 0.2-0.6 s after its first opening starts, in the body frame (the IMU's reading minus the mounting the two
 rests measure, ``mounting_from_rests``), beside each model set's in one simulated first opening at the phase the
 lab's protocol gives the cell (``protocol_phases``; 0.17 with the leg still), no noise. Each entry: the peak
-nose pitch, and how many first openings passed vertical (robot: median over its five, in brackets the range).
+nose pitch and the rise time (from the opening's start to half-way from the rest to the hold), and how many
+first openings passed vertical (robot: medians over its five, in brackets the peaks' range).
+
+With ``--vary TABLE.KEY=V1,V2`` (repeatable) each value is also tried on its own in a copy of the first set
+(``landscape.analysis.calibration.candidate_set``), e.g. wing springs, friction or contact damping;
+``--with TABLE.KEY=V`` (repeatable) sets a key in every variant (a damping while the stiffness varies).
 
 Run:  PYTHONPATH=. .venv/bin/python benchmarks/nose_over.py [--data DIR] [--robot URDF]
-      [--models physical-head,physical-offset] [--cells 90:0,90:30]
+      [--models physical-head,physical-offset] [--cells 90:0,90:30] [--vary TABLE.KEY=V1,V2 ...]
+      [--with TABLE.KEY=V ...]
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+import tempfile
 from collections import defaultdict
 from pathlib import Path
 
@@ -38,8 +45,16 @@ def main(argv=None) -> int:
     ap.add_argument("--robot", default=str(ROOT.parent / "shared/ref/lab_robot/lab_robot.urdf"))
     ap.add_argument("--models", default="physical-head,physical-offset", help="model sets, comma-separated")
     ap.add_argument("--cells", default=None, help="WING:LEG,... [default: every recorded cell]")
+    ap.add_argument("--vary", action="append", default=[], help="TABLE.KEY=V1,V2: variants of the first set")
+    ap.add_argument("--with", dest="fixed", action="append", default=[], help="TABLE.KEY=V in every variant")
     a = ap.parse_args(argv)
+    with tempfile.TemporaryDirectory(prefix="nose_over_") as tmp:
+        return _run(a, Path(tmp))
+
+
+def _run(a, tmp: Path) -> int:
     from geometry.robots import load_robot
+    from landscape.analysis.calibration import candidate_set, parse_vary, parse_with
     from landscape.analysis.opening import (
         PROTOCOL_PHASE,
         mounting_from_rests,
@@ -52,6 +67,18 @@ def main(argv=None) -> int:
     try:
         names = [m for m in a.models.split(",") if m]
         sets = [load_model_set(m) for m in names]  # an unknown set: one line before any simulation
+        labels = [ms.name for ms in sets]
+        fixed = parse_with(a.fixed, a.vary)
+        tag = "".join(f"+{k}={v:g}" for k, v in fixed.items())
+        for key, values in (parse_vary(a.vary) if a.vary else {}).items():
+            for v in values:
+                label = (
+                    f"{labels[0]}{tag}+{key}={v:g}" if isinstance(v, float) else f"{labels[0]}{tag}+{key}={v}"
+                )
+                names.append(
+                    str(candidate_set(names[0], fixed | {key: v}, label, tmp / f"v{len(names)}.toml").source)
+                )
+                labels.append(label)
         if not sets:
             raise UsageError("--models names no model set; give e.g. physical-head")
         openings = recorded_first_openings(a.data)
@@ -59,7 +86,9 @@ def main(argv=None) -> int:
         phases = protocol_phases(a.data)
         recorded = defaultdict(list)
         for o in openings:
-            recorded[(o.theta_w_cmd_deg, o.theta_l_deg)].append(peak_nose_deg(o.response) - mount)
+            recorded[(o.theta_w_cmd_deg, o.theta_l_deg)].append(
+                (peak_nose_deg(o.response) - mount, o.response.rise_s)
+            )
         cells = sorted(recorded)
         if a.cells:
             try:
@@ -81,21 +110,26 @@ def main(argv=None) -> int:
                     cell[0], cell[1], phase=phases.get(cell, PROTOCOL_PHASE), seed=0, robot=a.robot,
                     model_set=name,
                 )  # fmt: skip
-                sim.append(peak_nose_deg(r))
+                sim.append((peak_nose_deg(r), r.rise_s))
             rows.append((cell, peaks, sim))
     except (UsageError, ValueError) as exc:  # PhysicalDataError, an unknown set, a bad number: one line
         print(f"error: {exc}", file=sys.stderr)
         return 2
     print(
         f"peak nose pitch 0.2-0.6 s after the first opening starts, body frame (the robot's IMU minus the "
-        f"{mount:.1f} deg mounting its two rests measure); past vertical: > 90 deg"
+        f"{mount:.1f} deg mounting its two rests measure), and the rise to half the hold; past vertical: > 90 deg"
     )
-    print(f"| wing cmd | leg | robot (past vertical) | {' | '.join(ms.name for ms in sets)} |")
-    print("|---|---|---|" + "---|" * len(sets))
+    print(f"| wing cmd | leg | robot (past vertical) | {' | '.join(labels)} |")
+    print("|---|---|---|" + "---|" * len(labels))
     for (w, leg), peaks, sim in rows:
-        p = np.asarray(peaks)
-        robot = f"{np.median(p):.1f}° [{p.min():.1f}, {p.max():.1f}] ({int((p > 90).sum())}/{len(p)})"
-        model = " | ".join(f"{s:.1f}° ({'past' if s > 90 else 'short of'} vertical)" for s in sim)
+        p, rise = np.asarray(peaks).T
+        robot = (
+            f"{np.median(p):.1f}° [{p.min():.1f}, {p.max():.1f}], {np.median(rise):.2f} s "
+            f"({int((p > 90).sum())}/{len(p)})"
+        )
+        model = " | ".join(
+            f"{pk:.1f}°, {rs:.2f} s ({'past' if pk > 90 else 'short of'} vertical)" for pk, rs in sim
+        )
         print(f"| {w:g}° | {leg:g}° | {robot} | {model} |")
     return 0
 

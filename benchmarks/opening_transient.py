@@ -39,7 +39,7 @@ import numpy as np
 from tqdm import tqdm
 
 from geometry.errors import UsageError
-from landscape.analysis.calibration import candidate_set, parse_vary
+from landscape.analysis.calibration import candidate_set, parse_vary, parse_with
 from landscape.analysis.opening import recorded_first_openings, simulated_opening
 from landscape.analysis.physical import measured_plateaus_deg
 from landscape.analysis.validation import cell_phases, parse_cells, simulates_commands
@@ -103,13 +103,7 @@ def main(argv=None) -> int:
 
 
 def _run(args, models: list[str], tmp: Path) -> int:
-    fixed = {}
-    for key, values in (parse_vary(args.fixed, "--with") if args.fixed else {}).items():
-        if len(values) != 1:
-            raise UsageError(f"--with {key} takes one value; vary it with --vary")
-        fixed[key] = values[0]
-    if fixed and not args.vary:
-        raise UsageError("--with sets a key in the --vary variants; give at least one --vary")
+    fixed = parse_with(args.fixed, args.vary)
     tag = "".join(f"+{k}={v:g}" for k, v in fixed.items())
     variants = {}
     for key, values in (parse_vary(args.vary) if args.vary else {}).items():

@@ -84,6 +84,32 @@ def parse_vary(items: Sequence[str], option: str = "--vary") -> dict[str, list[V
     return out
 
 
+def parse_with(items: Sequence[str], vary: Sequence[str]) -> dict[str, Value]:
+    """``--with TABLE.KEY=V`` options (one value each) -> ``{key: value}``, the keys every ``--vary`` variant also
+    sets; empty without items.
+
+    Raises
+    ------
+    CalibrationError
+        If a key has more than one value, or there are items but no ``--vary`` to apply them to.
+
+    Examples
+    --------
+    >>> parse_with(["compliance.wing_damping_n_m_s_rad=0.001"], ["compliance.wing_stiffness_n_m_rad=0.5,1"])
+    {'compliance.wing_damping_n_m_s_rad': 0.001}
+    """
+    if not items:
+        return {}
+    fixed = {}
+    for key, values in parse_vary(items, "--with").items():
+        if len(values) != 1:
+            raise CalibrationError(f"--with {key} takes one value; vary it with --vary")
+        fixed[key] = values[0]
+    if not vary:
+        raise CalibrationError("--with sets a key in the --vary variants; give at least one --vary")
+    return fixed
+
+
 def candidate_set(base: str | Path, overrides: dict[str, Value], name: str, path: str | Path):
     """Write the base model set with ``overrides`` (dotted keys that the base already has, or that any set may
     add: ``sim.model_set.OPTIONAL_KEYS``) as ``path`` under ``name`` and return it loaded (so it is validated
