@@ -150,7 +150,7 @@ def opening_response(
     >>> t = np.linspace(-0.5, 1.0, 151)
     >>> pitch = np.where(t < 0, 0.0, 60.0 * np.clip(t / 0.3, 0.0, 1.0)) + 10.0 * ((t > 0.3) & (t < 0.4))
     >>> r = opening_response(t, pitch, np.zeros_like(t), 0.0)
-    >>> r.hold_pitch_deg, r.overshoot_deg, round(r.rise_s, 2), r.tilt_deg, r.wobble_pitch_deg
+    >>> round(r.hold_pitch_deg, 9), round(r.overshoot_deg, 9), round(r.rise_s, 2), r.tilt_deg, r.wobble_pitch_deg
     (60.0, 10.0, 0.15, 0.0, 0.0)
     >>> r.closing_tilt_deg, r.rolled_s
     (0.0, nan)
