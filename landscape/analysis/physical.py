@@ -115,9 +115,9 @@ class Recording:
 
 def sagittal_pitch_deg(pitch_deg, roll_deg) -> NDArray[np.float64]:
     """How far the body's nose has pitched over, degrees: the angle of world-up in the body's x-z plane,
-    ``atan2(-u_x, u_z) = atan2(sin p, cos p cos r)``. It equals the ZYX pitch while ``|roll| < 90`` deg and goes on
-    past 90 deg where the ZYX pitch folds back (a body whose nose has gone 5 deg past vertical reads pitch 85 deg,
-    roll +-180 deg): at the 90 deg wing command the robot's opening carries it past vertical, so a hold, an
+    ``atan2(-u_x, u_z) = atan2(sin p, cos p cos r)``. It equals the ZYX pitch at zero roll (for rolls within 10 deg
+    it lies less than 0.5 deg above it) and goes on past 90 deg where the ZYX pitch folds back (a body whose nose
+    has gone 5 deg past vertical reads pitch 85 deg, roll +-180 deg): at the 90 deg wing command the robot's opening carries it past vertical, so a hold, an
     overshoot or a rise read from the ZYX pitch comes out low there. The same for either of the two (pitch, roll)
     pairs of one orientation.
 
