@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -213,6 +213,7 @@ def calibrate(
     openings: bool = False,
     opening_phase: float | None = None,
     side: bool = False,
+    phase: float | Mapping[tuple[float, float], float] | None = None,
 ) -> Calibration:
     """Grid-search ``vary`` on the fit cells, then validate the best candidate on every cell.
 
@@ -223,6 +224,9 @@ def calibrate(
     the cell's recorded first openings to the score: how the body moves, not only whether it rights. With
     ``side`` it adds the log-likelihood of the side of the robot's roll-overs on the fit cells (how many went to
     +roll, of how many) under the candidate's simulated fraction on the same cells (:func:`side_log_likelihood`).
+    ``phase`` puts every simulated trial's first attempt at that phase, or at each cell's own (a mapping such as
+    the lab protocol's, :func:`landscape.analysis.opening.protocol_phases`), in the candidates' trials and the best
+    one's validation alike; None: random phases (:func:`landscape.analysis.validation.validate`).
     """
     from landscape.analysis.opening import PROTOCOL_PHASE, recorded_first_openings
     from landscape.analysis.physical import measured_plateaus_deg, physical_trials
@@ -256,7 +260,7 @@ def calibrate(
         v, _ = validate(
             data_dir, db=out_dir / f"trials_{name}_{ms.model_set_hash}.sqlite", robot=robot,
             model_set=ms.source, trials=trials, cv=cv, seed=seed, cells=fit_cells, duration_s=duration_s,
-            workers=workers, progress=progress,
+            workers=workers, progress=progress, phase=phase,
         )  # fmt: skip
         k, n = v.agree_counts["all"]
         opening_ll = math.nan
@@ -276,6 +280,7 @@ def calibrate(
     v, _ = validate(
         data_dir, db=out_dir / f"trials_best_{ms.model_set_hash}.sqlite", robot=robot, model_set=best_file,
         trials=validate_trials, cv=cv, seed=seed + 1, duration_s=duration_s, workers=workers, progress=progress,
+        phase=phase,
     )  # fmt: skip
     return Calibration(str(base), tuple(fit_cells), tuple(scored), str(best_file), v)
 

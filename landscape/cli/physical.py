@@ -332,15 +332,22 @@ def validate_cmd(
     doc = asdict(v) | {
         "robot": str(robot_urdf(robot)),
         "trials": trials,
-        "phase": "protocol" if isinstance(phase, dict) else phase,
-        "cell_phases": {f"{w:g}:{leg:g}": p for (w, leg), p in phase.items()}
-        if isinstance(phase, dict)
-        else None,
+        **_phase_doc(phase),
         "cv": cv,
         "seed": seed,
         "store": str(db),
     }
     _report_validation(Path(out), v, {"validation.csv": list(v.cells)}, "validation.json", doc)
+
+
+def _phase_doc(phase) -> dict:
+    """How a validation or calibration set its first-attempt phases, for its JSON: ``phase`` (None for random, a
+    number, or ``protocol``) and, for the protocol, ``cell_phases`` keyed ``WING:LEG``."""
+    protocol = isinstance(phase, dict)
+    return {
+        "phase": "protocol" if protocol else phase,
+        "cell_phases": {f"{w:g}:{leg:g}": p for (w, leg), p in phase.items()} if protocol else None,
+    }
 
 
 def _phase_arg(text: str | None, data):
@@ -423,6 +430,14 @@ def _phase_arg(text: str | None, data):
     help="Also score the side of the roll-overs: the robot's on the fit cells (how many went to +roll) under each "
     "candidate's simulated fraction.",
 )
+@click.option(
+    "--phase",
+    type=str,
+    default=None,
+    help="Every simulated trial's first attempt (candidates' and the best one's validation) at this phase phi_1 in "
+    "[0, 1), or 'protocol': each cell at the phase the lab's protocol gives it (as validate --phase protocol) "
+    "[default: a random phase per trial].",
+)
 @validation_cv_option
 @validation_seed_option
 @validation_duration_option
@@ -437,7 +452,7 @@ def _phase_arg(text: str | None, data):
 )
 @no_progress_option
 def calibrate_cmd(
-    data, robot, base, vary, trials, validate_trials, fit_legs, openings, opening_phase, side, cv, seed,
+    data, robot, base, vary, trials, validate_trials, fit_legs, openings, opening_phase, side, phase, cv, seed,
     duration, workers, out, no_progress,
 ):  # fmt: skip
     """Fit a model set to the physical outcomes: every combination of the --vary values is simulated on the fit
@@ -455,8 +470,9 @@ def calibrate_cmd(
     if opening_phase is not None and not openings:
         raise UsageError("--opening-phase sets the phase of the scored openings; give --openings as well")
     writable_dir(out, "--out")
-    Path(out).mkdir(parents=True, exist_ok=True)
     grid = parse_vary(vary)
+    phase = _phase_arg(phase, data)
+    Path(out).mkdir(parents=True, exist_ok=True)
 
     def done(c, i, n):
         changes = ", ".join(f"{k} = {format_value(v)}" for k, v in c.overrides.items())
@@ -487,9 +503,11 @@ def calibrate_cmd(
             openings=openings,
             opening_phase=opening_phase,
             side=side,
+            phase=phase,
         )
     best = cal.candidates[0]
     click.echo(f"\nbest: {best.name} ({best.overrides}) -> {cal.best_file}; validated on every cell:\n")
     rows = [c.__class__(**{**asdict(c), "overrides": json_text(c.overrides)}) for c in cal.candidates]
     tables = {"calibration.csv": rows, "validation.csv": list(cal.validation.cells)}
-    _report_validation(Path(out), cal.validation, tables, "calibration.json", asdict(cal))
+    doc = asdict(cal) | _phase_doc(phase)
+    _report_validation(Path(out), cal.validation, tables, "calibration.json", doc)
