@@ -160,7 +160,9 @@ class Candidate:
     """One candidate's score on the fit cells: the log-likelihood of the recorded outcomes and, when openings
     are scored, of the recorded first openings (``landscape.analysis.opening.opening_log_likelihood``; nan
     otherwise), and when the side is scored, of the side the robot's roll-overs on the fit cells went to under
-    the candidate's simulated side fraction (nan otherwise). Candidates rank by ``score``, their sum."""
+    the candidate's simulated side fraction (nan otherwise), and when the time to right is scored, of the robot's
+    median times to right under the candidate's (:func:`time_log_likelihood`; nan otherwise). Candidates rank by
+    ``score``, their sum."""
 
     name: str
     overrides: dict
@@ -170,16 +172,18 @@ class Candidate:
     cells: int
     opening_log_likelihood: float = math.nan
     side_log_likelihood: float = math.nan
+    time_log_likelihood: float = math.nan
 
     CSV_COLUMNS = (
         "name", "overrides", "model_set_hash", "log_likelihood", "agree", "cells", "opening_log_likelihood",
-        "side_log_likelihood",
+        "side_log_likelihood", "time_log_likelihood",
     )  # fmt: skip
 
     @property
     def score(self) -> float:
-        """The outcomes' log-likelihood plus the openings' and the side's where they were scored."""
-        extra = (self.opening_log_likelihood, self.side_log_likelihood)
+        """The outcomes' log-likelihood plus the openings', the side's and the time to right's where they were
+        scored."""
+        extra = (self.opening_log_likelihood, self.side_log_likelihood, self.time_log_likelihood)
         return self.log_likelihood + sum(x for x in extra if math.isfinite(x))
 
 
@@ -214,6 +218,7 @@ def calibrate(
     opening_phase: float | None = None,
     side: bool = False,
     phase: float | Mapping[tuple[float, float], float] | None = None,
+    time_to_right: bool = False,
 ) -> Calibration:
     """Grid-search ``vary`` on the fit cells, then validate the best candidate on every cell.
 
@@ -226,7 +231,9 @@ def calibrate(
     +roll, of how many) under the candidate's simulated fraction on the same cells (:func:`side_log_likelihood`).
     ``phase`` puts every simulated trial's first attempt at that phase, or at each cell's own (a mapping such as
     the lab protocol's, :func:`landscape.analysis.opening.protocol_phases`), in the candidates' trials and the best
-    one's validation alike; None: random phases (:func:`landscape.analysis.validation.validate`).
+    one's validation alike; None: random phases (:func:`landscape.analysis.validation.validate`). With
+    ``time_to_right`` it adds the log-likelihood of the robot's median time to right in each fit cell where both
+    right under the candidate's (:func:`time_log_likelihood`): the issue's secondary target.
     """
     from landscape.analysis.opening import PROTOCOL_PHASE, recorded_first_openings
     from landscape.analysis.physical import measured_plateaus_deg, physical_trials
@@ -267,8 +274,9 @@ def calibrate(
         if openings:
             opening_ll = _openings_log_likelihood(ms.source, fit_cells, recorded, plateau, phase, seed, robot)
         side_ll = side_log_likelihood(v.side) if side else math.nan
+        time_ll = time_log_likelihood(v.cells) if time_to_right else math.nan
         cand = Candidate(
-            name, overrides, ms.model_set_hash, v.log_likelihood["all"], k, n, opening_ll, side_ll
+            name, overrides, ms.model_set_hash, v.log_likelihood["all"], k, n, opening_ll, side_ll, time_ll
         )
         scored.append(cand)
         if on_candidate is not None:
@@ -299,6 +307,37 @@ def side_log_likelihood(side: SideComparison) -> float:
     if not side.phys_events or not side.sim_events:
         return 0.0
     return log_likelihood([(side.phys_positive, side.phys_events, side.sim_positive, side.sim_events)])
+
+
+TIME_SD_LOG = 0.35
+"""Spread of a cell's median time to right, robot against simulation, in :func:`time_log_likelihood`: the
+standard deviation of its logarithm (a factor of about 1.4; the robot's five-trial medians at 90 deg, leg 30-45,
+spread 0.33-0.35 s, at 60-75 deg 1.06-1.39 s)."""
+TIME_Z_CAP = 4.0
+"""Largest deviation, in ``TIME_SD_LOG``, that one cell counts in :func:`time_log_likelihood`."""
+
+
+def time_log_likelihood(cells) -> float:
+    """Log-likelihood of the robot's median time to right under the simulation's, summed over the cells where both
+    right: ``-z^2 / 2`` with ``z = log(robot / simulated) / TIME_SD_LOG`` (capped at ``TIME_Z_CAP``); cells where
+    either never rights add nothing (the outcomes' likelihood scores those). 0 without such a cell.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as C
+    >>> round(time_log_likelihood([C(phys_ttr_median_s=0.35, sim_ttr_median_s=1.15),
+    ...                            C(phys_ttr_median_s=1.1, sim_ttr_median_s=float("nan"))]), 2)
+    -5.78
+    >>> time_log_likelihood([C(phys_ttr_median_s=0.35, sim_ttr_median_s=0.35)]) == 0.0
+    True
+    """
+    total = 0.0
+    for c in cells:
+        robot, sim = c.phys_ttr_median_s, c.sim_ttr_median_s
+        if math.isfinite(robot) and math.isfinite(sim) and robot > 0 and sim > 0:
+            z = min(abs(math.log(robot / sim)) / TIME_SD_LOG, TIME_Z_CAP)
+            total -= 0.5 * z * z
+    return total
 
 
 def _openings_log_likelihood(model_set, cells, recorded, plateau, phase, seed, robot) -> float:

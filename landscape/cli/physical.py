@@ -431,6 +431,13 @@ def _phase_arg(text: str | None, data):
     "candidate's simulated fraction.",
 )
 @click.option(
+    "--time-to-right/--no-time-to-right",
+    default=False,
+    show_default=True,
+    help="Also score the time to right: the robot's median in each fit cell where both right under the "
+    "candidate's (a spread of a factor of about 1.4).",
+)
+@click.option(
     "--phase",
     type=str,
     default=None,
@@ -452,8 +459,8 @@ def _phase_arg(text: str | None, data):
 )
 @no_progress_option
 def calibrate_cmd(
-    data, robot, base, vary, trials, validate_trials, fit_legs, openings, opening_phase, side, phase, cv, seed,
-    duration, workers, out, no_progress,
+    data, robot, base, vary, trials, validate_trials, fit_legs, openings, opening_phase, side, time_to_right, phase,
+    cv, seed, duration, workers, out, no_progress,
 ):  # fmt: skip
     """Fit a model set to the physical outcomes: every combination of the --vary values is simulated on the fit
     cells and scored by the log-likelihood of the recorded outcomes (with --openings also of the recorded first
@@ -478,7 +485,8 @@ def calibrate_cmd(
         changes = ", ".join(f"{k} = {format_value(v)}" for k, v in c.overrides.items())
         scored = f", openings {c.opening_log_likelihood:.2f}" if openings else ""
         scored += f", side {c.side_log_likelihood:.2f}" if side else ""
-        scored += f" (score {c.score:.2f})" if openings or side else ""
+        scored += f", time to right {c.time_log_likelihood:.2f}" if time_to_right else ""
+        scored += f" (score {c.score:.2f})" if openings or side or time_to_right else ""
         click.echo(
             f"[{i}/{n}] {c.name} ({changes}): log-likelihood {c.log_likelihood:.2f}, {c.agree}/{c.cells} agree"
             + scored
@@ -504,6 +512,7 @@ def calibrate_cmd(
             opening_phase=opening_phase,
             side=side,
             phase=phase,
+            time_to_right=time_to_right,
         )
     best = cal.candidates[0]
     click.echo(f"\nbest: {best.name} ({best.overrides}) -> {cal.best_file}; validated on every cell:\n")

@@ -108,15 +108,19 @@ def test_calibrate_command_picks_the_likeliest_candidate_and_holds_cells_out(tmp
     args = ["physical", "calibrate", "--data", str(DATA), "--base", "paper"]
     args += ["--vary", "contact.lateral_friction=0.5,1", "--trials", "1", "--validate-trials", "1"]
     args += ["--duration", "2", "--out", str(tmp_path), "--no-progress", "--workers", "1"]
-    # every simulated trial at its cell's phase under the lab's protocol (the other calibrations: random phases)
-    assert main([*args, "--phase", "protocol"]) == 0
+    # every simulated trial at its cell's phase under the lab's protocol (the other calibrations: random phases),
+    # the time to right scored too
+    assert main([*args, "--phase", "protocol", "--time-to-right"]) == 0
     out = capsys.readouterr().out
     assert "first-attempt phases by the protocol: leg 15° 0.195, leg 30° 0.166, leg 45° 0.129" in out
     assert "[1/2] candidate000" in out and "[2/2] candidate001" in out and "held-out cells:" in out
+    assert ", time to right " in out and "(score " in out
     doc = json.loads((tmp_path / "calibration.json").read_text())
     assert doc["phase"] == "protocol" and doc["cell_phases"]["60:30"] == pytest.approx(0.166, abs=1e-3)
-    lls = [c["log_likelihood"] for c in doc["candidates"]]
-    assert lls == sorted(lls, reverse=True)  # best first
+    times = [c["time_log_likelihood"] for c in doc["candidates"]]
+    assert all(t <= 0.0 for t in times)  # finite: 0 without a fit cell where both right
+    scores = [c["log_likelihood"] + t for c, t in zip(doc["candidates"], times, strict=True)]
+    assert scores == sorted(scores, reverse=True)
     assert all(c["cells"] == 6 for c in doc["candidates"])  # fit cells only: legs 0 and 30
     assert {tuple(c) for c in doc["fit_cells"]} == {
         (w, leg) for w in (60.0, 75.0, 90.0) for leg in (0.0, 30.0)
