@@ -136,17 +136,21 @@ def test_calibrate_command_picks_the_likeliest_candidate_and_holds_cells_out(tmp
 
 
 @needs_data
-def test_calibrate_with_openings_ranks_by_outcomes_plus_openings(tmp_path, capsys):
+def test_calibrate_with_openings_and_side_ranks_by_their_sum(tmp_path, capsys):
     """--openings: each candidate also gets the log-likelihood of its first openings under the robot's (one per
-    fit cell); candidates rank by the sum, which is printed and stored."""
-    args = ["physical", "calibrate", "--data", str(DATA), "--base", "paper", "--openings"]
+    fit cell); --side: of the side the robot's fit-cell roll-overs went to under the candidate's; candidates rank
+    by the sum, which is printed and stored (one run scores both)."""
+    args = ["physical", "calibrate", "--data", str(DATA), "--base", "paper", "--openings", "--side"]
     args += ["--vary", "contact.lateral_friction=0.5,1", "--trials", "1", "--validate-trials", "1"]
     args += ["--duration", "2", "--out", str(tmp_path), "--no-progress", "--workers", "1"]
     assert main(args) == 0
     out = capsys.readouterr().out
-    assert "openings -" in out and "(score -" in out
+    assert "openings -" in out and ", side " in out and "(score -" in out
     doc = json.loads((tmp_path / "calibration.json").read_text())
-    scores = [c["log_likelihood"] + c["opening_log_likelihood"] for c in doc["candidates"]]
+    scores = [
+        c["log_likelihood"] + c["opening_log_likelihood"] + c["side_log_likelihood"]
+        for c in doc["candidates"]
+    ]
     assert scores == sorted(scores, reverse=True) and all(math.isfinite(s) for s in scores)
     assert main(args[:-5] + ["--opening-phase", "1.2", "--out", str(tmp_path)]) == 2
     plain = [a for a in args if a != "--openings"]
@@ -167,16 +171,3 @@ def test_the_side_score_favours_the_robots_side():
     assert ca.side_log_likelihood(SideComparison(0, 0, 0, 0, 5, 10, 0, 0, False)) == 0.0
     c = ca.Candidate("c", {}, "h", -5.0, 3, 6, side_log_likelihood=-2.0)
     assert c.score == -7.0 and "side_log_likelihood" in c.CSV_COLUMNS
-
-
-@needs_data
-def test_calibrate_with_the_side_ranks_by_outcomes_plus_side(tmp_path, capsys):
-    args = ["physical", "calibrate", "--data", str(DATA), "--base", "paper", "--side"]
-    args += ["--vary", "contact.lateral_friction=0.5,1", "--trials", "1", "--validate-trials", "1"]
-    args += ["--duration", "2", "--out", str(tmp_path), "--no-progress", "--workers", "1"]
-    assert main(args) == 0
-    out = capsys.readouterr().out
-    assert ", side " in out and "(score " in out
-    doc = json.loads((tmp_path / "calibration.json").read_text())
-    scores = [c["log_likelihood"] + c["side_log_likelihood"] for c in doc["candidates"]]
-    assert scores == sorted(scores, reverse=True) and all(math.isfinite(s) for s in scores)
