@@ -249,9 +249,9 @@ def calibrate(
     fit_cells = [c for c in cells if c[1] in fit_legs]
     if not fit_cells:
         raise CalibrationError(f"no recorded cell has a leg amplitude in --fit-legs {sorted(fit_legs)}")
-    phase = PROTOCOL_PHASE if opening_phase is None else float(opening_phase)
-    if not 0.0 <= phase < 1.0:
-        raise CalibrationError(f"the openings' phase must lie in [0, 1); got {phase!r}")
+    scored_phase = PROTOCOL_PHASE if opening_phase is None else float(opening_phase)
+    if not 0.0 <= scored_phase < 1.0:
+        raise CalibrationError(f"the openings' phase must lie in [0, 1); got {scored_phase!r}")
     recorded = {}
     if openings:
         for o in recorded_first_openings(data_dir):
@@ -272,7 +272,9 @@ def calibrate(
         k, n = v.agree_counts["all"]
         opening_ll = math.nan
         if openings:
-            opening_ll = _openings_log_likelihood(ms.source, fit_cells, recorded, plateau, phase, seed, robot)
+            opening_ll = _openings_log_likelihood(
+                ms.source, fit_cells, recorded, plateau, scored_phase, seed, robot
+            )
         side_ll = side_log_likelihood(v.side) if side else math.nan
         time_ll = time_log_likelihood(v.cells) if time_to_right else math.nan
         cand = Candidate(

@@ -117,6 +117,13 @@ def test_calibrate_command_picks_the_likeliest_candidate_and_holds_cells_out(tmp
     assert ", time to right " in out and "(score " in out
     doc = json.loads((tmp_path / "calibration.json").read_text())
     assert doc["phase"] == "protocol" and doc["cell_phases"]["60:30"] == pytest.approx(0.166, abs=1e-3)
+    # the candidates' trials themselves ran at those phases (leg still: the protocol's one number)
+    from landscape.analysis.opening import PROTOCOL_PHASE
+    from sim.store import read_rows
+
+    rows = [r for db in tmp_path.glob("trials_candidate*.sqlite") for r in read_rows(db)]
+    assert {round(r["phase"], 3) for r in rows if r["theta_l_deg"] == 30.0} == {0.166}
+    assert {r["phase"] for r in rows if r["theta_l_deg"] == 0.0} == {PROTOCOL_PHASE}
     times = [c["time_log_likelihood"] for c in doc["candidates"]]
     assert all(t <= 0.0 for t in times)  # finite: 0 without a fit cell where both right
     scores = [c["log_likelihood"] + t for c, t in zip(doc["candidates"], times, strict=True)]
@@ -152,6 +159,11 @@ def test_calibrate_with_openings_and_side_ranks_by_their_sum(tmp_path, capsys):
         for c in doc["candidates"]
     ]
     assert scores == sorted(scores, reverse=True) and all(math.isfinite(s) for s in scores)
+    # without --phase the trials' phases are random, whatever phase the scored openings take
+    from sim.store import read_rows
+
+    phases = {r["phase"] for db in tmp_path.glob("trials_candidate*.sqlite") for r in read_rows(db)}
+    assert len(phases) == 6  # one trial per fit cell, each cell its own random phase
     assert main(args[:-5] + ["--opening-phase", "1.2", "--out", str(tmp_path)]) == 2
     plain = [a for a in args if a != "--openings"]
     assert main([*plain, "--opening-phase", "0.3"]) == 2
