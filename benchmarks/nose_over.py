@@ -54,7 +54,7 @@ def main(argv=None) -> int:
 
 def _run(a, tmp: Path) -> int:
     from geometry.robots import load_robot
-    from landscape.analysis.calibration import candidate_set, parse_vary, parse_with
+    from landscape.analysis.calibration import candidate_set, format_value, parse_vary, parse_with
     from landscape.analysis.opening import (
         PROTOCOL_PHASE,
         mounting_from_rests,
@@ -62,25 +62,24 @@ def _run(a, tmp: Path) -> int:
         recorded_first_openings,
         simulated_opening,
     )
+    from landscape.analysis.validation import parse_cells
     from sim.model_set import load_model_set
 
     try:
         names = [m for m in a.models.split(",") if m]
+        if not names:
+            raise UsageError("--models names no model set; give e.g. physical-head")
         sets = [load_model_set(m) for m in names]  # an unknown set: one line before any simulation
         labels = [ms.name for ms in sets]
         fixed = parse_with(a.fixed, a.vary)
-        tag = "".join(f"+{k}={v:g}" for k, v in fixed.items())
+        tag = "".join(f"+{k}={format_value(v)}" for k, v in fixed.items())
         for key, values in (parse_vary(a.vary) if a.vary else {}).items():
             for v in values:
-                label = (
-                    f"{labels[0]}{tag}+{key}={v:g}" if isinstance(v, float) else f"{labels[0]}{tag}+{key}={v}"
-                )
+                label = f"{labels[0]}{tag}+{key}={format_value(v)}"
                 names.append(
                     str(candidate_set(names[0], fixed | {key: v}, label, tmp / f"v{len(names)}.toml").source)
                 )
                 labels.append(label)
-        if not sets:
-            raise UsageError("--models names no model set; give e.g. physical-head")
         openings = recorded_first_openings(a.data)
         mount = mounting_from_rests(a.data, load_robot(a.robot)).mount_deg
         phases = protocol_phases(a.data)
@@ -89,18 +88,7 @@ def _run(a, tmp: Path) -> int:
             recorded[(o.theta_w_cmd_deg, o.theta_l_deg)].append(
                 (peak_nose_deg(o.response) - mount, o.response.rise_s)
             )
-        cells = sorted(recorded)
-        if a.cells:
-            try:
-                want = [tuple(float(v) for v in c.split(":")) for c in a.cells.split(",")]
-            except ValueError:
-                want = [()]
-            if any(c not in recorded for c in want):
-                raise UsageError(
-                    f"--cells {a.cells}: give recorded cells as WING:LEG, e.g. 90:0,90:30 "
-                    f"(recorded: {', '.join(f'{w:g}:{leg:g}' for w, leg in cells)})"
-                )
-            cells = want
+        cells = parse_cells(a.cells, recorded)
         rows = []
         for cell in cells:
             peaks = recorded[cell]

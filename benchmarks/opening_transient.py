@@ -39,7 +39,7 @@ import numpy as np
 from tqdm import tqdm
 
 from geometry.errors import UsageError
-from landscape.analysis.calibration import candidate_set, parse_vary, parse_with
+from landscape.analysis.calibration import candidate_set, format_value, parse_vary, parse_with
 from landscape.analysis.opening import recorded_first_openings, simulated_opening
 from landscape.analysis.physical import measured_plateaus_deg
 from landscape.analysis.validation import cell_phases, parse_cells, simulates_commands
@@ -104,11 +104,11 @@ def main(argv=None) -> int:
 
 def _run(args, models: list[str], tmp: Path) -> int:
     fixed = parse_with(args.fixed, args.vary)
-    tag = "".join(f"+{k}={v:g}" for k, v in fixed.items())
+    tag = "".join(f"+{k}={format_value(v)}" for k, v in fixed.items())
     variants = {}
     for key, values in (parse_vary(args.vary) if args.vary else {}).items():
         for v in values:
-            name = f"{models[0]}{tag}+{key}={v:g}"
+            name = f"{models[0]}{tag}+{key}={format_value(v)}"
             variants[name] = str(
                 candidate_set(models[0], fixed | {key: v}, name, tmp / f"v{len(variants)}.toml").source
             )

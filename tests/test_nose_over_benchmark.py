@@ -39,4 +39,4 @@ def test_the_robot_passes_vertical_at_90_deg_and_the_model_does_not(bench, capsy
     assert "give at least one --vary" in capsys.readouterr().err
     assert bench.main([*argv, "--models", "nosuchset"]) == 2
     assert bench.main([*argv[:-2], "--cells", "90:5", "--models", "paper"]) == 2
-    assert "give recorded cells as WING:LEG" in capsys.readouterr().err
+    assert "--cells 90:5 is not a recorded cell; the recorded cells are 60:0," in capsys.readouterr().err

@@ -117,9 +117,11 @@ def sagittal_pitch_deg(pitch_deg, roll_deg) -> NDArray[np.float64]:
     """How far the body's nose has pitched over, degrees: the angle of world-up in the body's x-z plane,
     ``atan2(-u_x, u_z) = atan2(sin p, cos p cos r)``. It equals the ZYX pitch at zero roll (for rolls within 10 deg
     it lies less than 0.5 deg above it) and goes on past 90 deg where the ZYX pitch folds back (a body whose nose
-    has gone 5 deg past vertical reads pitch 85 deg, roll +-180 deg): at the 90 deg wing command the robot's opening carries it past vertical, so a hold, an
-    overshoot or a rise read from the ZYX pitch comes out low there. The same for either of the two (pitch, roll)
-    pairs of one orientation.
+    has gone 5 deg past vertical reads pitch 85 deg, roll +-180 deg): at the 90 deg wing command the robot's
+    opening carries it past vertical, so a hold, an overshoot or a rise read from the ZYX pitch comes out low
+    there. The same for either of the two (pitch, roll) pairs of one orientation. Unlike
+    :func:`landscape.analysis.opening.nose_pitch_deg` (the x axis's elevation, at most 90 deg, what the rests on
+    the back and upright are read in), an upright body reads near 180 deg here.
 
     Examples
     --------
