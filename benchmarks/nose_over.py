@@ -11,7 +11,7 @@ nose pitch and the rise time (from the opening's start to half-way from the rest
 first openings passed vertical (robot: medians over its five, in brackets the peaks' range).
 
 With ``--vary TABLE.KEY=V1,V2`` (repeatable) each value is also tried on its own in a copy of the first set
-(``landscape.analysis.calibration.candidate_set``), e.g. wing springs, friction or contact damping;
+(``landscape.analysis.calibration.variant_sets``), e.g. wing springs, friction or contact damping;
 ``--with TABLE.KEY=V`` (repeatable) sets a key in every variant (a damping while the stiffness varies).
 
 Run:  PYTHONPATH=. .venv/bin/python benchmarks/nose_over.py [--data DIR] [--robot URDF]
@@ -54,7 +54,7 @@ def main(argv=None) -> int:
 
 def _run(a, tmp: Path) -> int:
     from geometry.robots import load_robot
-    from landscape.analysis.calibration import candidate_set, format_value, parse_vary, parse_with
+    from landscape.analysis.calibration import sets_and_variants
     from landscape.analysis.opening import (
         PROTOCOL_PHASE,
         mounting_from_rests,
@@ -63,23 +63,9 @@ def _run(a, tmp: Path) -> int:
         simulated_opening,
     )
     from landscape.analysis.validation import parse_cells
-    from sim.model_set import load_model_set
 
     try:
-        names = [m for m in a.models.split(",") if m]
-        if not names:
-            raise UsageError("--models names no model set; give e.g. physical-head")
-        sets = [load_model_set(m) for m in names]  # an unknown set: one line before any simulation
-        labels = [ms.name for ms in sets]
-        fixed = parse_with(a.fixed, a.vary)
-        tag = "".join(f"+{k}={format_value(v)}" for k, v in fixed.items())
-        for key, values in (parse_vary(a.vary) if a.vary else {}).items():
-            for v in values:
-                label = f"{labels[0]}{tag}+{key}={format_value(v)}"
-                names.append(
-                    str(candidate_set(names[0], fixed | {key: v}, label, tmp / f"v{len(names)}.toml").source)
-                )
-                labels.append(label)
+        names, labels = sets_and_variants(a.models, a.vary, a.fixed, tmp)
         openings = recorded_first_openings(a.data)
         mount = mounting_from_rests(a.data, load_robot(a.robot)).mount_deg
         phases = protocol_phases(a.data)

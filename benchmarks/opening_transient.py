@@ -18,7 +18,7 @@ physical kinematics`` times it at about 0.17) instead of the validation's random
 openings of a cell are then alike: ``--trials 1``).
 
 With ``--vary TABLE.KEY=V1,V2`` (repeatable) each value is also tried on its own in a copy of the first set
-(``landscape.analysis.calibration.candidate_set``), one key at a time, and a last table gives each variant's
+(``landscape.analysis.calibration.variant_sets``), one key at a time, and a last table gives each variant's
 median |tilt| and hold wobble per cell beside the robot's; ``--with TABLE.KEY=V`` (repeatable) sets a key in
 every variant (e.g. a damping while the stiffness varies); ``--cells 60:30,60:45`` limits the cells.
 
@@ -39,7 +39,7 @@ import numpy as np
 from tqdm import tqdm
 
 from geometry.errors import UsageError
-from landscape.analysis.calibration import candidate_set, format_value, parse_vary, parse_with
+from landscape.analysis.calibration import variant_sets
 from landscape.analysis.opening import recorded_first_openings, simulated_opening
 from landscape.analysis.physical import measured_plateaus_deg
 from landscape.analysis.validation import cell_phases, parse_cells, simulates_commands
@@ -103,15 +103,7 @@ def main(argv=None) -> int:
 
 
 def _run(args, models: list[str], tmp: Path) -> int:
-    fixed = parse_with(args.fixed, args.vary)
-    tag = "".join(f"+{k}={format_value(v)}" for k, v in fixed.items())
-    variants = {}
-    for key, values in (parse_vary(args.vary) if args.vary else {}).items():
-        for v in values:
-            name = f"{models[0]}{tag}+{key}={format_value(v)}"
-            variants[name] = str(
-                candidate_set(models[0], fixed | {key: v}, name, tmp / f"v{len(variants)}.toml").source
-            )
+    variants = dict(variant_sets(models[0], models[0], args.vary, args.fixed, tmp))
     plateau = measured_plateaus_deg(args.data)
     openings = recorded_first_openings(args.data)
     available = {(o.theta_w_cmd_deg, o.theta_l_deg) for o in openings}

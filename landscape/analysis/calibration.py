@@ -155,6 +155,66 @@ def candidate_set(base: str | Path, overrides: dict[str, Value], name: str, path
     return load_model_set(path)
 
 
+def sets_and_variants(
+    models: str, vary: Sequence[str], fixed: Sequence[str], directory: str | Path
+) -> tuple[list[str], list[str]]:
+    """The model sets of a ``--models A,B`` option followed by the first one's ``--vary``/``--with`` variants
+    (:func:`variant_sets`, files in ``directory``): ``(names or paths to simulate, labels)``; every set is loaded
+    first, so an unknown one is reported before any simulation.
+
+    Raises
+    ------
+    CalibrationError
+        If ``models`` names no set or a variant is malformed.
+    ModelSetError
+        If a set is unknown or a value out of range.
+    """
+    from sim.model_set import load_model_set
+
+    names = [m for m in models.split(",") if m]
+    if not names:
+        raise CalibrationError("--models names no model set; give e.g. physical-head")
+    labels = [load_model_set(m).name for m in names]
+    for label, path in variant_sets(names[0], labels[0], vary, fixed, directory):
+        names.append(path)
+        labels.append(label)
+    return names, labels
+
+
+def variant_sets(
+    base: str | Path, label: str, vary: Sequence[str], fixed: Sequence[str], directory: str | Path
+) -> list[tuple[str, str]]:
+    """The ``--vary TABLE.KEY=V1,V2`` variants of the set ``base`` (each value on its own, with every ``--with
+    TABLE.KEY=V`` of ``fixed``), written as model-set files in ``directory``: ``[(label, path), ...]`` in the
+    order of the keys and values, each labelled ``LABEL+WITH_KEY=V...+KEY=V``; empty without ``vary``.
+
+    Raises
+    ------
+    CalibrationError
+        If an option is malformed, ``fixed`` is given without ``vary``, or a key is neither in ``base`` nor
+        optional.
+    ModelSetError
+        If a value is out of the set's range.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as tmp:
+    ...     out = variant_sets("paper", "paper", ["contact.lateral_friction=0.5,0.7"], [], tmp)
+    >>> [name for name, _ in out]
+    ['paper+contact.lateral_friction=0.5', 'paper+contact.lateral_friction=0.7']
+    """
+    with_values = parse_with(fixed, vary)
+    tag = "".join(f"+{k}={format_value(v)}" for k, v in with_values.items())
+    out = []
+    for key, values in (parse_vary(vary) if vary else {}).items():
+        for v in values:
+            name = f"{label}{tag}+{key}={format_value(v)}"
+            path = Path(directory) / f"v{len(out)}.toml"
+            out.append((name, str(candidate_set(base, with_values | {key: v}, name, path).source)))
+    return out
+
+
 @dataclass(frozen=True)
 class Candidate:
     """One candidate's score on the fit cells: the log-likelihood of the recorded outcomes and, when openings

@@ -1,0 +1,91 @@
+"""benchmarks/hold_energy.py: along the robot's roll-overs out of the hold the rigid landscape climbs no more than
+the body's kinetic energy at its departure can pay at 75 deg (it falls), while the leg's swings in the hold
+throw the robot's body several times as far as the model's."""
+
+import doctest
+import math
+
+import numpy as np
+import pytest
+
+from tests.conftest import LAB_URDF, load_script
+from tests.landscape.analysis.test_physical import DATA, needs_data
+
+
+@pytest.fixture(scope="module")
+def bench():
+    return load_script("benchmarks/hold_energy.py")
+
+
+def test_doctests(bench):
+    assert doctest.testmod(bench).failed == 0
+
+
+def test_body_frame_pitch_and_roll_round_trip(bench):
+    from landscape.energy import up_vector
+
+    p, r = np.deg2rad([60.0, -20.0, 85.0]), np.deg2rad([10.0, 170.0, -35.0])
+    u = up_vector(p, r)
+    pb, rb = bench.pitch_roll_deg(u)
+    assert np.allclose(pb, np.rad2deg(p)) and np.allclose(rb, np.rad2deg(r))
+    # the IMU reads the body's pitch plus its mounting (landscape.analysis.opening.mounting_from_rests): an IMU
+    # that reads level, mounted 30 deg, sits on a body pitched -30 deg; as the ZYX pitch minus the mounting
+    q = np.array([[0.0, 0.0, 0.0, 1.0]])
+    assert np.allclose(bench.pitch_roll_deg(bench.body_up(q, 30.0))[0], -30.0)
+    from landscape.analysis.physical import pitch_roll_from_quat_deg
+
+    q = np.array([[0.0, np.sin(np.radians(20)), 0.0, np.cos(np.radians(20))]])  # the IMU pitched 40 deg
+    assert np.allclose(pitch_roll_from_quat_deg(q)[0], 40.0)
+    assert np.allclose(bench.pitch_roll_deg(bench.body_up(q, 2.6))[0], 37.4)
+
+
+def test_leg_sides_from_the_log_and_from_an_angle(bench):
+    t, side = bench.leg_side_changes([0.2, 1.0], 0.4, 0.1)
+    assert np.allclose(t, [0.3, 0.7, 1.1, 1.5]) and side.tolist() == [1, -1, 1, -1]
+    ts = np.arange(0.0, 1.0, 0.01)
+    tc, s = bench.sim_leg_side_changes(ts, 30.0 * np.sin(2 * np.pi * (ts - 0.105) / 0.8))
+    assert np.allclose(tc, [0.105, 0.505, 0.905], atol=1e-3) and s.tolist() == [1, -1, 1]
+
+
+def test_kinetic_energy_of_a_spinning_body(bench):
+    from geometry.robots import load_robot
+
+    pose = load_robot("builtin").pose(0.0, 0.0)
+    up = np.array([0.0, 0.0, 1.0])
+    assert bench.kinetic_energy_j(pose, np.zeros(3), up) == 0.0
+    i_com = bench.inertia_about_com(pose)
+    assert np.allclose(i_com, i_com.T) and (np.linalg.eigvalsh(i_com) > 0).all()
+    # turning about the vertical: rotation about the CoM plus the CoM's speed about the lowest point
+    w = np.array([0.0, 0.0, 2.0])
+    lowest = pose.hull_points_m[np.argmin(pose.hull_points_m @ up)]
+    d = (pose.com_m - lowest)[:2]
+    expected = 0.5 * i_com[2, 2] * 4.0 + 0.5 * pose.mass_kg * 4.0 * (d @ d)
+    assert math.isclose(bench.kinetic_energy_j(pose, w, up), expected, rel_tol=1e-12)
+
+
+@needs_data
+@pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
+def test_the_robot_is_thrown_further_and_its_climb_is_paid_for(bench, capsys):
+    argv = ["--data", str(DATA), "--robot", str(LAB_URDF), "--models", "physical-head"]
+    assert bench.main([*argv, "--cells", "60:45,75:30"]) == 0
+    out = capsys.readouterr().out
+    assert "body frame (IMU minus the 2.6 deg mounting)" in out
+    rows = [ln.split("|") for ln in out.splitlines() if ln.count("|") == 12 and " s | " in ln]
+    assert len(rows) == 10  # every first opening rolled over out of the hold, 5 + 5
+    assert all(r[6].strip() == "+1" for r in rows)  # the leg's sphere on -y, the side the robot rolls to
+    climbs = {(r[1].strip(), int(r[3])): float(r[8].split("(")[0]) for r in rows}
+    kes = {(r[1].strip(), int(r[3])): float(r[9]) for r in rows}
+    # at 75 deg the rigid landscape lets the recorded path fall; at 60 deg it climbs 3-14 mJ, with 12-25 mJ of
+    # kinetic energy at the departure
+    assert max(v for (w, _), v in climbs.items() if w == "75°") < 0.0
+    assert all(3.0 < v < 15.0 for (w, _), v in climbs.items() if w == "60°")
+    assert all(10.0 < v < 30.0 for (w, _), v in kes.items() if w == "60°")
+    throw = {ln.split("|")[1].strip(): ln.split("|") for ln in out.splitlines() if "°/s" in ln}
+    assert (
+        throw["60°"][3].strip() == "224 °/s, 19.6° (9)"
+    )  # two swings of each of five first openings, less one
+    model_range = float(throw["60°"][4].split(",")[1].split("°")[0])
+    assert model_range < 0.5 * 19.6  # the model's body moves less than half as far after each swing
+    assert bench.main([*argv, "--cells", "60:5"]) == 2
+    assert "--cells 60:5 is not a recorded cell" in capsys.readouterr().err
+    assert bench.main([*argv[:-1], "nosuchset"]) == 2
