@@ -12,7 +12,7 @@ hold (at or after 0.4 s), from its departure to the earlier of the wings' closin
 the body frame by the mounting the two rests measure; the set's wing joints at the command, the leg held where
 the servo log puts it then: ``landscape.energy.height_at``), and the body's kinetic energy at both ends from the
 gyro (``GYRO_SAMPLES``; rotation about the CoM with the set's inertia, plus the CoM's translation were the lowest point of the hull
-at rest). If the climb exceeds what the kinetic energy can pay (the balance ``KE start - KE end - climb`` is
+at rest; in brackets the rotation about the CoM alone, a lower bound). If the climb exceeds what the kinetic energy can pay (the balance ``KE start - KE end - climb`` is
 well below zero), the rigid landscape forbids the path and the robot's support must differ; if not, the rigid
 geometry allows it and the question is where the body's kinetic energy comes from.
 
@@ -113,12 +113,13 @@ def kinetic_energy_j(pose, omega_body, up_body) -> float:
     return float(0.5 * w @ inertia_about_com(pose) @ w + 0.5 * pose.mass_kg * v @ v)
 
 
-def recorded_kinetic_energy_j(rec, time_s: float, pose, up_body, mount_deg: float) -> float:
+def recorded_kinetic_energy_j(rec, time_s: float, pose, up_body, mount_deg: float) -> tuple[float, float]:
     """:func:`kinetic_energy_j` of the rigid ``pose`` turning at the recording's gyro rate at ``time_s`` (the
-    median of the ``GYRO_SAMPLES`` samples nearest it, turned into the body frame ``mount_deg`` below the IMU's)."""
+    median of the ``GYRO_SAMPLES`` samples nearest it, turned into the body frame ``mount_deg`` below the IMU's),
+    and the rotation about the CoM alone (its lower bound, whatever the CoM does), J."""
     near = np.argsort(np.abs(rec.gyro_t_s - time_s))[:GYRO_SAMPLES]
     omega = rotate_into_body(np.median(rec.gyro_rad_s[near], axis=0), mount_deg)
-    return kinetic_energy_j(pose, omega, up_body)
+    return kinetic_energy_j(pose, omega, up_body), float(0.5 * omega @ inertia_about_com(pose) @ omega)
 
 
 def leg_side_changes(leg_up_s, half_period_s: float, lag_s: float) -> tuple[np.ndarray, np.ndarray]:
@@ -276,13 +277,14 @@ def _run(a, tmp: Path) -> int:
     )
     print(
         "| wing cmd | leg | trial | window | tilt | leg side | departure above the hold | rigid climb (largest) "
-        "| KE start | KE end | balance |"
+        "| KE start (rotation) | KE end (rotation) | balance |"
     )
     print("|---|---|---|---|---|---|---|---|---|---|---|")
-    for (w, leg), trial, t0, t1, a0, a1, side, above, climb, top, k0, k1 in energy_rows:
+    for (w, leg), trial, t0, t1, a0, a1, side, above, climb, top, (k0, r0), (k1, r1) in energy_rows:
         print(
             f"| {w:g}° | {leg:g}° | {trial} | {t0:.2f}-{t1:.2f} s | {a0:+.1f}° to {a1:+.1f}° | {side:+.0f} | "
-            f"{above * 1e3:.1f} | {climb * 1e3:+.1f} ({top * 1e3:.1f}) | {k0 * 1e3:.1f} | {k1 * 1e3:.1f} | "
+            f"{above * 1e3:.1f} | {climb * 1e3:+.1f} ({top * 1e3:.1f}) | {k0 * 1e3:.1f} ({r0 * 1e3:.1f}) | "
+            f"{k1 * 1e3:.1f} ({r1 * 1e3:.1f}) | "
             f"{(k0 - k1 - climb) * 1e3:+.1f} |"
         )
     for (w, leg), (_, _, (down, up), barrier) in sorted(poses.items()):
