@@ -61,6 +61,8 @@ SWING_WINDOW_S = 0.25
 """How long after a change of the leg's side its throw is read, s (the swing takes 0.10-0.14 s)."""
 DEPART_TILT_DEG = 40.0
 """Lateral tilt past which the body has left the hold, degrees (``opening.LEAN_DEPART_DEG``)."""
+LEG_BAND_DEG = 5.0
+"""A simulated leg is on a side once it is this far from zero, degrees (``sim_leg_side_changes``)."""
 GYRO_SAMPLES = 3
 """The gyro at a time is the median of this many samples nearest it (it runs at about 55 Hz and has
 single-sample spikes: one of 35 rad/s at 60 deg / 45 deg, trial 4)."""
@@ -138,13 +140,31 @@ def leg_side_changes(leg_up_s, half_period_s: float, lag_s: float) -> tuple[np.n
     return t[order], side[order]
 
 
-def sim_leg_side_changes(t_s, leg_deg) -> tuple[np.ndarray, np.ndarray]:
-    """Where a simulated leg angle crosses zero (linear between samples) and the side it goes to."""
+def sim_leg_side_changes(t_s, leg_deg, band_deg: float = LEG_BAND_DEG) -> tuple[np.ndarray, np.ndarray]:
+    """When a simulated leg changes side and the side it goes to: its last zero crossing (linear between
+    samples) before it reaches ``band_deg`` on the other side (a leg held still, wobbling about zero, never
+    changes side).
+
+    >>> t = np.arange(0.0, 1.0, 0.01)
+    >>> tc, s = sim_leg_side_changes(t, 30.0 * np.sin(2 * np.pi * (t - 0.105) / 0.8))
+    >>> np.round(tc, 3).tolist(), s.tolist()
+    ([0.105, 0.505, 0.905], [1.0, -1.0, 1.0])
+    >>> sim_leg_side_changes(t, 0.1 * np.sin(40 * t))[0].size
+    0
+    """
     t = np.asarray(t_s, dtype=np.float64)
     leg = np.asarray(leg_deg, dtype=np.float64)
-    k = np.flatnonzero(np.sign(leg[:-1]) * np.sign(leg[1:]) < 0)
-    tc = t[k] - leg[k] * (t[k + 1] - t[k]) / (leg[k + 1] - leg[k])
-    return tc, np.sign(leg[k + 1])
+    changes, sides, state, zero = [], [], 0.0, math.nan
+    for i in range(1, len(leg)):
+        if leg[i - 1] * leg[i] < 0:
+            zero = t[i - 1] - leg[i - 1] * (t[i] - t[i - 1]) / (leg[i] - leg[i - 1])
+        if abs(leg[i]) >= band_deg:
+            side = math.copysign(1.0, leg[i])
+            if state and side != state:
+                changes.append(zero)
+                sides.append(side)
+            state = side
+    return np.array(changes), np.array(sides)
 
 
 def swing_throws(t_s, tilt_deg, start_s: float, changes_s) -> list[tuple[float, float]]:
@@ -308,16 +328,17 @@ def _run(a, tmp: Path) -> int:
     print("|---|---|---|" + "---|" * len(labels))
     for cell, row in zip(cells, sim_rates, strict=True):
         r = np.array(robot_rates[cell]).reshape(-1, 2)
-        rm = np.median(r, axis=0) if len(r) else np.full(2, math.nan)
-        sims = " | ".join(
-            (lambda m: f"{m[0]:.0f} °/s, {m[1]:.1f}° ({m[0] / rm[0]:.2f}x, {m[1] / rm[1]:.2f}x; {len(s)})")(
-                np.median(np.array(s), axis=0)
-            )
-            if s
-            else "– (0)"
-            for s in row
-        )
-        print(f"| {cell[0]:g}° | {cell[1]:g}° | {rm[0]:.0f} °/s, {rm[1]:.1f}° ({len(r)}) | {sims} |")
+        rm = np.median(r, axis=0) if len(r) else None
+        cols = []
+        for sw in row:
+            if not sw:
+                cols.append("– (0)")
+                continue
+            m = np.median(np.array(sw), axis=0)
+            ratio = f"{m[0] / rm[0]:.2f}x, {m[1] / rm[1]:.2f}x; " if rm is not None else ""
+            cols.append(f"{m[0]:.0f} °/s, {m[1]:.1f}° ({ratio}{len(sw)})")
+        robot = f"{rm[0]:.0f} °/s, {rm[1]:.1f}° ({len(r)})" if rm is not None else "– (0)"
+        print(f"| {cell[0]:g}° | {cell[1]:g}° | {robot} | {' | '.join(cols)} |")
     return 0
 
 
