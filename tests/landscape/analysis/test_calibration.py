@@ -107,7 +107,7 @@ def test_a_candidate_may_scale_one_wing_and_the_world_refuses_a_wrong_count(tmp_
 def test_calibrate_command_picks_the_likeliest_candidate_and_holds_cells_out(tmp_path, capsys):
     args = ["physical", "calibrate", "--data", str(DATA), "--base", "paper"]
     args += ["--vary", "contact.lateral_friction=0.5,1", "--trials", "1", "--validate-trials", "1"]
-    args += ["--duration", "2", "--out", str(tmp_path), "--no-progress", "--workers", "1"]
+    args += ["--duration", "2", "--out", str(tmp_path), "--no-progress", "--workers", "2"]
     # every simulated trial at its cell's phase under the lab's protocol (the other calibrations: random phases),
     # the time to right scored too
     assert main([*args, "--phase", "protocol", "--time-to-right"]) == 0
@@ -149,7 +149,7 @@ def test_calibrate_with_openings_and_side_ranks_by_their_sum(tmp_path, capsys):
     by the sum, which is printed and stored (one run scores both)."""
     args = ["physical", "calibrate", "--data", str(DATA), "--base", "paper", "--openings", "--side"]
     args += ["--vary", "contact.lateral_friction=0.5,1", "--trials", "1", "--validate-trials", "1"]
-    args += ["--duration", "2", "--out", str(tmp_path), "--no-progress", "--workers", "1"]
+    args += ["--duration", "2", "--out", str(tmp_path), "--no-progress", "--workers", "2"]
     assert main(args) == 0
     out = capsys.readouterr().out
     assert "openings -" in out and ", side " in out and "(score -" in out
