@@ -24,7 +24,8 @@ the tilt (deg; both from the orientation, the same measure for the robot and the
 ``SWING_WINDOW_S`` after each change of the leg's side ``HOLD_SWINGS_S`` after the opening starts, until the body
 tilts past 40 deg; the median over the swings of the robot's first openings (its leg's side from the servo log,
 ``LEG_LAG_S`` late) beside each set's in one simulated first opening at the protocol's phase (its leg's side
-from its own leg angle), no noise.
+from its own leg angle, once a swing reaches half the amplitude: ``landscape.analysis.opening.leg_sides``), no
+noise.
 
 With ``--vary TABLE.KEY=V1,V2`` (repeatable) each value is also tried on its own in a copy of the first set, with
 ``--with TABLE.KEY=V`` in every variant (as ``nose_over.py``).
@@ -46,6 +47,8 @@ from pathlib import Path
 import numpy as np
 
 from geometry.errors import UsageError
+from geometry.frames import pitch_roll_from_up
+from landscape.analysis.physical import imu_to_body, read_recording, trial_cell, trial_files, up_in_body
 
 ROOT = Path(__file__).resolve().parents[1]
 WING_CLOSE_S = 1.04
@@ -61,54 +64,10 @@ SWING_WINDOW_S = 0.25
 """How long after a change of the leg's side its throw is read, s (the swing takes 0.10-0.14 s)."""
 DEPART_TILT_DEG = 40.0
 """Lateral tilt past which the body has left the hold, degrees (``opening.LEAN_DEPART_DEG``)."""
-LEG_BAND_DEG = 5.0
-"""A simulated leg is on a side once it is this far from zero, degrees (``sim_leg_side_changes``)."""
 GYRO_SAMPLES = 3
 """The gyro at a time is the median of this many samples nearest it (it runs at about 55 Hz and has
 single-sample spikes: one of 35 rad/s at 60 deg / 45 deg, trial 4)."""
 DEFAULT_CELLS = "60:30,60:45,75:15,75:30"
-
-
-def body_up(quat_xyzw, mount_deg: float) -> np.ndarray:
-    """World-up in a body frame pitched ``mount_deg`` below the IMU's (``quat_xyzw``: IMU-to-world rotations,
-    (N, 4) as x, y, z, w): (N, 3).
-
-    >>> q = np.array([[0.0, 0.0, 0.0, 1.0]])  # the IMU level: world-up along its z
-    >>> np.round(body_up(q, 90.0), 6).tolist()
-    [[1.0, 0.0, 0.0]]
-    """
-    x, y, z, w = np.asarray(quat_xyzw, dtype=np.float64).T
-    u = np.stack([2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y)], axis=-1)
-    return rotate_into_body(u, mount_deg)
-
-
-def rotate_into_body(v, mount_deg: float) -> np.ndarray:
-    """A vector (or (N, 3) vectors) in the IMU's frame expressed in the body frame ``mount_deg`` below it (the
-    rotation ``landscape.analysis.physical.up_z_mounted`` applies to z)."""
-    v = np.asarray(v, dtype=np.float64)
-    d = math.radians(mount_deg)
-    c, s = math.cos(d), math.sin(d)
-    return np.stack([v[..., 0] * c + v[..., 2] * s, v[..., 1], -v[..., 0] * s + v[..., 2] * c], axis=-1)
-
-
-def pitch_roll_deg(u) -> tuple[np.ndarray, np.ndarray]:
-    """Body pitch and roll (ZYX, degrees) of world-up ``u`` in the body frame, u = (-sin p, cos p sin r,
-    cos p cos r)."""
-    u = np.asarray(u, dtype=np.float64)
-    return np.degrees(np.arcsin(np.clip(-u[..., 0], -1.0, 1.0))), np.degrees(np.arctan2(u[..., 1], u[..., 2]))
-
-
-def inertia_about_com(pose) -> np.ndarray:
-    """The posed robot's inertia tensor about its CoM in the body frame, kg m^2 (parallel-axis sum of its parts)."""
-    total = np.zeros((3, 3))
-    for part in pose.parts:
-        tf = pose.link_transforms[part.link]
-        rot = tf[:3, :3]
-        r = rot @ part.mass.com_m + tf[:3, 3] - pose.com_m
-        total += rot @ part.mass.inertia_kg_m2 @ rot.T + part.mass.mass_kg * (
-            r @ r * np.eye(3) - np.outer(r, r)
-        )
-    return total
 
 
 def kinetic_energy_j(pose, omega_body, up_body) -> float:
@@ -118,7 +77,7 @@ def kinetic_energy_j(pose, omega_body, up_body) -> float:
     pivot = pts[np.argmin(pts @ np.asarray(up_body))]
     w = np.asarray(omega_body, dtype=np.float64)
     v = np.cross(w, pose.com_m - pivot)
-    return float(0.5 * w @ inertia_about_com(pose) @ w + 0.5 * pose.mass_kg * v @ v)
+    return float(0.5 * w @ pose.inertia_kg_m2 @ w + 0.5 * pose.mass_kg * v @ v)
 
 
 def recorded_kinetic_energy_j(rec, time_s: float, pose, up_body, mount_deg: float) -> tuple[float, float]:
@@ -126,45 +85,8 @@ def recorded_kinetic_energy_j(rec, time_s: float, pose, up_body, mount_deg: floa
     median of the ``GYRO_SAMPLES`` samples nearest it, turned into the body frame ``mount_deg`` below the IMU's),
     and the rotation about the CoM alone (its lower bound, whatever the CoM does), J."""
     near = np.argsort(np.abs(rec.gyro_t_s - time_s))[:GYRO_SAMPLES]
-    omega = rotate_into_body(np.median(rec.gyro_rad_s[near], axis=0), mount_deg)
-    return kinetic_energy_j(pose, omega, up_body), float(0.5 * omega @ inertia_about_com(pose) @ omega)
-
-
-def leg_side_changes(leg_up_s, half_period_s: float, lag_s: float) -> tuple[np.ndarray, np.ndarray]:
-    """The robot's leg side changes from its servo log: +1 ``lag_s`` after each upward command, -1 half a period
-    later: (times, sides), sorted."""
-    up = np.asarray(leg_up_s, dtype=np.float64)
-    t = np.concatenate([up, up + half_period_s]) + lag_s
-    side = np.concatenate([np.ones(len(up)), -np.ones(len(up))])
-    order = np.argsort(t, kind="stable")
-    return t[order], side[order]
-
-
-def sim_leg_side_changes(t_s, leg_deg, band_deg: float = LEG_BAND_DEG) -> tuple[np.ndarray, np.ndarray]:
-    """When a simulated leg changes side and the side it goes to: its last zero crossing (linear between
-    samples) before it reaches ``band_deg`` on the other side (a leg held still, wobbling about zero, never
-    changes side).
-
-    >>> t = np.arange(0.0, 1.0, 0.01)
-    >>> tc, s = sim_leg_side_changes(t, 30.0 * np.sin(2 * np.pi * (t - 0.105) / 0.8))
-    >>> np.round(tc, 3).tolist(), s.tolist()
-    ([0.105, 0.505, 0.905], [1.0, -1.0, 1.0])
-    >>> sim_leg_side_changes(t, 0.1 * np.sin(40 * t))[0].size
-    0
-    """
-    t = np.asarray(t_s, dtype=np.float64)
-    leg = np.asarray(leg_deg, dtype=np.float64)
-    changes, sides, state, zero = [], [], 0.0, math.nan
-    for i in range(1, len(leg)):
-        if leg[i - 1] * leg[i] < 0:
-            zero = t[i - 1] - leg[i - 1] * (t[i] - t[i - 1]) / (leg[i] - leg[i - 1])
-        if abs(leg[i]) >= band_deg:
-            side = math.copysign(1.0, leg[i])
-            if state and side != state:
-                changes.append(zero)
-                sides.append(side)
-            state = side
-    return np.array(changes), np.array(sides)
+    omega = imu_to_body(np.median(rec.gyro_rad_s[near], axis=0), mount_deg)
+    return kinetic_energy_j(pose, omega, up_body), float(0.5 * omega @ pose.inertia_kg_m2 @ omega)
 
 
 def swing_throws(t_s, tilt_deg, start_s: float, changes_s) -> list[tuple[float, float]]:
@@ -209,16 +131,16 @@ def _run(a, tmp: Path) -> int:
     from geometry.robots import load_robot
     from landscape.analysis.calibration import sets_and_variants
     from landscape.analysis.opening import (
-        LEG_HALF_PERIOD_S,
         LEG_LAG_S,
         PROTOCOL_PHASE,
         departure_s,
         lateral_tilt_deg,
+        leg_command_changes,
+        leg_sides,
         mounting_from_rests,
         protocol_phases,
         simulated_openings,
     )
-    from landscape.analysis.physical import read_recording, trial_files
     from landscape.analysis.validation import parse_cells
     from landscape.computation import compute, posed, start_orientation
     from landscape.energy import G_M_S2, height_at
@@ -228,11 +150,11 @@ def _run(a, tmp: Path) -> int:
         names, labels = sets_and_variants(a.models, a.vary, a.fixed, tmp)
         lab = load_robot(a.robot)
         mount = mounting_from_rests(a.data, lab).mount_deg
-        recs = defaultdict(list)
+        files = defaultdict(list)
         for f in trial_files(a.data):
-            rec = read_recording(f)
-            recs[(rec.theta_w_cmd_deg, rec.theta_l_deg)].append(rec)
-        cells = parse_cells(a.cells, recs)
+            files[trial_cell(f)].append(f)
+        cells = parse_cells(a.cells, files)
+        recs = {cell: [read_recording(f) for f in files[cell]] for cell in cells}
         phases = protocol_phases(a.data)
         ref = load_model_set(names[0])
         robot = ref.robot_for(lab)
@@ -258,7 +180,8 @@ def _run(a, tmp: Path) -> int:
                 start = float(rec.openings_s[0])
                 t = rec.t_s
                 tilt = lateral_tilt_deg(rec.pitch_deg, rec.roll_deg)
-                changes, sides = leg_side_changes(rec.leg_up_s, LEG_HALF_PERIOD_S, LEG_LAG_S)
+                changes, sides = leg_command_changes(rec.leg_up_s)
+                changes = changes + LEG_LAG_S
                 robot_rates[cell] += swing_throws(t, tilt, start, changes)
                 dep = departure_s(t, rec.pitch_deg, rec.roll_deg, start)
                 if not math.isfinite(dep) or dep < HOLD_DEPARTURE_S:
@@ -272,8 +195,8 @@ def _run(a, tmp: Path) -> int:
                 before = np.flatnonzero(changes <= start + dep)
                 side = float(sides[before[-1]]) if len(before) else 1.0
                 p_body, e_hold, _, _ = pose(cell[0], side * cell[1])
-                up = body_up(rec.quat_xyzw[sel], mount)
-                pb, rb = pitch_roll_deg(up)
+                up = up_in_body(rec.quat_xyzw[sel], mount)
+                pb, rb = np.rad2deg(pitch_roll_from_up(up))
                 e = height_at(p_body, pb, rb) * p_body.mass_kg * G_M_S2
 
                 ts = rel[sel]
@@ -290,7 +213,8 @@ def _run(a, tmp: Path) -> int:
                     cell[0], cell[1], model_set=name, robot=a.robot, seed=0,
                     phase=phases.get(cell, PROTOCOL_PHASE),
                 )  # fmt: skip
-                ch, _ = sim_leg_side_changes(tr.t_s, tr.leg_deg)
+                # the leg's side as simulated_leans reads it: once a swing reaches half the amplitude
+                ch = leg_sides(tr.t_s, tr.leg_deg, band_deg=0.5 * cell[1])[0] if cell[1] else []
                 row.append(swing_throws(tr.t_s, lateral_tilt_deg(tr.pitch_deg, tr.roll_deg), starts[0], ch))
             sim_rates.append(row)
     except (UsageError, ValueError) as exc:  # PhysicalDataError, an unknown set, a bad number: one line

@@ -684,19 +684,31 @@ def recorded_leans(data_dir: str | Path) -> dict[tuple[float, float], HoldLeans]
         rec = read_recording(f)
         if rec.theta_l_deg == 0 or not len(rec.leg_up_s):
             continue
-        up = np.asarray(rec.leg_up_s, dtype=np.float64)
-        changes = np.concatenate([up, up + LEG_HALF_PERIOD_S])
-        sides = np.concatenate([np.ones(len(up)), -np.ones(len(up))])
-        order = np.argsort(changes, kind="stable")
+        changes, sides = leg_command_changes(rec.leg_up_s)
         st = upright_stretches(rec.t_s, rec.up_z)
         t_up = float(rec.t_s[st[0][0]]) if st else math.inf
         starts = [s for s in rec.openings_s if s <= t_up]
         acc[(rec.theta_w_cmd_deg, rec.theta_l_deg)].append(
-            _opening_leans(
-                rec.t_s, rec.pitch_deg, rec.roll_deg, starts, changes[order], sides[order], lag_s=LEG_LAG_S
-            )
+            _opening_leans(rec.t_s, rec.pitch_deg, rec.roll_deg, starts, changes, sides, lag_s=LEG_LAG_S)
         )
     return {cell: _joined(parts) for cell, parts in sorted(acc.items())}
+
+
+def leg_command_changes(leg_up_s) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """When the robot's leg command changes side, from its servo log: + at each upward command
+    (``Recording.leg_up_s``), - ``LEG_HALF_PERIOD_S`` later; ``(times, sides)``, sorted by time. The leg itself
+    follows ``LEG_LAG_S`` later.
+
+    Examples
+    --------
+    >>> leg_command_changes([0.2, 1.0])
+    (array([0.2, 0.6, 1. , 1.4]), array([ 1., -1.,  1., -1.]))
+    """
+    up = np.asarray(leg_up_s, dtype=np.float64)
+    changes = np.concatenate([up, up + LEG_HALF_PERIOD_S])
+    sides = np.concatenate([np.ones(len(up)), -np.ones(len(up))])
+    order = np.argsort(changes, kind="stable")
+    return changes[order], sides[order]
 
 
 def _joined(parts: Sequence[HoldLeans]) -> HoldLeans:
@@ -707,14 +719,14 @@ def _joined(parts: Sequence[HoldLeans]) -> HoldLeans:
     )
 
 
-def _leg_sides(t_s, leg_deg, *, band_deg: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def leg_sides(t_s, leg_deg, *, band_deg: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """When a measured leg angle changes side (the first sample of the run of one sign that reaches
     ``band_deg`` past the midline, so a leg held on the midline changes no side), s, and the side after, +-1.
 
     Examples
     --------
     >>> t = np.arange(0.0, 1.0, 0.1).round(1)
-    >>> _leg_sides(t, [0.0, 15.0, 30.0, 30.0, 10.0, -20.0, -30.0, -0.1, 0.2, 0.0], band_deg=15.0)
+    >>> leg_sides(t, [0.0, 15.0, 30.0, 30.0, 10.0, -20.0, -30.0, -0.1, 0.2, 0.0], band_deg=15.0)
     (array([0.1, 0.5]), array([ 1., -1.]))
     """
     t = np.asarray(t_s, dtype=np.float64)
@@ -783,7 +795,7 @@ def simulated_leans(
         theta_w_deg, theta_l_deg, model_set=model_set, robot=robot, seed=seed, phase=phase, attempts=attempts
     )
     if theta_l_deg > 0:
-        changes, sides = _leg_sides(tr.t_s, tr.leg_deg, band_deg=0.5 * theta_l_deg)
+        changes, sides = leg_sides(tr.t_s, tr.leg_deg, band_deg=0.5 * theta_l_deg)
     else:
         changes, sides = np.zeros(0), np.zeros(0)
     return _opening_leans(tr.t_s, tr.pitch_deg, tr.roll_deg, starts, changes, sides, lag_s=0.0)

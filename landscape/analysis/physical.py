@@ -44,6 +44,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from geometry.errors import UsageError
+from geometry.frames import pitch_roll_from_up
 from landscape.analysis.trials import wilson_interval
 
 TRIAL_RE = re.compile(r"run5_(\d+)_(\d+)_(\d+)_(\d+)_(\d+)_(\d+)\.bag\.mat$")
@@ -160,6 +161,22 @@ def trial_files(data_dir: str | Path) -> list[Path]:
     return sorted(files, key=lambda p: tuple(int(x) for x in TRIAL_RE.search(p.name).groups()[3:]))
 
 
+def trial_cell(path: str | Path) -> tuple[float, float]:
+    """The commanded wing angle and leg amplitude (degrees) a trial file's name gives (:func:`trial_files`).
+
+    Examples
+    --------
+    >>> trial_cell("run5_60_60_60_60_30_2.bag.mat")
+    (60.0, 30.0)
+    """
+    m = TRIAL_RE.search(Path(path).name)
+    if m is None:
+        raise PhysicalDataError(
+            f"{Path(path).name} is not a trial file of the lab's (run5_W_W_W_W_L_N.bag.mat)"
+        )
+    return float(m.group(1)), float(m.group(5))
+
+
 def pitch_roll_from_quat_deg(quat_xyzw) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """ZYX Euler pitch and roll (degrees) of body-to-world quaternions (x, y, z, w).
 
@@ -171,15 +188,8 @@ def pitch_roll_from_quat_deg(quat_xyzw) -> tuple[NDArray[np.float64], NDArray[np
     >>> float(p[0].round(9)), float(r[0].round(9))
     (30.0, 0.0)
     """
-    q = np.asarray(quat_xyzw, dtype=np.float64)
-    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
-    x, y, z, w = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    r20 = 2 * (x * z - w * y)
-    r21 = 2 * (y * z + w * x)
-    r22 = 1 - 2 * (x * x + y * y)
-    pitch = np.rad2deg(np.arcsin(np.clip(-r20, -1.0, 1.0)))
-    roll = np.rad2deg(np.arctan2(r21, r22))
-    return pitch, roll
+    pitch, roll = pitch_roll_from_up(up_in_body(quat_xyzw))
+    return np.rad2deg(pitch), np.rad2deg(roll)
 
 
 def read_recording(path: str | Path) -> Recording:
@@ -351,9 +361,41 @@ def trial_outcome(rec: Recording, *, theta_w_measured_deg: float = math.nan) -> 
     )
 
 
+def imu_to_body(v, mount_deg: float) -> NDArray[np.float64]:
+    """Vectors in the IMU's frame ((..., 3)) expressed in a body frame pitched ``mount_deg`` below it (a rotation
+    about the shared y axis): world-up, or the gyro's angular velocity.
+
+    Examples
+    --------
+    >>> imu_to_body([0.0, 0.0, 1.0], 90.0).round(12).tolist()
+    [1.0, 0.0, 0.0]
+    """
+    v = np.asarray(v, dtype=np.float64)
+    c, s = math.cos(math.radians(mount_deg)), math.sin(math.radians(mount_deg))
+    return np.stack([v[..., 0] * c + v[..., 2] * s, v[..., 1], -v[..., 0] * s + v[..., 2] * c], axis=-1)
+
+
+def up_in_body(quat_xyzw, mount_deg: float = 0.0) -> NDArray[np.float64]:
+    """World-up in a body frame pitched ``mount_deg`` below the IMU's frame (``quat_xyzw``: the IMU-to-world
+    rotations, (N, 4) as x, y, z, w), (N, 3); 0 gives it in the IMU's own frame. The body's pitch and roll are
+    :func:`geometry.frames.pitch_roll_from_up` of it: the IMU reads the body's pitch plus the mounting.
+
+    Examples
+    --------
+    >>> q = np.array([[0.0, np.sin(np.radians(20)), 0.0, np.cos(np.radians(20))]])  # the IMU pitched 40 deg
+    >>> round(float(np.rad2deg(pitch_roll_from_up(up_in_body(q, 2.6))[0][0])), 6)
+    37.4
+    """
+    q = np.asarray(quat_xyzw, dtype=np.float64)
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    x, y, z, w = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    u = np.stack([2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y)], axis=-1)
+    return imu_to_body(u, mount_deg) if mount_deg else u
+
+
 def up_z_mounted(quat_xyzw, mount_deg: float) -> NDArray[np.float64]:
-    """World-up's z component in a body frame pitched ``mount_deg`` below the IMU's frame (``quat_xyzw``: the
-    IMU-to-world rotations, (N, 4) as x, y, z, w); 0 gives the recorded ``up_z``.
+    """World-up's z component in a body frame pitched ``mount_deg`` below the IMU's frame (:func:`up_in_body`);
+    0 gives the recorded ``up_z``.
 
     Examples
     --------
@@ -361,10 +403,7 @@ def up_z_mounted(quat_xyzw, mount_deg: float) -> NDArray[np.float64]:
     >>> round(float(up_z_mounted(q, 0.0)[0]), 6), round(float(up_z_mounted(q, 10.0)[0]), 4)
     (0.0, 0.1736)
     """
-    x, y, z, w = np.asarray(quat_xyzw, dtype=np.float64).T
-    ux, uz = 2.0 * (x * z - w * y), 1.0 - 2.0 * (x * x + y * y)
-    d = math.radians(mount_deg)
-    return -ux * math.sin(d) + uz * math.cos(d)
+    return up_in_body(quat_xyzw, mount_deg)[..., 2]
 
 
 def physical_trials(data_dir: str | Path, *, imu_mount_deg: float = 0.0) -> list[PhysicalTrial]:
@@ -655,9 +694,7 @@ def physical_attempts(
         If the directory or a file is not in the lab's format, or no trial has the wing angle and leg amplitude
         asked for (the message lists those recorded).
     """
-    commands = {
-        f: tuple(float(x) for x in TRIAL_RE.search(f.name).group(1, 5)) for f in trial_files(data_dir)
-    }
+    commands = {f: trial_cell(f) for f in trial_files(data_dir)}
     chosen = [
         f
         for f, (w, leg) in commands.items()

@@ -220,3 +220,16 @@ def test_hold_lean_benchmark_prints_both_tables(capsys):
     with pytest.raises(SystemExit) as exc:
         mod.main([*argv, "--cells", "60:0"])
     assert exc.value.code == 2
+
+
+def test_leg_sides_from_the_log_and_from_an_angle():
+    from landscape.analysis.opening import LEG_LAG_S, leg_command_changes, leg_sides
+
+    t, side = leg_command_changes([0.2, 1.0])
+    assert np.allclose(t + LEG_LAG_S, [0.3, 0.7, 1.1, 1.5]) and side.tolist() == [1, -1, 1, -1]
+    ts = np.arange(0.0, 1.0, 0.01).round(2)
+    tc, s = leg_sides(ts, 30.0 * np.sin(2 * np.pi * (ts - 0.105) / 0.8), band_deg=15.0)
+    # the first side from the start, then the first sample past each zero crossing
+    assert np.allclose(tc, [0.0, 0.11, 0.51, 0.91]) and s.tolist() == [-1, 1, -1, 1]
+    # a leg held still, wobbling about zero, never changes side
+    assert leg_sides(ts, 0.1 * np.sin(40 * ts), band_deg=5.0)[0].size == 0

@@ -241,3 +241,21 @@ def test_attempt_paths_reproduce_the_lab_per_attempt_counts():
     assert {a.name for a in l0} == {f"run5_75_75_75_75_0_{k}.bag.mat" for k in range(1, 6)}
     assert all(a.theta_w_measured_deg == pytest.approx(73.6, abs=0.1) for a in l0)
     assert all(np.isfinite(a.pitch_deg).all() and len(a.pitch_deg) > 10 for a in l0)
+
+
+def test_world_up_in_the_body_frame_with_the_imus_mounting():
+    """The IMU reads the body's pitch plus its mounting (landscape.analysis.opening.mounting_from_rests), so the
+    body's pitch is the IMU's minus the mounting; the gyro turns the same way."""
+    from geometry.frames import pitch_roll_from_up, up_vector
+
+    p, r = np.deg2rad([60.0, -20.0, 85.0]), np.deg2rad([10.0, 170.0, -35.0])
+    pb, rb = pitch_roll_from_up(up_vector(p, r))
+    assert np.allclose(pb, p) and np.allclose(rb, r)
+    # an IMU that reads level, mounted 30 deg, sits on a body pitched -30 deg
+    level = np.array([[0.0, 0.0, 0.0, 1.0]])
+    assert np.allclose(np.rad2deg(pitch_roll_from_up(ph.up_in_body(level, 30.0))[0]), -30.0)
+    q = np.array([[0.0, np.sin(np.radians(20)), 0.0, np.cos(np.radians(20))]])  # the IMU pitched 40 deg
+    assert np.allclose(ph.pitch_roll_from_quat_deg(q)[0], 40.0)
+    assert np.allclose(np.rad2deg(pitch_roll_from_up(ph.up_in_body(q, 2.6))[0]), 37.4)
+    assert np.allclose(ph.up_in_body(q, 2.6)[..., 2], ph.up_z_mounted(q, 2.6))
+    assert np.allclose(ph.imu_to_body([0.0, 0.0, 1.0], 2.6), ph.up_in_body(level, 2.6)[0])
