@@ -143,22 +143,32 @@ def check_stability(comp: Compliance, inertia_kg_m2: float, period_s: float) -> 
         )
 
 
-def _check_spring(stiffness, damping, whose: str, inertia_kg_m2: float, period_s: float) -> None:
+def _check_spring(
+    stiffness,
+    damping,
+    whose: str,
+    inertia_kg_m2: float,
+    period_s: float,
+    *,
+    units: tuple[str, str, str, str] = ("I", "kg m^2", "N m/rad", "N m s/rad"),
+) -> None:
     """Refuse ``(name, k)`` and ``(name, c)`` on a body of ``inertia_kg_m2`` (``whose``: "the wing's") that the
-    explicit update held for ``period_s`` cannot follow (:data:`MAX_OMEGA_PERIOD`)."""
+    explicit update held for ``period_s`` cannot follow (:data:`MAX_OMEGA_PERIOD`); ``units``: the inertia's
+    symbol and unit and the stiffness's and damping's units (a slide's: "m", "kg", "N/m", "N s/m")."""
     (k_name, k), (c_name, c) = stiffness, damping
+    sym, i_unit, k_unit, c_unit = units
     wt = math.sqrt(k / inertia_kg_m2) * period_s
     if wt > MAX_OMEGA_PERIOD:
         k_max = (MAX_OMEGA_PERIOD / period_s) ** 2 * inertia_kg_m2
         raise ComplianceError(
-            f"{k_name} {k:g} is too stiff for the {period_s * 1e3:g} ms servo period: sqrt(k/I)*period = "
-            f"{wt:.3g} > {MAX_OMEGA_PERIOD:g} with {whose} I = {inertia_kg_m2:.2g} kg m^2; give k <= {k_max:.3g} N m/rad"
+            f"{k_name} {k:g} is too stiff for the {period_s * 1e3:g} ms servo period: sqrt(k/{sym})*period = "
+            f"{wt:.3g} > {MAX_OMEGA_PERIOD:g} with {whose} {sym} = {inertia_kg_m2:.2g} {i_unit}; give k <= {k_max:.3g} {k_unit}"
         )
     if c * period_s / inertia_kg_m2 > MAX_OMEGA_PERIOD:
         c_max = MAX_OMEGA_PERIOD * inertia_kg_m2 / period_s
         raise ComplianceError(
-            f"{c_name} {c:g} is too high for the {period_s * 1e3:g} ms servo period with {whose} I = "
-            f"{inertia_kg_m2:.2g} kg m^2; give c <= {c_max:.3g} N m s/rad"
+            f"{c_name} {c:g} is too high for the {period_s * 1e3:g} ms servo period with {whose} {sym} = "
+            f"{inertia_kg_m2:.2g} {i_unit}; give c <= {c_max:.3g} {c_unit}"
         )
 
 
@@ -287,4 +297,131 @@ def check_spring_stability(spring: Spring, inertia_kg_m2: float, period_s: float
         spring.WHOSE,
         inertia_kg_m2,
         period_s,
+    )
+
+
+HEAD_JOINT = "head_mount"
+"""The joint that attaches the head, in the lab URDF and the built-in robot: ``[head_compliance]``'s default."""
+MAX_HEAD_TRAVEL_MM = 30.0
+"""Largest ``travel_mm`` of a sliding head, mm (as ``[geometry] shift_mm``): a head that gives, not a new robot."""
+MAX_HEAD_TRAVEL_DEG = 45.0
+"""Largest ``travel_deg`` of a hinged head, degrees."""
+
+
+@dataclass(frozen=True)
+class HeadCompliance:
+    """A head whose attachment gives (issue #15, section 2: "an optional compliant wing (and head) attachment"):
+    the fixed joint that attaches the head becomes a slide along ``axis`` (``slide``; stiffness N/m, damping
+    N·s/m, travel m) or a hinge about it (stiffness N·m/rad, damping N·m·s/rad, travel rad) through the joint's
+    origin, driven by the torque (or force) ``-k q - c dq/dt`` renewed before every ``stepSimulation`` call, and
+    stopped at ``±travel``.
+
+    The source paper suspected that the thin head deforms under the load the ground puts on it when the wings
+    hold the body up. The head carries no load on the robot's back and part of its weight in the hold, so a head
+    that gives holds the body further over only while the wings are open. :func:`sim.model.add_head_compliance`
+    turns the joint; at zero deflection every link sits where it did. The landscape (``landscape compute``) stays
+    the rigid body's, as it does for compliant wings.
+
+    Attributes
+    ----------
+    stiffness : float
+        N/m for a slide, N·m/rad for a hinge (> 0).
+    damping : float
+        N·s/m for a slide, N·m·s/rad for a hinge (>= 0).
+    slide : bool
+        A slide (True) or a hinge (False).
+    axis : tuple of 3 floats
+        Direction of the slide or the hinge's axis in the joint's parent frame (the body frame for the head:
+        x towards the head, z out of the belly); normalised.
+    travel : float
+        The stop either way, m for a slide, rad for a hinge (> 0).
+    joint : str
+        The fixed joint that attaches the head.
+
+    Examples
+    --------
+    >>> HeadCompliance(25.0, 0.3, travel=0.017).keys()
+    ('stiffness_n_m', 'damping_n_s_m', 'travel_mm')
+    >>> HeadCompliance(0.5, slide=False, axis=(0.0, 2.0, 0.0)).axis
+    (0.0, 1.0, 0.0)
+    >>> HeadCompliance(25.0, travel=0.05)
+    Traceback (most recent call last):
+    ...
+    sim.compliance.ComplianceError: head_compliance travel_mm must be > 0 and at most 30 mm; got 50
+    """
+
+    stiffness: float
+    damping: float = 0.0
+    slide: bool = True
+    axis: tuple[float, float, float] = (1.0, 0.0, 0.0)
+    travel: float = MAX_HEAD_TRAVEL_MM * 1e-3
+    joint: str = HEAD_JOINT
+
+    TABLE: ClassVar[str] = "head_compliance"
+
+    def keys(self) -> tuple[str, str, str]:
+        """The table's names of stiffness, damping and travel for this kind of joint."""
+        if self.slide:
+            return ("stiffness_n_m", "damping_n_s_m", "travel_mm")
+        return ("stiffness_n_m_rad", "damping_n_m_s_rad", "travel_deg")
+
+    def travel_as_written(self) -> float:
+        """The travel in the table's unit (mm or degrees)."""
+        return self.travel * 1e3 if self.slide else math.degrees(self.travel)
+
+    def __post_init__(self):
+        kn, cn, tn = self.keys()
+        for name, v in ((kn, self.stiffness), (cn, self.damping), (tn, self.travel)):
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise ComplianceError(f"{self.TABLE} {name} must be a finite number; got {v!r}")
+        if self.stiffness <= 0:
+            raise ComplianceError(
+                f"{self.TABLE} {kn} must be > 0 (omit [{self.TABLE}] for a rigid head); got {self.stiffness!r}"
+            )
+        if self.damping < 0:
+            raise ComplianceError(f"{self.TABLE} {cn} must be >= 0; got {self.damping!r}")
+        top = MAX_HEAD_TRAVEL_MM if self.slide else MAX_HEAD_TRAVEL_DEG
+        written = self.travel_as_written()
+        if not 0 < written <= top + 1e-9:
+            unit = "mm" if self.slide else "deg"
+            raise ComplianceError(
+                f"{self.TABLE} {tn} must be > 0 and at most {top:g} {unit}; got {written:g}"
+            )
+        a = self.axis
+        ok = isinstance(a, tuple) and len(a) == 3
+        ok = ok and all(
+            not isinstance(x, bool) and isinstance(x, (int, float)) and math.isfinite(x) for x in a
+        )
+        norm = math.sqrt(sum(x * x for x in a)) if ok else 0.0
+        if not ok or norm < 1e-9:
+            raise ComplianceError(
+                f"{self.TABLE} axis must be three finite numbers, not all zero (x, y, z in the joint's parent "
+                f"frame); got {a!r}"
+            )
+        object.__setattr__(self, "axis", tuple(float(x) / norm for x in a))
+        if not isinstance(self.joint, str) or not self.joint:
+            raise ComplianceError(f"{self.TABLE} joint must be a joint's name; got {self.joint!r}")
+
+
+def check_head_stability(head: HeadCompliance, inertia: float, period_s: float) -> None:
+    """Refuse a head spring or damper the explicit update renewed every ``period_s`` cannot follow
+    (``inertia``: the head's mass, kg, for a slide; its moment of inertia about the hinge, kg m², for a hinge).
+
+    Examples
+    --------
+    >>> check_head_stability(HeadCompliance(25.0, 0.3), 0.0134, 1e-3)
+    >>> check_head_stability(HeadCompliance(5000.0), 0.0134, 1e-3)
+    Traceback (most recent call last):
+    ...
+    sim.compliance.ComplianceError: head_compliance stiffness_n_m 5000 is too stiff for the 1 ms servo period: sqrt(k/m)*period = 0.611 > 0.5 with the head's m = 0.013 kg; give k <= 3.35e+03 N/m
+    """
+    kn, cn, _ = head.keys()
+    units = ("m", "kg", "N/m", "N s/m") if head.slide else ("I", "kg m^2", "N m/rad", "N m s/rad")
+    _check_spring(
+        (f"{head.TABLE} {kn}", head.stiffness),
+        (f"{head.TABLE} {cn}", head.damping),
+        "the head's",
+        inertia,
+        period_s,
+        units=units,
     )

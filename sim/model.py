@@ -194,6 +194,8 @@ class SimModel:
     theta_limits_deg : dict[str, tuple[float, float]]
         ``{"theta_w": (lo, hi), "theta_l": (lo, hi)}``: the range every mapped joint allows, degrees.
     source : Path
+    head_joint : str or None
+        The head's attachment when it gives (:func:`add_head_compliance`), else None.
     """
 
     urdf_text: str = field(repr=False)
@@ -207,6 +209,7 @@ class SimModel:
     rest_pitch_deg: float
     theta_limits_deg: dict[str, tuple[float, float]] = field(repr=False)
     source: Path
+    head_joint: str | None = None
 
 
 def _origin(el: ET._Element | None) -> NDArray[np.float64]:
@@ -557,6 +560,52 @@ def shift_joint(root: ET._Element, joint: str, offset_m: ArrayLike) -> None:
     _set_origin(el, t)
 
 
+def add_head_compliance(root: ET._Element, joint: str, *, slide: bool, axis: ArrayLike, travel: float) -> str:
+    """Make the fixed joint that attaches the head give, in place (:class:`sim.compliance.HeadCompliance`): it
+    becomes a slide along ``axis`` (``slide``, ``travel`` in m) or a hinge about it (``travel`` in rad), through
+    its origin, stopped at ``±travel``; ``axis`` is in the joint's parent frame. At zero deflection every link sits
+    where it did. Return the head's link name.
+
+    Raises
+    ------
+    UnknownJointError
+        If the URDF has no joint of that name.
+    RobotDescriptionError
+        If the joint is not fixed (it already moves: a wing or leg joint, say).
+
+    Examples
+    --------
+    >>> root = ET.fromstring('<robot name="r"><link name="b"/><link name="h"/><joint name="head_mount" '
+    ...                      'type="fixed"><parent link="b"/><child link="h"/><origin xyz="0.05 0 0"/></joint></robot>')
+    >>> add_head_compliance(root, "head_mount", slide=True, axis=[1, 0, 0], travel=0.017)
+    'h'
+    >>> j = root.find("joint")
+    >>> j.get("type"), j.find("axis").get("xyz"), j.find("limit").get("lower")
+    ('prismatic', '1 0 0', '-0.017000000000000001')
+    """
+    el = next((j for j in root.findall("joint") if j.get("name") == joint), None)
+    if el is None:
+        names = ", ".join(sorted(j.get("name") for j in root.findall("joint"))) or "none"
+        raise UnknownJointError(
+            f"the robot has no joint {joint!r} for [head_compliance]; its joints are {names}: give the joint that "
+            "attaches the head as [head_compliance] joint"
+        )
+    if el.get("type") != "fixed":
+        raise RobotDescriptionError(
+            f"[head_compliance] joint {joint!r} is {el.get('type')}, not fixed; give the fixed joint that attaches "
+            "the head"
+        )
+    a = np.asarray(axis, dtype=np.float64).reshape(3)
+    a = _origin(el)[:3, :3].T @ (a / np.linalg.norm(a))  # URDF axes are in the joint's own frame
+    el.set("type", "prismatic" if slide else "revolute")
+    for old in el.findall("axis") + el.findall("limit"):
+        el.remove(old)
+    ET.SubElement(el, "axis", xyz=" ".join(f"{v:.17g}" if abs(v) > 1e-12 else "0" for v in a))
+    t = f"{float(travel):.17g}"
+    ET.SubElement(el, "limit", lower=f"-{t}", upper=t, effort="1000", velocity="1000")
+    return str(el.find("child").get("link"))
+
+
 def rest_pitch_deg(robot: Robot) -> float:
     """Pitch (degrees) of the lowest CoM at roll 0 near the upside-down pose, wings closed, leg centred.
 
@@ -583,6 +632,7 @@ def _build(
     com_offset_m: tuple[float, float, float] = (0.0, 0.0, 0.0),
     leg_bend: bool = False,
     joint_shift: tuple[str, tuple[float, float, float]] | None = None,
+    head: tuple[str, bool, tuple[float, float, float], float] | None = None,
 ) -> SimModel:
     """The model (cached by the robot's description hash, so an edited URDF or mesh file is rebuilt)."""
     path = Path(path_str)
@@ -619,6 +669,8 @@ def _build(
             mesh_el.set("filename", MESH_PLACEHOLDER.format(name=name))
     if joint_shift is not None:
         shift_joint(root, *joint_shift)
+    if head is not None:
+        add_head_compliance(root, head[0], slide=head[1], axis=head[2], travel=head[3])
     rehung = add_body_torsion(root, robot.joint_map.wing) if body_torsion else []
     if leg_bend:
         if len(robot.joint_map.leg) != 1:
@@ -646,6 +698,7 @@ def _build(
         rest_pitch_deg(variant.with_com_offset(com_offset_m)),
         robot.theta_limits_deg(),
         path,
+        None if head is None else head[0],
     )
     log.info(
         "sim model %s: hulls %s, max support gap %.3g mm, merged links %s, twisting on %s",
@@ -669,6 +722,7 @@ def sim_model(
     com_offset_m: ArrayLike = (0.0, 0.0, 0.0),
     leg_bend: bool = False,
     joint_shift: tuple[str, ArrayLike] | None = None,
+    head_compliance=None,
 ) -> SimModel:
     """The simulation model of a URDF robot (cached per process).
 
@@ -697,6 +751,9 @@ def sim_model(
         spring).
     joint_shift : (str, array_like of 3 floats), optional
         Move one joint's origin (parent frame, m; :func:`shift_joint`), e.g. a model set's ``[geometry]``.
+    head_compliance : sim.compliance.HeadCompliance, optional
+        Let the head's attachment give (:func:`add_head_compliance`; the spring itself drives it in
+        :class:`sim.world.World`), e.g. a model set's ``[head_compliance]``.
 
     Raises
     ------
@@ -724,4 +781,7 @@ def sim_model(
             str(joint_shift[0]),
             tuple(float(v) for v in np.asarray(joint_shift[1], dtype=np.float64).reshape(3)),
         ),
+        None
+        if head_compliance is None
+        else (head_compliance.joint, head_compliance.slide, head_compliance.axis, head_compliance.travel),
     )

@@ -44,7 +44,15 @@ import numpy as np
 from geometry.errors import UsageError
 
 from .actuation import Actuation, MeasuredActuation
-from .compliance import BodyTorsion, Compliance, ComplianceError, LegBend, LegCompliance
+from .compliance import (
+    HEAD_JOINT,
+    BodyTorsion,
+    Compliance,
+    ComplianceError,
+    HeadCompliance,
+    LegBend,
+    LegCompliance,
+)
 from .world import MAX_ROLLING_FRICTION, Contact
 
 MODELS_DIR = Path(__file__).resolve().parent / "models"
@@ -56,6 +64,7 @@ _OPTIONAL_TOP = {
     "body_torsion",
     "leg_compliance",
     "leg_bend",
+    "head_compliance",
     "mass",
     "geometry",
 }
@@ -69,6 +78,11 @@ MAX_JOINT_SHIFT_MM = 30.0
 """Largest ``[geometry] shift_mm`` component (either way), mm: a correction for a part the description places
 where the real one does not touch the ground, not a new robot."""
 _SPRING = {"stiffness_n_m_rad", "damping_n_m_s_rad"}
+_HEAD_SLIDE = ("stiffness_n_m", "damping_n_s_m", "travel_mm")
+_HEAD_HINGE = ("stiffness_n_m_rad", "damping_n_m_s_rad", "travel_deg")
+_HEAD = {"joint", "axis", *_HEAD_SLIDE, *_HEAD_HINGE}
+DEFAULT_HEAD_TRAVEL = 30.0
+"""``[head_compliance]``'s stop when ``travel_mm`` / ``travel_deg`` is not given: 30 mm, or 30 degrees."""
 _COMPLIANCE = {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad", "wing_integral_time_s", "wing_scale"}
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
 _MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg", "servo_sides", "wing_extra_deg"}
@@ -100,11 +114,12 @@ OPTIONAL_KEYS = frozenset(
         "leg_compliance.damping_n_m_s_rad",
         "leg_bend.stiffness_n_m_rad",
         "leg_bend.damping_n_m_s_rad",
+        *(f"head_compliance.{k}" for k in sorted(_HEAD)),
     }
 )
 """Dotted keys a set may omit (and a calibration candidate may add): rolling and spinning friction; the
-``[compliance]``, ``[body_torsion]``, ``[leg_compliance]`` and ``[leg_bend]`` tables' (their stiffness is required
-once the table is there); the wing pose correction; the ``[mass]`` table's CoM offset; and the ``[geometry]``
+``[compliance]``, ``[body_torsion]``, ``[leg_compliance]``, ``[leg_bend]`` and ``[head_compliance]`` tables' (their
+stiffness is required once the table is there); the wing pose correction; the ``[mass]`` table's CoM offset; and the ``[geometry]``
 table's joint shift (both of its keys once the table is there)."""
 _CONTACT = {
     "lateral_friction",
@@ -154,6 +169,12 @@ class ModelSet:
     leg_bend : LegBend or None
         A leg that bends out of its swing plane, from an optional ``[leg_bend]`` table (``stiffness_n_m_rad``,
         optional ``damping_n_m_s_rad``; :class:`sim.compliance.LegBend`); None: a rigid leg.
+    head_compliance : HeadCompliance or None
+        A head whose attachment gives, from an optional ``[head_compliance]`` table: a slide (``stiffness_n_m``,
+        optional ``damping_n_s_m`` and ``travel_mm``) or a hinge (``stiffness_n_m_rad``, optional
+        ``damping_n_m_s_rad`` and ``travel_deg``) along or about ``axis`` (default ``[1, 0, 0]``, the body's long
+        axis) at ``joint`` (default ``"head_mount"``; :class:`sim.compliance.HeadCompliance`). Simulation only:
+        the landscapes stay the rigid body's. None: a rigid head.
     com_offset_y_mm : float
         The whole body's CoM moved along the body's y axis (mm; y = z x x, towards the lab's left wing), from an
         optional ``[mass]`` table: mass the robot's description lacks or misplaces (cables, glue, a tether).
@@ -185,6 +206,7 @@ class ModelSet:
     leg_compliance: LegCompliance | None = None
     leg_bend: LegBend | None = None
     joint_shift_mm: tuple[str, tuple[float, float, float]] | None = None
+    head_compliance: HeadCompliance | None = None
 
     @property
     def com_offset_m(self) -> tuple[float, float, float]:
@@ -285,7 +307,7 @@ class ModelSet:
             or None; ``com_offset_y_mm``: how far it moves the CoM along the body's y axis, mm, and
             ``moves_com``; ``joint_shift``: the joint it moves and how far (``{"joint": ..., "shift_mm": [x, y,
             z]}``) or None; ``elements``: the optional model elements it switches on, by table (``compliance``,
-            ``body_torsion``, ``leg_compliance``, ``leg_bend``, ``mass``, ``geometry``).
+            ``body_torsion``, ``leg_compliance``, ``leg_bend``, ``head_compliance``, ``mass``, ``geometry``).
 
         Examples
         --------
@@ -298,6 +320,7 @@ class ModelSet:
             "body_torsion": self.body_torsion,
             "leg_compliance": self.leg_compliance,
             "leg_bend": self.leg_bend,
+            "head_compliance": self.head_compliance,
             "mass": self.com_offset_y_mm or None,
             "geometry": self.joint_shift_mm,
         }
@@ -426,6 +449,58 @@ def _spring_table(data: dict, table: str, cls, where: str, canonical: dict):
         "damping_n_m_s_rad": spring.damping_n_m_s_rad,
     }
     return spring
+
+
+def _head_table(data: dict, where: str, canonical: dict) -> HeadCompliance | None:
+    """The optional ``[head_compliance]`` as a :class:`sim.compliance.HeadCompliance`, added to ``canonical``;
+    None without the table. A slide's keys (``stiffness_n_m``, ``damping_n_s_m``, ``travel_mm``) or a hinge's
+    (``stiffness_n_m_rad``, ``damping_n_m_s_rad``, ``travel_deg``), never both; ``axis`` and ``joint`` optional.
+
+    Raises
+    ------
+    ModelSetError
+        If a key is unknown or missing, the two kinds are mixed, or a value is out of range.
+    """
+    if "head_compliance" not in data:
+        return None
+    w = f"{where} [head_compliance]"
+    tab = _check_keys(data["head_compliance"], _HEAD, set(), w)
+    slide_keys, hinge_keys = set(_HEAD_SLIDE) & set(tab), set(_HEAD_HINGE) & set(tab)
+    if bool(slide_keys) == bool(hinge_keys) or (
+        "stiffness_n_m" not in tab and "stiffness_n_m_rad" not in tab
+    ):
+        raise ModelSetError(
+            f"{w}: give a slide (stiffness_n_m, optional damping_n_s_m and travel_mm) or a hinge "
+            "(stiffness_n_m_rad, optional damping_n_m_s_rad and travel_deg), not both"
+        )
+    slide = bool(slide_keys)
+    kn, cn, tn = _HEAD_SLIDE if slide else _HEAD_HINGE
+    axis = tab.get("axis", [1.0, 0.0, 0.0])
+    joint = tab.get("joint", HEAD_JOINT)
+    if not isinstance(axis, list):
+        raise ModelSetError(
+            f"{w}: axis must be a list of three numbers (x, y, z in the joint's parent frame)"
+        )
+    try:
+        head = HeadCompliance(
+            _number(tab, kn, w),
+            _number(tab, cn, w, allow_zero=True) if cn in tab else 0.0,
+            slide,
+            tuple(axis),
+            (_number(tab, tn, w) if tn in tab else DEFAULT_HEAD_TRAVEL)
+            * (1e-3 if slide else math.pi / 180.0),
+            joint,
+        )
+    except ComplianceError as exc:
+        raise ModelSetError(f"{w}: {exc}") from None
+    canonical["head_compliance"] = {
+        "joint": head.joint,
+        kn: head.stiffness,
+        cn: head.damping,
+        "axis": list(head.axis),
+        tn: head.travel_as_written(),
+    }
+    return head
 
 
 def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
@@ -573,6 +648,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     torsion = _spring_table(data, "body_torsion", BodyTorsion, where, canonical)
     leg = _spring_table(data, "leg_compliance", LegCompliance, where, canonical)
     bend = _spring_table(data, "leg_bend", LegBend, where, canonical)
+    head = _head_table(data, where, canonical)
     com_offset_y_mm = 0.0
     if "mass" in data:  # enters the hash only when present, so the sets of before keep their hashes
         wm = f"{where} [mass]"
@@ -604,6 +680,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         leg_compliance=leg,
         leg_bend=bend,
         joint_shift_mm=joint_shift_mm,
+        head_compliance=head,
         **timing,
     )
     try:

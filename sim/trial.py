@@ -484,6 +484,7 @@ def run_trial(
         com_offset_m=model_set.com_offset_m,
         leg_bend=model_set.leg_bend is not None,
         joint_shift=model_set.joint_shift_m,
+        head_compliance=model_set.head_compliance,
     )
     theta_w_deg, theta_l_deg, phase, cv = float(theta_w_deg), float(theta_l_deg), float(phase), float(cv)
     duration_s, dt_s = float(duration_s), float(default_dt_s(model.source) if dt_s is None else dt_s)
@@ -530,9 +531,10 @@ def run_trial(
         torsion=model_set.body_torsion,
         leg_compliance=model_set.leg_compliance,
         bend=model_set.leg_bend,
+        head=model_set.head_compliance,
     )
     with world:
-        from .compliance import check_spring_stability, check_stability
+        from .compliance import check_head_stability, check_spring_stability, check_stability
 
         if comp is not None:
             check_stability(comp, world.wing_inertia_kg_m2(), cmd.ctrl_s)
@@ -543,6 +545,8 @@ def run_trial(
         ):
             if spring is not None:
                 check_spring_stability(spring, inertia(), cmd.ctrl_s)
+        if model_set.head_compliance is not None:
+            check_head_stability(model_set.head_compliance, world.head_inertia(), cmd.ctrl_s)
         _settle(world, model, cmd)
         run = _run(world, cmd, trace=trace)
     started = starts[starts <= run.t_end]

@@ -183,6 +183,9 @@ class World:
     bend : sim.compliance.LegBend, optional
         Spring and damper of the leg's bend out of its swing plane; the model must have been built with
         ``leg_bend=True`` (:func:`sim.model.add_leg_bend`).
+    head : sim.compliance.HeadCompliance, optional
+        Spring and damper of the head's attachment; the model must have been built with the same
+        ``head_compliance`` (:func:`sim.model.add_head_compliance`).
 
     Examples
     --------
@@ -202,8 +205,10 @@ class World:
         torsion=None,
         leg_compliance=None,
         bend=None,
+        head=None,
     ):
         self.model = model
+        self.head = head
         self.compliance = compliance
         self.torsion = torsion
         self.leg_compliance = leg_compliance
@@ -262,6 +267,14 @@ class World:
             names, TORSION_JOINT, self.torsion, "body_torsion", "torsion=BodyTorsion"
         )
         self.bend_joint = _passive_joint(names, BEND_JOINT, self.bend, "leg_bend", "bend=LegBend")
+        built = self.model.head_joint
+        if (self.head is None) != (built is None) or (built is not None and built != self.head.joint):
+            raise ValueError(
+                "a HeadCompliance needs a model built with sim_model(..., head_compliance=) on the same joint, and "
+                f"such a model needs World(..., head=HeadCompliance(...)) (model: {built}, "
+                f"head: {None if self.head is None else self.head.joint})"
+            )
+        self.head_joint = None if built is None else names[built]
         self.leg_joints = [names[n] for n in jm.leg]
         self.driven = self.wing_joints + self.leg_joints
         n_wing, n_leg = len(jm.wing), len(jm.leg)
@@ -414,6 +427,15 @@ class World:
             self.body, joint, pb.TORQUE_CONTROL, force=-k * q - c * dq, physicsClientId=self.cid
         )
 
+    def head_inertia(self) -> float:
+        """What the head's spring moves (nan without one): the head's mass, kg, for a slide; its moment of inertia
+        about the hinge, kg m², for a hinge."""
+        if self.head_joint is None:
+            return math.nan
+        if self.head.slide:
+            return float(pb.getDynamicsInfo(self.body, self.head_joint, physicsClientId=self.cid)[0])
+        return self._child_inertia([self.head_joint])
+
     def bend_inertia_kg_m2(self) -> float:
         """The leg's moment of inertia about its bending axis, kg m² (nan without a bend joint)."""
         return math.nan if self.bend_joint is None else self._child_inertia([self.bend_joint])
@@ -464,11 +486,14 @@ class World:
         assert n_steps % self.substeps == 0, (n_steps, self.substeps)
         self._elapsed_s += n_steps * self.dt_s
         pairs = ((self.torsion, self.torsion_joint), (self.bend, self.bend_joint))
-        springs = [(s, j) for s, j in pairs if s is not None]
+        springs = [(s.stiffness_n_m_rad, s.damping_n_m_s_rad, j) for s, j in pairs if s is not None]
+        if self.head is not None:
+            springs.append((self.head.stiffness, self.head.damping, self.head_joint))
         for _ in range(n_steps // self.substeps):
-            # the twist's and the bend's springs are renewed before every stepSimulation call, settling's too
-            for spring, joint in springs:
-                self._drive_spring(joint, spring.stiffness_n_m_rad, spring.damping_n_m_s_rad)
+            # the twist's, the bend's and the head's springs are renewed before every stepSimulation call,
+            # settling's too
+            for k, c, joint in springs:
+                self._drive_spring(joint, k, c)
             pb.stepSimulation(physicsClientId=self.cid)
 
     def base_pose(self) -> tuple[tuple[float, float, float], tuple[float, float, float, float]]:
