@@ -5,7 +5,8 @@ taken from a fuller set (default: the shipped ``physical`` set, or a calibrated 
 
 - ``actuation``: the ``[actuation]`` table (the measured per-servo profiles, left/right asymmetry included);
 - ``contact``: the ``[contact]`` table (friction, stiffness, damping);
-- ``geometry``, ``compliance``, ``body_torsion``: those tables, when the fuller set has them;
+- ``geometry``, ``compliance``, ``body_torsion``, ``leg_compliance``, ``leg_bend``, ``head_compliance``: those
+  tables, when the fuller set has them;
 - ``mass``: the ``[mass]`` table (a sideways CoM offset), when the fuller set has it;
 - ``all``: the fuller set itself.
 
@@ -34,7 +35,17 @@ from landscape.analysis.validation import validate
 from sim.model_set import load_model_set, read_toml
 
 ROOT = Path(__file__).resolve().parents[1]
-CAUSES = ("actuation", "contact", "geometry", "compliance", "body_torsion", "mass")
+CAUSES = (
+    "actuation",
+    "contact",
+    "geometry",
+    "compliance",
+    "body_torsion",
+    "leg_compliance",
+    "leg_bend",
+    "head_compliance",
+    "mass",
+)
 
 
 def variant(base_file: Path, full_file: Path, tables: tuple[str, ...], name: str, out: Path) -> Path:
