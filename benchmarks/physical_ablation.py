@@ -5,9 +5,8 @@ taken from a fuller set (default: the shipped ``physical`` set, or a calibrated 
 
 - ``actuation``: the ``[actuation]`` table (the measured per-servo profiles, left/right asymmetry included);
 - ``contact``: the ``[contact]`` table (friction, stiffness, damping);
-- ``geometry``, ``compliance``, ``body_torsion``, ``leg_compliance``, ``leg_bend``, ``head_compliance``: those
-  tables, when the fuller set has them;
-- ``mass``: the ``[mass]`` table (a sideways CoM offset), when the fuller set has it;
+- every table a set may add (``sim.model_set.OPTIONAL_TABLES``: ``compliance``, ``body_torsion``,
+  ``leg_compliance``, ``leg_bend``, ``head_compliance``, ``mass``, ``geometry``), when the fuller set has it;
 - ``all``: the fuller set itself.
 
 Each variant runs through ``landscape physical validate``'s library function on every cell (same phases and
@@ -32,20 +31,10 @@ import tomli_w
 
 from geometry.errors import UsageError
 from landscape.analysis.validation import validate
-from sim.model_set import load_model_set, read_toml
+from sim.model_set import OPTIONAL_TABLES, load_model_set, read_toml
 
 ROOT = Path(__file__).resolve().parents[1]
-CAUSES = (
-    "actuation",
-    "contact",
-    "geometry",
-    "compliance",
-    "body_torsion",
-    "leg_compliance",
-    "leg_bend",
-    "head_compliance",
-    "mass",
-)
+CAUSES = ("actuation", "contact", *OPTIONAL_TABLES)
 
 
 def variant(base_file: Path, full_file: Path, tables: tuple[str, ...], name: str, out: Path) -> Path:

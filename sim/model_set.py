@@ -58,8 +58,7 @@ from .world import MAX_ROLLING_FRICTION, Contact
 MODELS_DIR = Path(__file__).resolve().parent / "models"
 DEFAULT_MODEL_SET = "paper"
 PROFILES = ("idealised", "measured")
-_OPTIONAL_TOP = {
-    "description",
+OPTIONAL_TABLES = (
     "compliance",
     "body_torsion",
     "leg_compliance",
@@ -67,7 +66,9 @@ _OPTIONAL_TOP = {
     "head_compliance",
     "mass",
     "geometry",
-}
+)
+"""The tables a set may add to its required ``[actuation]`` and ``[contact]``: each switches one model element on."""
+_OPTIONAL_TOP = {"description", *OPTIONAL_TABLES}
 _TOP = {"name", "version", "actuation", "contact"} | _OPTIONAL_TOP
 _MASS = {"com_offset_y_mm"}
 MAX_COM_OFFSET_MM = 10.0

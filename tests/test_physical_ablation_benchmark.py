@@ -3,13 +3,14 @@ and a variant is the base set with that one table taken from the fuller set."""
 
 from pathlib import Path
 
-from sim.model_set import OPTIONAL_KEYS, load_model_set, read_toml
+from sim.model_set import OPTIONAL_KEYS, OPTIONAL_TABLES, load_model_set, read_toml
 from tests.conftest import load_script, set_with_table
 
 
 def test_every_optional_table_is_a_cause():
     bench = load_script("benchmarks/physical_ablation.py")
     assert {k.split(".")[0] for k in OPTIONAL_KEYS} <= set(bench.CAUSES)
+    assert set(OPTIONAL_TABLES) <= set(bench.CAUSES)
 
 
 def test_a_variant_takes_one_table_from_the_fuller_set(tmp_path):
