@@ -154,3 +154,13 @@ def test_a_soft_head_holds_the_body_further_over_only_in_the_hold_and_no_further
     assert abs(held[0] - rigid) < 0.5
     assert held[0] < held[1] < held[2] and held[2] > rigid + 3.0
     assert rigid < stopped < held[2] - 3.0
+
+
+def test_a_sweep_refuses_a_head_joint_the_robot_lacks_before_any_trial(tmp_path, capsys):
+    from landscape.cli import main
+
+    f = set_with_table(tmp_path, "head_compliance", 'stiffness_n_m = 25.0\njoint = "nose"\n')
+    args = ["sweep", "--theta-w", "74", "--theta-l", "30", "--cv", "0", "--trials", "1", "--duration", "0.5"]
+    assert main([*args, "--model", str(f), "--db", str(tmp_path / "t.sqlite"), "--no-progress"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no joint 'nose' for [head_compliance]" in err[0]
