@@ -101,6 +101,8 @@ OPTIONAL_KEYS = frozenset(
     {
         "contact.rolling_friction",
         "contact.spinning_friction",
+        "contact.wing_stiffness_n_m",
+        "contact.wing_damping_n_s_m",
         "compliance.wing_stiffness_n_m_rad",
         "compliance.wing_damping_n_m_s_rad",
         "compliance.wing_integral_time_s",
@@ -118,10 +120,11 @@ OPTIONAL_KEYS = frozenset(
         *(f"head_compliance.{k}" for k in sorted(_HEAD)),
     }
 )
-"""Dotted keys a set may omit (and a calibration candidate may add): rolling and spinning friction; the
-``[compliance]``, ``[body_torsion]``, ``[leg_compliance]``, ``[leg_bend]`` and ``[head_compliance]`` tables' (their
-stiffness is required once the table is there); the wing pose correction; the ``[mass]`` table's CoM offset; and the ``[geometry]``
-table's joint shift (both of its keys once the table is there)."""
+"""Dotted keys a set may omit (and a calibration candidate may add): rolling and spinning friction and the wings'
+own soft contact (both of its keys); the ``[compliance]``, ``[body_torsion]``, ``[leg_compliance]``, ``[leg_bend]``
+and ``[head_compliance]`` tables' (their stiffness is required once the table is there); the wing pose correction;
+the ``[mass]`` table's CoM offset; and the ``[geometry]`` table's joint shift (both of its keys once the table is
+there)."""
 _CONTACT = {
     "lateral_friction",
     "restitution",
@@ -130,6 +133,8 @@ _CONTACT = {
     "solver_iterations",
     "rolling_friction",
     "spinning_friction",
+    "wing_stiffness_n_m",
+    "wing_damping_n_s_m",
 }
 
 
@@ -537,7 +542,15 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     con = _check_keys(
         data["contact"],
         _CONTACT,
-        _CONTACT - {"stiffness_n_m", "damping_n_s_m", "rolling_friction", "spinning_friction"},
+        _CONTACT
+        - {
+            "stiffness_n_m",
+            "damping_n_s_m",
+            "rolling_friction",
+            "spinning_friction",
+            "wing_stiffness_n_m",
+            "wing_damping_n_s_m",
+        },
         f"{where} [contact]",
     )
     soft = [k for k in ("stiffness_n_m", "damping_n_s_m") if k in con]
@@ -547,6 +560,11 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
             "neither (rigid contact)"
         )
     w = f"{where} [contact]"
+    wing_soft = [k for k in ("wing_stiffness_n_m", "wing_damping_n_s_m") if k in con]
+    if len(wing_soft) == 1:
+        raise ModelSetError(
+            f"{w}: give both wing_stiffness_n_m and wing_damping_n_s_m (the wings' own soft contact) or neither"
+        )
     iters = con["solver_iterations"]
     if isinstance(iters, bool) or not isinstance(iters, int) or iters < 1:
         raise ModelSetError(f"{w}: solver_iterations must be a whole number >= 1; got {iters!r}")
@@ -564,6 +582,8 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         stiffness_n_m=_number(con, "stiffness_n_m", w) if soft else None,
         damping_n_s_m=_number(con, "damping_n_s_m", w, allow_zero=True) if soft else None,
         solver_iterations=int(iters),
+        wing_stiffness_n_m=_number(con, "wing_stiffness_n_m", w) if wing_soft else None,
+        wing_damping_n_s_m=_number(con, "wing_damping_n_s_m", w, allow_zero=True) if wing_soft else None,
     )
     if contact.restitution > 1:
         raise ModelSetError(f"{w}: restitution must be in [0, 1]; got {contact.restitution!r}")
@@ -616,6 +636,9 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     }
     # the new keys enter the hash only when set, so the sets of before keep their hashes
     con_canon.update({k: v for k, v in rolling.items() if v != 0})
+    if wing_soft:
+        con_canon["wing_stiffness_n_m"] = contact.wing_stiffness_n_m
+        con_canon["wing_damping_n_s_m"] = contact.wing_damping_n_s_m
     canonical = {
         "name": data["name"],
         "version": data["version"],

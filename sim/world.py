@@ -93,6 +93,10 @@ class Contact:
         pybullet ``rollingFriction`` and ``spinningFriction`` of every robot link (and the ground: pybullet
         combines them as products, as for mu), dimensionless torque per normal force, in
         [0, ``MAX_ROLLING_FRICTION``]; 0 (the default) leaves them unset, pybullet's behaviour before.
+    wing_stiffness_n_m, wing_damping_n_s_m : float or None
+        Soft contact spring and damper of the links the wing joints carry (the wing plates and their roll
+        motors), N/m and N s/m, instead of ``stiffness_n_m`` and ``damping_n_s_m`` there: a thin wing that bends
+        where it touches the ground. None (the default): the wings touch like every other link.
     """
 
     friction: float = 1.0
@@ -102,8 +106,21 @@ class Contact:
     solver_iterations: int = 20
     rolling_friction: float = 0.0
     spinning_friction: float = 0.0
+    wing_stiffness_n_m: float | None = None
+    wing_damping_n_s_m: float | None = None
 
     def __post_init__(self) -> None:
+        k, c = self.wing_stiffness_n_m, self.wing_damping_n_s_m
+        if (k is None) != (c is None):
+            raise ValueError("give both wing_stiffness_n_m and wing_damping_n_s_m, or neither")
+        if k is not None and not (
+            all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in (k, c))
+            and k > 0
+            and c >= 0
+        ):
+            raise ValueError(
+                f"wing_stiffness_n_m must be > 0 and wing_damping_n_s_m >= 0 (N/m, N s/m); got {k!r}, {c!r}"
+            )
         for name in ("rolling_friction", "spinning_friction"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and 0.0 <= v <= MAX_ROLLING_FRICTION):
@@ -330,6 +347,12 @@ class World:
             **({k: 1.0 for k in rolling}),
             physicsClientId=cid,
         )
+        wing_soft = (
+            {}
+            if c.wing_stiffness_n_m is None
+            else {"contactStiffness": c.wing_stiffness_n_m, "contactDamping": c.wing_damping_n_s_m}
+        )
+        self.wing_links = self._links_below(self.wing_joints)
         for k in self.links:
             pb.changeDynamics(
                 self.body,
@@ -340,7 +363,7 @@ class World:
                 linearDamping=0.0,
                 angularDamping=0.0,
                 jointDamping=0.0,
-                **soft,
+                **(wing_soft if wing_soft and k in self.wing_links else soft),
                 **rolling,
                 physicsClientId=cid,
             )
@@ -426,6 +449,20 @@ class World:
         pb.setJointMotorControl2(
             self.body, joint, pb.TORQUE_CONTROL, force=-k * q - c * dq, physicsClientId=self.cid
         )
+
+    def _links_below(self, joints: list[int]) -> set[int]:
+        """The links (pybullet indices) that any of ``joints`` carries: each joint's child and every link below."""
+        parent = {
+            j: pb.getJointInfo(self.body, j, physicsClientId=self.cid)[16] for j in range(self.n_joints)
+        }
+        below = set()
+        for j in range(self.n_joints):
+            k = j
+            while k != -1 and k not in joints:
+                k = parent[k]
+            if k != -1:
+                below.add(j)
+        return below
 
     def head_inertia(self) -> float:
         """What the head's spring moves (nan without one): the head's mass, kg, for a slide; its moment of inertia
