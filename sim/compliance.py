@@ -306,6 +306,8 @@ MAX_HEAD_TRAVEL_MM = 30.0
 """Largest ``travel_mm`` of a sliding head, mm (as ``[geometry] shift_mm``): a head that gives, not a new robot."""
 MAX_HEAD_TRAVEL_DEG = 45.0
 """Largest ``travel_deg`` of a hinged head, degrees."""
+DEFAULT_HEAD_TRAVEL = 30.0
+"""A head's stop when none is given: 30 mm for a slide, 30 degrees for a hinge."""
 
 
 @dataclass(frozen=True)
@@ -333,8 +335,8 @@ class HeadCompliance:
     axis : tuple of 3 floats
         Direction of the slide or the hinge's axis in the joint's parent frame (the body frame for the head:
         x towards the head, z out of the belly); normalised.
-    travel : float
-        The stop either way, m for a slide, rad for a hinge (> 0).
+    travel : float or None
+        The stop either way, m for a slide, rad for a hinge (> 0); None: ``DEFAULT_HEAD_TRAVEL`` mm or degrees.
     joint : str
         The fixed joint that attaches the head.
 
@@ -342,8 +344,9 @@ class HeadCompliance:
     --------
     >>> HeadCompliance(25.0, 0.3, travel=0.017).keys()
     ('stiffness_n_m', 'damping_n_s_m', 'travel_mm')
-    >>> HeadCompliance(0.5, slide=False, axis=(0.0, 2.0, 0.0)).axis
-    (0.0, 1.0, 0.0)
+    >>> h = HeadCompliance(0.5, slide=False, axis=(0.0, 2.0, 0.0))
+    >>> h.axis, round(h.travel_as_written(), 9)
+    ((0.0, 1.0, 0.0), 30.0)
     >>> HeadCompliance(25.0, travel=0.05)
     Traceback (most recent call last):
     ...
@@ -354,7 +357,7 @@ class HeadCompliance:
     damping: float = 0.0
     slide: bool = True
     axis: tuple[float, float, float] = (1.0, 0.0, 0.0)
-    travel: float = MAX_HEAD_TRAVEL_MM * 1e-3
+    travel: float | None = None
     joint: str = HEAD_JOINT
 
     TABLE: ClassVar[str] = "head_compliance"
@@ -370,6 +373,9 @@ class HeadCompliance:
         return self.travel * 1e3 if self.slide else math.degrees(self.travel)
 
     def __post_init__(self):
+        if self.travel is None:
+            d = DEFAULT_HEAD_TRAVEL
+            object.__setattr__(self, "travel", d * 1e-3 if self.slide else math.radians(d))
         kn, cn, tn = self.keys()
         for name, v in ((kn, self.stiffness), (cn, self.damping), (tn, self.travel)):
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):

@@ -229,6 +229,26 @@ def _set_origin(el: ET._Element, t: NDArray[np.float64]) -> None:
     o.set("rpy", " ".join(f"{x:.17g}" for x in rpy))
 
 
+def _axis_text(v) -> str:
+    """A unit axis as a URDF ``xyz`` attribute (components below 1e-12 written as 0)."""
+    return " ".join(f"{x:.17g}" if abs(x) > 1e-12 else "0" for x in v)
+
+
+def _joint(root: ET._Element, joint: str, purpose: str) -> ET._Element:
+    """The URDF's joint element named ``joint``; ``purpose`` ("to shift") ends the error's first clause.
+
+    Raises
+    ------
+    UnknownJointError
+        Naming the robot's joints, if it has none of that name.
+    """
+    el = next((j for j in root.findall("joint") if j.get("name") == joint), None)
+    if el is None:
+        names = ", ".join(sorted(j.get("name") for j in root.findall("joint"))) or "none"
+        raise UnknownJointError(f"the robot has no joint {joint!r} {purpose}; its joints are {names}")
+    return el
+
+
 def _inertial(link: ET._Element) -> tuple[float, NDArray[np.float64], NDArray[np.float64]]:
     """(mass kg, CoM m, 3x3 inertia about the CoM kg m^2) of a link in its own frame."""
     el = link.find("inertial")
@@ -496,8 +516,9 @@ def add_leg_bend(root: ET._Element, leg_joint: str) -> str:
         )
     bend /= np.linalg.norm(bend)
     j.find("child").set("link", BEND_LINK)
-    axis_xyz = " ".join(f"{v:.17g}" if abs(v) > 1e-12 else "0" for v in bend)
-    _add_hinge(root, BEND_LINK, BEND_JOINT, BEND_LINK, leg, axis_xyz, BEND_LIMIT_RAD, mass_kg=mass * 1e-6)
+    _add_hinge(
+        root, BEND_LINK, BEND_JOINT, BEND_LINK, leg, _axis_text(bend), BEND_LIMIT_RAD, mass_kg=mass * 1e-6
+    )
     return leg
 
 
@@ -551,10 +572,7 @@ def shift_joint(root: ET._Element, joint: str, offset_m: ArrayLike) -> None:
     >>> shift_joint(root, "j", [-0.018, 0.0, 0.0]); root.find("joint/origin").get("xyz")
     '0.032000000000000001 0 0.0080000000000000002'
     """
-    el = next((j for j in root.findall("joint") if j.get("name") == joint), None)
-    if el is None:
-        names = ", ".join(sorted(j.get("name") for j in root.findall("joint"))) or "none"
-        raise UnknownJointError(f"the robot has no joint {joint!r} to shift; its joints are {names}")
+    el = _joint(root, joint, "to shift")
     t = _origin(el)
     t[:3, 3] += np.asarray(offset_m, dtype=np.float64)
     _set_origin(el, t)
@@ -583,13 +601,12 @@ def add_head_compliance(root: ET._Element, joint: str, *, slide: bool, axis: Arr
     >>> j.get("type"), j.find("axis").get("xyz"), j.find("limit").get("lower")
     ('prismatic', '1 0 0', '-0.017000000000000001')
     """
-    el = next((j for j in root.findall("joint") if j.get("name") == joint), None)
-    if el is None:
-        names = ", ".join(sorted(j.get("name") for j in root.findall("joint"))) or "none"
+    try:
+        el = _joint(root, joint, "for [head_compliance]")
+    except UnknownJointError as exc:
         raise UnknownJointError(
-            f"the robot has no joint {joint!r} for [head_compliance]; its joints are {names}: give the joint that "
-            "attaches the head as [head_compliance] joint"
-        )
+            f"{exc}: give the joint that attaches the head as [head_compliance] joint"
+        ) from None
     if el.get("type") != "fixed":
         raise RobotDescriptionError(
             f"[head_compliance] joint {joint!r} is {el.get('type')}, not fixed; give the fixed joint that attaches "
@@ -600,7 +617,7 @@ def add_head_compliance(root: ET._Element, joint: str, *, slide: bool, axis: Arr
     el.set("type", "prismatic" if slide else "revolute")
     for old in el.findall("axis") + el.findall("limit"):
         el.remove(old)
-    ET.SubElement(el, "axis", xyz=" ".join(f"{v:.17g}" if abs(v) > 1e-12 else "0" for v in a))
+    ET.SubElement(el, "axis", xyz=_axis_text(a))
     t = f"{float(travel):.17g}"
     ET.SubElement(el, "limit", lower=f"-{t}", upper=t, effort="1000", velocity="1000")
     return str(el.find("child").get("link"))

@@ -82,8 +82,6 @@ _SPRING = {"stiffness_n_m_rad", "damping_n_m_s_rad"}
 _HEAD_SLIDE = ("stiffness_n_m", "damping_n_s_m", "travel_mm")
 _HEAD_HINGE = ("stiffness_n_m_rad", "damping_n_m_s_rad", "travel_deg")
 _HEAD = {"joint", "axis", *_HEAD_SLIDE, *_HEAD_HINGE}
-DEFAULT_HEAD_TRAVEL = 30.0
-"""``[head_compliance]``'s stop when ``travel_mm`` / ``travel_deg`` is not given: 30 mm, or 30 degrees."""
 _COMPLIANCE = {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad", "wing_integral_time_s", "wing_scale"}
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
 _MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg", "servo_sides", "wing_extra_deg"}
@@ -493,8 +491,7 @@ def _head_table(data: dict, where: str, canonical: dict) -> HeadCompliance | Non
             _number(tab, cn, w, allow_zero=True) if cn in tab else 0.0,
             slide,
             tuple(axis),
-            (_number(tab, tn, w) if tn in tab else DEFAULT_HEAD_TRAVEL)
-            * (1e-3 if slide else math.pi / 180.0),
+            _number(tab, tn, w) * (1e-3 if slide else math.pi / 180.0) if tn in tab else None,
             joint,
         )
     except ComplianceError as exc:

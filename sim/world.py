@@ -292,6 +292,11 @@ class World:
                 f"head: {None if self.head is None else self.head.joint})"
             )
         self.head_joint = None if built is None else names[built]
+        # the passive springs (stiffness, damping, joint) that advance() renews before every stepSimulation call
+        pairs = ((self.torsion, self.torsion_joint), (self.bend, self.bend_joint))
+        self._springs = [(s.stiffness_n_m_rad, s.damping_n_m_s_rad, j) for s, j in pairs if s is not None]
+        if self.head is not None:
+            self._springs.append((self.head.stiffness, self.head.damping, self.head_joint))
         self.leg_joints = [names[n] for n in jm.leg]
         self.driven = self.wing_joints + self.leg_joints
         n_wing, n_leg = len(jm.wing), len(jm.leg)
@@ -522,14 +527,10 @@ class World:
         """Advance ``n_steps`` physics steps of ``dt_s`` (a multiple of ``substeps``)."""
         assert n_steps % self.substeps == 0, (n_steps, self.substeps)
         self._elapsed_s += n_steps * self.dt_s
-        pairs = ((self.torsion, self.torsion_joint), (self.bend, self.bend_joint))
-        springs = [(s.stiffness_n_m_rad, s.damping_n_m_s_rad, j) for s, j in pairs if s is not None]
-        if self.head is not None:
-            springs.append((self.head.stiffness, self.head.damping, self.head_joint))
         for _ in range(n_steps // self.substeps):
             # the twist's, the bend's and the head's springs are renewed before every stepSimulation call,
             # settling's too
-            for k, c, joint in springs:
+            for k, c, joint in self._springs:
                 self._drive_spring(joint, k, c)
             pb.stepSimulation(physicsClientId=self.cid)
 
