@@ -48,6 +48,7 @@ import numpy as np
 
 from geometry.errors import UsageError
 from geometry.frames import pitch_roll_from_up
+from landscape.analysis.calibration import add_set_options
 from landscape.analysis.physical import imu_to_body, read_recording, trial_cell, trial_files, up_in_body
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -118,10 +119,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--data", default=str(ROOT.parent / "shared/ref/physical_robot"))
     ap.add_argument("--robot", default=str(ROOT.parent / "shared/ref/lab_robot/lab_robot.urdf"))
-    ap.add_argument("--models", default="physical-head,physical-offset", help="model sets, comma-separated")
     ap.add_argument("--cells", default=DEFAULT_CELLS, help=f"WING:LEG,... [default: {DEFAULT_CELLS}]")
-    ap.add_argument("--vary", action="append", default=[], help="TABLE.KEY=V1,V2: variants of the first set")
-    ap.add_argument("--with", dest="fixed", action="append", default=[], help="TABLE.KEY=V in every variant")
+    add_set_options(ap, "physical-head,physical-offset")
     a = ap.parse_args(argv)
     with tempfile.TemporaryDirectory(prefix="hold_energy_") as tmp:
         return _run(a, Path(tmp))

@@ -34,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from geometry.errors import UsageError
+from landscape.analysis.calibration import add_set_options
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -47,10 +48,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--data", default=str(ROOT.parent / "shared/ref/physical_robot"))
     ap.add_argument("--robot", default=str(ROOT.parent / "shared/ref/lab_robot/lab_robot.urdf"))
-    ap.add_argument("--models", default="physical-head,physical-offset", help="model sets, comma-separated")
     ap.add_argument("--cells", default=None, help="WING:LEG,... [default: every recorded cell]")
-    ap.add_argument("--vary", action="append", default=[], help="TABLE.KEY=V1,V2: variants of the first set")
-    ap.add_argument("--with", dest="fixed", action="append", default=[], help="TABLE.KEY=V in every variant")
+    add_set_options(ap, "physical-head,physical-offset")
     a = ap.parse_args(argv)
     with tempfile.TemporaryDirectory(prefix="nose_over_") as tmp:
         return _run(a, Path(tmp))

@@ -39,7 +39,7 @@ import numpy as np
 from tqdm import tqdm
 
 from geometry.errors import UsageError
-from landscape.analysis.calibration import variant_sets
+from landscape.analysis.calibration import add_set_options, variant_sets
 from landscape.analysis.opening import recorded_first_openings, simulated_opening
 from landscape.analysis.physical import measured_plateaus_deg
 from landscape.analysis.validation import cell_phases, parse_cells, simulates_commands
@@ -80,17 +80,13 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--data", default=str(ROOT.parent / "shared/ref/physical_robot"))
     ap.add_argument("--robot", default=str(ROOT.parent / "shared/ref/lab_robot/lab_robot.urdf"))
-    ap.add_argument("--models", default="paper,physical")
     ap.add_argument("--trials", type=int, default=5, help="simulated first openings per cell and set")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--cells", default=None, help="only these cells, WING:LEG,... [default: all]")
     ap.add_argument(
         "--phase", type=float, default=None, help="every first opening at this leg phase in [0, 1)"
     )
-    ap.add_argument("--vary", action="append", default=[], help="TABLE.KEY=V1,V2: variants of the first set")
-    ap.add_argument(
-        "--with", dest="fixed", action="append", default=[], help="TABLE.KEY=V: set in every variant"
-    )
+    add_set_options(ap, "paper,physical")
     args = ap.parse_args(argv)
     if args.phase is not None and not 0.0 <= args.phase < 1.0:
         ap.exit(2, f"{ap.prog}: error: --phase must lie in [0, 1); got {args.phase!r}\n")

@@ -155,6 +155,29 @@ def candidate_set(base: str | Path, overrides: dict[str, Value], name: str, path
     return load_model_set(path)
 
 
+def add_set_options(parser, default_models: str) -> None:
+    """Add ``--models A,B``, ``--vary TABLE.KEY=V1,V2`` and ``--with TABLE.KEY=V`` (both repeatable; ``fixed``)
+    to an :mod:`argparse` parser: the options :func:`sets_and_variants` reads, as the benchmarks that compare
+    model sets and variants of the first take them.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> ap = argparse.ArgumentParser()
+    >>> add_set_options(ap, "physical-head")
+    >>> a = ap.parse_args(["--vary", "contact.restitution=0.5,0.9"])
+    >>> a.models, a.vary, a.fixed
+    ('physical-head', ['contact.restitution=0.5,0.9'], [])
+    """
+    parser.add_argument("--models", default=default_models, help="model sets, comma-separated")
+    parser.add_argument(
+        "--vary", action="append", default=[], help="TABLE.KEY=V1,V2: variants of the first set"
+    )
+    parser.add_argument(
+        "--with", dest="fixed", action="append", default=[], help="TABLE.KEY=V in every variant"
+    )
+
+
 def sets_and_variants(
     models: str, vary: Sequence[str], fixed: Sequence[str], directory: str | Path
 ) -> tuple[list[str], list[str]]:
