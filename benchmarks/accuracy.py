@@ -1,11 +1,20 @@
 """Accuracy against time: grid barriers at shrinking steps (4- and 8-connected) and icosphere barriers at rising
-levels, versus the exact method (#3).
+levels, versus the exact method; and the exact method on CAD-like meshes (``--cad``).
 
 For the lab robot (../shared/ref/lab_robot when present, else the built-in robot) at theta_w in {60, 74, 90} and
 for closed-form shapes, prints a markdown table (method, time, righting and escape barriers, absolute and
 relative error against exact) and writes a log-log plot of error against time.
 
     python benchmarks/accuracy.py [--out figures/accuracy.png] [--steps 4 2 1 0.5 0.25] [--repeat 3]
+
+With ``--cad N`` it instead runs N seeded cases of each CAD-like family (:data:`CAD_FAMILIES`: boxes, plates
+and prisms subdivided 0 to 5 times, cylinders and capsules at several tessellations, every vertex moved by
+uniform noise of 1e-13 to 1e-7 of the size, a CoM anywhere inside) and prints one row per family: cases,
+internal errors, the worst barrier and saddle errors against each case's reference (the closed form for
+boxes and plates, the clean, undivided twin otherwise) as multiples of the bound :func:`cad_check` states, and
+the time per case.
+
+    python benchmarks/accuracy.py --cad 40 [--seed 0]
 """
 
 from __future__ import annotations
@@ -13,6 +22,7 @@ from __future__ import annotations
 import argparse
 import time
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import trimesh
@@ -75,13 +85,249 @@ def _grid(pose, step, conn, start):
     return grid_barrier(ls, grid_minimum(ls, *start), connectivity=conn)
 
 
+# ------------------------------------------------------------------------------------------ CAD-like meshes
+CAD_FAMILIES = ("box", "plate", "prism", "cylinder", "capsule")
+G_CAD = 9.81
+MASS_CAD_KG = 1.5
+
+
+class CadCase(NamedTuple):
+    """One CAD-like body: the noisy mesh's pose, its clean twin's pose, and the closed-form righting exit.
+
+    ``closed`` is (barrier J, saddle up-direction) for boxes and plates, else None; ``noise_m`` is the noise
+    amplitude (each coordinate moved by at most this), ``size_m`` the body's diameter.
+    """
+
+    family: str
+    label: str
+    pose: object
+    clean: object
+    noise_m: float
+    size_m: float
+    closed: tuple | None
+
+
+def _clean_mesh(family: str, dims: tuple[float, float, float], sections: int) -> trimesh.Trimesh:
+    a, b, c = dims
+    if family in ("box", "plate"):
+        return trimesh.creation.box(extents=(a, b, c))
+    if family == "prism":  # a triangular, square-less or hexagonal prism lying on a side face
+        return trimesh.creation.cylinder(radius=b / 2, height=a, sections=sections, transform=_AXIS_X)
+    if family == "cylinder":
+        return trimesh.creation.cylinder(radius=b / 2, height=a, sections=sections, transform=_AXIS_X)
+    if family == "capsule":
+        return trimesh.creation.capsule(height=a, radius=b / 2, count=[sections, sections], transform=_AXIS_X)
+    raise ValueError(f"unknown family {family!r}; choose one of {CAD_FAMILIES}")
+
+
+_AXIS_X = np.array([[0.0, 0.0, 1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+
+
+def cad_case(
+    family: str,
+    *,
+    subdivisions: int,
+    sections: int,
+    noise_rel: float,
+    com_frac: tuple[float, float, float],
+    seed: int,
+) -> CadCase:
+    """A CAD-like body of ``family``: its flat faces subdivided, every vertex moved by uniform noise.
+
+    Parameters
+    ----------
+    family : str
+        One of :data:`CAD_FAMILIES`: box 0.4 x 0.3 x 0.2 m, plate 0.4 x 0.3 x 0.02 m, prism (``sections``
+        sides, 0.4 m long, 0.3 m across), cylinder (``sections`` facets), capsule (``sections`` segments).
+    subdivisions : int
+        Times every triangle is split into four (boxes, plates, prisms), 0 to 5.
+    sections : int
+        Tessellation of prisms, cylinders and capsules.
+    noise_rel : float
+        Noise amplitude relative to the body's diameter (each coordinate moved by at most that).
+    com_frac : tuple of 3 floats in [-1, 1]
+        CoM as a fraction of the way from the centre to the hull along each axis (scaled into the hull).
+    seed : int
+        Seed of the noise.
+    """
+    dims = {"plate": (0.4, 0.3, 0.02)}.get(family, (0.4, 0.3, 0.2))
+    mesh = _clean_mesh(family, dims, sections)
+    if family in ("box", "plate", "prism"):
+        for _ in range(subdivisions):
+            mesh = mesh.subdivide()
+    size = float(np.linalg.norm(mesh.extents))
+    noise = noise_rel * size
+    rng = np.random.default_rng(seed)
+    noisy = mesh.vertices + rng.uniform(-noise, noise, mesh.vertices.shape)
+    clean_pts = _clean_mesh(family, dims, sections).vertices
+    # the CoM: com_frac of the way to the hull along each axis, shrunk to stay 5 % of the depth inside
+    lo, hi = clean_pts.min(axis=0), clean_pts.max(axis=0)
+    com = (lo + hi) / 2 + 0.9 * np.asarray(com_frac) * (hi - lo) / 2
+    if family == "capsule":  # along the axis, within the cylindrical part
+        com[0] = 0.9 * com_frac[0] * dims[0] / 2
+    if family not in ("box", "plate"):  # round sections: keep the CoM inside the inscribed square
+        com[1:] = (lo[1:] + hi[1:]) / 2 + 0.9 * np.asarray(com_frac[1:]) * (hi[1:] - lo[1:]) / 2 * np.cos(
+            np.pi / max(sections, 3)
+        ) / np.sqrt(2)
+    pose = Robot.from_trimesh(
+        trimesh.Trimesh(noisy, mesh.faces, process=False), mass_kg=MASS_CAD_KG, com=com.tolist()
+    ).pose()
+    clean = Robot.from_trimesh(
+        _clean_mesh(family, dims, sections), mass_kg=MASS_CAD_KG, com=com.tolist()
+    ).pose()
+    closed = _box_righting(np.asarray(dims), com) if family in ("box", "plate") else None
+    label = f"{family} subdiv {subdivisions} sections {sections} noise {noise_rel:.1e} com {np.round(com, 4).tolist()}"
+    return CadCase(family, label, pose, clean, noise, size, closed)
+
+
+def _box_righting(dims, com):
+    """Closed form: a box resting on its bottom face (start up-direction +z) rights over the nearest of the four
+    bottom edges; barrier m g (distance from the CoM to that edge - CoM height), saddle up = edge-to-CoM."""
+    half = dims / 2
+    h0 = com[2] + half[2]
+    best = None
+    for axis, sign in ((0, 1), (0, -1), (1, 1), (1, -1)):
+        foot = com.copy()
+        foot[axis], foot[2] = sign * half[axis], -half[2]
+        w = com - foot
+        lift = float(np.linalg.norm(w)) - h0
+        if best is None or lift < best[0] - 1e-15:
+            best = (lift, w / np.linalg.norm(w))
+    return MASS_CAD_KG * G_CAD * best[0], best[1]
+
+
+def _angle_rad(u, v) -> float:
+    return float(np.arctan2(np.linalg.norm(np.cross(u, v)), np.dot(u, v)))
+
+
+def cad_check(case: CadCase) -> dict:
+    """The exact method on a CAD-like case against its reference, with the bound each error must stay within.
+
+    The body starts on the face its clean twin rests on from pitch = roll = 0. The righting and escape barriers
+    must agree with the reference within ``1e-6 * |reference| + m g (2 sqrt(3) e + 4 tol)``: noise of amplitude
+    ``e`` per coordinate moves every hull point by at most ``sqrt(3) e``, hence the CoM height at every
+    orientation, and so a minimax level above a minimum, by at most twice that; ``tol`` is the exact method's
+    length tolerance (``LENGTH_RTOL`` times the diameter), within which it merges facets. Their saddles must lie
+    within ``1e-6 rad + 10 sqrt(3) e / d`` of the reference's (``d`` the CoM's distance to the nearest face), or
+    of another of the reference's saddles at the same level within the barrier bound (mirror saddles tie, and
+    noise breaks the tie). The pitch- and roll-wise barriers are upper bounds over the hull's arcs that lie
+    inside a sector, not continuous in the geometry (a facet that noise adds near a pole changes which arcs
+    there are): they must exist where the reference's do and lie no lower than the righting barrier; their
+    relative difference from the reference is reported, not bounded.
+
+    Returns a dict: ``error`` (message, or None), ``barrier_ratio`` and ``saddle_ratio`` (worst error over its
+    bound; <= 1 passes) and ``sector_rel`` (largest relative difference of the sector barriers).
+    """
+    from landscape.barriers.exact import LENGTH_RTOL, exact_barrier
+
+    out = {"error": None, "barrier_ratio": 0.0, "saddle_ratio": 0.0, "sector_rel": 0.0}
+    try:
+        ref = exact_barrier(case.clean, 0.0, 0.0, g_m_s2=G_CAD)
+        got = exact_barrier(case.pose, ref.start.pitch_deg, ref.start.roll_deg, g_m_s2=G_CAD)
+    except Exception as exc:  # noqa: BLE001 - the benchmark counts internal errors
+        out["error"] = f"{type(exc).__name__}: {exc}"
+        return out
+    mg = MASS_CAD_KG * G_CAD
+    e_abs = mg * (2 * np.sqrt(3) * case.noise_m + 4 * LENGTH_RTOL * case.size_m)
+    crit = ref.landscape.critical
+    a_tol = 1e-6 + 10 * np.sqrt(3) * case.noise_m / float(ref.landscape.face_height_m.min())
+    for kind in ("righting", "escape", "pitch_wise", "roll_wise"):
+        g, r = getattr(got.barrier, kind), getattr(ref.barrier, kind)
+        if (g is None) != (r is None):
+            out["error"] = (
+                f"{kind}: {'no exit' if g is None else 'an exit'} where the reference has the opposite"
+            )
+            return out
+        if g is None:
+            continue
+        r_j, r_up = r.barrier_j, _up(r.saddle_pitch_deg, r.saddle_roll_deg)
+        if kind == "righting" and case.closed is not None:  # the closed form, J above the start
+            r_j, r_up = case.closed
+        bound = 1e-6 * abs(r_j) + e_abs
+        if kind.endswith("_wise"):
+            if g.barrier_j < got.barrier.righting.barrier_j - bound:
+                out["error"] = f"{kind} barrier {g.barrier_j:.9g} J lies below the righting barrier"
+                return out
+            out["sector_rel"] = max(out["sector_rel"], abs(g.barrier_j - r_j) / max(abs(r_j), bound))
+            continue
+        out["barrier_ratio"] = max(out["barrier_ratio"], abs(g.barrier_j - r_j) / bound)
+        g_up = _up(g.saddle_pitch_deg, g.saddle_roll_deg)
+        same = np.abs(crit.saddles_energy_j - (r_j + ref.start.energy_j)) <= bound
+        cands = [r_up] + [_up(*d) for d in crit.saddles_deg[same]]
+        out["saddle_ratio"] = max(out["saddle_ratio"], min(_angle_rad(g_up, c) for c in cands) / a_tol)
+    return out
+
+
+def _up(pitch_deg: float, roll_deg: float) -> np.ndarray:
+    from geometry.frames import up_vector
+
+    return up_vector(np.deg2rad(pitch_deg), np.deg2rad(roll_deg))
+
+
+def cad_cases(n: int, seed: int = 0):
+    """``n`` seeded cases of each family (the benchmark's draw; the tests draw with hypothesis)."""
+    rng = np.random.default_rng(seed)
+    for family in CAD_FAMILIES:
+        for _ in range(n):
+            yield cad_case(
+                family,
+                subdivisions=int(rng.integers(0, 6)),
+                sections=int(rng.choice([3, 4, 6] if family == "prism" else [8, 12, 16, 32, 64])),
+                noise_rel=float(10 ** rng.uniform(-13, -7)),
+                com_frac=tuple(rng.uniform(-1, 1, 3)),
+                seed=int(rng.integers(2**31)),
+            )
+
+
+def cad_main(n: int, seed: int) -> int:
+    """Print the CAD-like families' table (see the module docstring)."""
+    from landscape.computation import warm_up
+
+    warm_up()
+    rows: dict[str, list] = {f: [] for f in CAD_FAMILIES}
+    for case in cad_cases(n, seed):
+        t0 = time.perf_counter()
+        res = cad_check(case)
+        rows[case.family].append((res, time.perf_counter() - t0, case.label))
+    print(
+        "| family | cases | internal errors | worst barrier error / bound | worst saddle error / bound "
+        "| worst sector difference (relative) | ms per case |"
+    )
+    print("|---|---:|---:|---:|---:|---:|---:|")
+    for family, rs in rows.items():
+        errs = [r for r, _, _ in rs if r["error"]]
+        ok = [r for r, _, _ in rs if not r["error"]]
+        worst_b = max((r["barrier_ratio"] for r in ok), default=np.nan)
+        worst_s = max((r["saddle_ratio"] for r in ok), default=np.nan)
+        worst_sec = max((r["sector_rel"] for r in ok), default=np.nan)
+        ms = 1e3 * float(np.mean([t for _, t, _ in rs]))
+        print(
+            f"| {family} | {len(rs)} | {len(errs)} | {worst_b:.3g} | {worst_s:.3g} | {worst_sec:.2g} | {ms:.1f} |"
+        )
+    bad = [
+        (lab, r)
+        for rs in rows.values()
+        for r, _, lab in rs
+        if r["error"] or max(r["barrier_ratio"], r["saddle_ratio"]) > 1
+    ]
+    for lab, r in bad[:10]:
+        print(f"  FAIL {lab}: {r}")
+    return 1 if bad else 0
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument(
+        "--cad", type=int, default=0, metavar="N", help="run N cases of each CAD-like family instead"
+    )
+    ap.add_argument("--seed", type=int, default=0, help="seed of the CAD-like cases")
     ap.add_argument("--out", type=Path, default=Path("figures/accuracy.png"))
     ap.add_argument("--steps", type=float, nargs="+", default=[4.0, 2.0, 1.0, 0.5, 0.25])
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--levels", type=int, nargs="+", default=[4, 5, 6, 7], help="icosphere levels")
     args = ap.parse_args(argv)
+    if args.cad:
+        return cad_main(args.cad, args.seed)
     warm_up()
     rows = []
     print(

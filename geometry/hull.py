@@ -74,13 +74,20 @@ def _unique_rows(pts: NDArray[np.float64]) -> NDArray[np.float64]:
     return s[keep]
 
 
-def convex_hull(points_m: ArrayLike) -> Hull:
+def convex_hull(points_m: ArrayLike, *, merge_tol_m: float | None = None) -> Hull:
     """Convex hull of points, robust to duplicates and flat sets.
 
     Parameters
     ----------
     points_m : array_like of shape (N, 3)
         Points, m. Must be finite.
+    merge_tol_m : float, optional
+        Merge facets closer than this to coplanar, m (Qhull's centrum pre-merge, option ``C-``): a point within
+        about this distance of the hull of the others is no vertex, and the triangles of one merged facet share
+        one plane (``equations``). The result is convex by at least this margin at every edge, so rounding noise
+        below it (a CAD export's finely triangulated flat faces, say) leaves no sliver facets or kinked edges.
+        None (default) keeps Qhull's roundoff-only merging: every point that is a vertex in floating point stays
+        one.
 
     Returns
     -------
@@ -97,6 +104,13 @@ def convex_hull(points_m: ArrayLike) -> Hull:
     >>> h = convex_hull(trimesh.creation.box(extents=(1, 1, 1)).vertices)
     >>> len(h.vertices_m), int(np.diff(h.neighbor_ptr).min())
     (8, 3)
+
+    A box whose faces carry 1e-12 m of noise keeps every noisy point as a vertex unless merged:
+
+    >>> box = trimesh.creation.box(extents=(0.4, 0.3, 0.02)).subdivide().subdivide()
+    >>> noisy = box.vertices + np.random.default_rng(0).uniform(-1e-12, 1e-12, box.vertices.shape)
+    >>> len(convex_hull(noisy).vertices_m) > 8, len(convex_hull(noisy, merge_tol_m=1e-10).vertices_m)
+    (True, 8)
     """
     pts = np.asarray(points_m, dtype=np.float64).reshape(-1, 3)
     if len(pts) == 0:
@@ -105,8 +119,12 @@ def convex_hull(points_m: ArrayLike) -> Hull:
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         raise GeometryError(f"geometry has a non-finite vertex {pts[i].tolist()} at index {i}; fix the mesh")
+    if merge_tol_m is not None and not (np.isfinite(merge_tol_m) and merge_tol_m > 0):
+        raise GeometryError(f"merge_tol_m must be a positive length in m; got {merge_tol_m!r}")
+    # Never pass Qhull's 'Qbb' here: it rescales the last coordinate of the caller's array in place
+    options = None if merge_tol_m is None else f"C-{float(merge_tol_m)!r}"
     try:
-        qh = ConvexHull(pts)  # duplicates are fine: all but one of equal points are left inside
+        qh = ConvexHull(pts, qhull_options=options)  # duplicates are fine: all but one of equal points are left inside
     except (QhullError, ValueError):
         # flat, collinear or too few points: keep them all (once each) and join every pair
         pts = _unique_rows(pts)

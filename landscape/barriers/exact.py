@@ -66,7 +66,7 @@ from scipy.sparse.csgraph import connected_components
 from geometry import Pose
 from geometry.errors import UsageError
 from geometry.frames import canonical_pitch_roll_deg, pitch_roll_from_up, up_vector
-from geometry.hull import Hull
+from geometry.hull import Hull, convex_hull
 from landscape import _kernels
 from landscape.barriers._base import Barrier, Exit
 from landscape.energy import G_M_S2
@@ -75,10 +75,11 @@ from landscape.minima import Minimum
 
 log = logging.getLogger(__name__)
 
-LENGTH_RTOL = 1e-9  # lengths below LENGTH_RTOL * hull diameter count as zero
+LENGTH_RTOL = 1e-6  # lengths below LENGTH_RTOL * hull diameter count as zero
 ANGLE_TOL_RAD = 1e-9  # face normals closer than this (and within the length tolerance) are one face
 UPRIGHT_Z_TOL = 1e-12  # u_z <= this counts as reached the upright set
 PATH_STEP_DEG = 1.0  # sampling of reported paths along arcs, degrees
+SECTOR_TOL_DEG = 1e-3  # sector boundaries and poles are this wide, degrees (module docstring)
 TIE_DEG = 1e-9  # saddle coordinates closer than this are equal in the tie rule, degrees
 
 NOT_A_SOLID = (
@@ -487,6 +488,11 @@ def _build(hull: Hull, com: NDArray[np.float64], mass_kg: float, g_m_s2: float) 
     pts = np.ascontiguousarray(hull.vertices_m, dtype=np.float64)
     diam = float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0)))
     tol_m = LENGTH_RTOL * max(diam, np.finfo(float).tiny)
+    if len(hull.simplices):
+        # the hull again with facets within the tolerance merged, so that every predicate below sees facets
+        # and edges convex by more than the tolerance (rounding noise leaves no slivers; module docstring)
+        hull = convex_hull(pts, merge_tol_m=tol_m)
+        pts = np.ascontiguousarray(hull.vertices_m, dtype=np.float64)
     k_v = len(pts)
     tri, nb, tri_face, n_f, normal = _merged_faces(hull, com, tol_m)
     d = com[None, :] - pts
@@ -869,10 +875,12 @@ def _torus_path_reference(us: NDArray[np.float64], start_deg: tuple[float, float
 def _in_sectors(us: NDArray[np.float64], start_deg: tuple[float, float]):
     """Whether points lie in the pitch sector (|d roll| <= |d pitch|) and the roll sector around the start.
 
-    Uses each point's torus representative nearest the start (as :func:`_nearest_rep`).
+    Uses each point's torus representative nearest the start (as :func:`_nearest_rep`). Within
+    ``SECTOR_TOL_DEG`` of a pole a point is in both sectors (its roll is undefined there), and so is a point
+    within that angle of the sectors' boundary.
     """
     pr = _deg(us)
-    pole = np.abs(np.abs(pr[:, 0]) - 90.0) < 1e-9
+    pole = np.abs(np.abs(pr[:, 0]) - 90.0) < SECTOR_TOL_DEG
     d = []
     for p, r in ((pr[:, 0], pr[:, 1]), (180.0 - pr[:, 0], pr[:, 1] + 180.0)):
         dp = np.abs(wrap_deg(p - start_deg[0]))
@@ -881,7 +889,7 @@ def _in_sectors(us: NDArray[np.float64], start_deg: tuple[float, float]):
     second = np.maximum(*d[1]) < np.maximum(*d[0]) - 1e-12
     dp = np.where(second, d[1][0], d[0][0])
     dr = np.where(second, d[1][1], d[0][1])
-    return dr <= dp, dp <= dr
+    return dr <= dp + SECTOR_TOL_DEG, dp <= dr + SECTOR_TOL_DEG
 
 
 def _direction(u: NDArray[np.float64], start_deg: tuple[float, float]) -> str:
