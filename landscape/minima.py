@@ -33,7 +33,7 @@ from .energy import G_M_S2, Landscape, height_at
 from .grid import nearest_cell
 
 CONTINUATION_STEP_DEG = 1.0  # joint-angle increment of the quasi-static continuation
-LENGTH_RTOL = 1e-9  # as landscape/exact.py: lengths below this times the body size count as zero
+LENGTH_RTOL = 1e-9  # lengths below this times the body size count as zero (the descent; the exact barriers merge at their own)
 _PATTERN_STEPS_DEG = (2.0, 1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125)
 _DIRS = np.array([(1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (1, -1), (-1, 1), (-1, -1)], dtype=np.float64)
 _MAX_MOVES = 10_000

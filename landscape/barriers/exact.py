@@ -30,15 +30,26 @@ Definitions shared with the grid method (landscape/barriers/grid.py):
   wholly inside the sector, sampled every ``PATH_STEP_DEG`` (a point is inside when either of its two torus
   representatives is). This is an upper bound on the continuous sector-restricted barrier and the grid's
   sector barrier may lie below it by more than grid error (a continuous path may cut through a cell along the
-  sector boundary, and a long arc that pokes out of the sector is dropped whole). (Classifying routes by the
+  sector boundary, and a long arc that pokes out of the sector is dropped whole). The sector boundary and the
+  poles (where roll is undefined) are ``SECTOR_TOL_DEG`` wide: a point within that angle of them counts as
+  inside. Being restricted to arcs, these two exits are not continuous in the geometry: a facet added near a
+  pole may change which arcs there are. (Classifying routes by the
   sector of their highest point instead is not useful: a detour through a slightly higher pitch-sector point
   then counts as "pitch-wise" though the body goes over the side.)
 - *direction*: "pitch" when the saddle lies at least as far from the start in pitch as in roll, else "roll",
   using the saddle's torus representative nearest the start ((p, r) or (180 - p, r + 180); at the poles the roll
   is that of the start).
 
-Tolerance (documented and deterministic): lengths within ``LENGTH_RTOL`` times the hull diameter are equal.
-Faces closer than that to coplanar are merged; a CoM that projects within that distance of a face's boundary
+Tolerance (documented and deterministic): lengths within ``LENGTH_RTOL`` (1e-6) times the hull diameter are
+equal. The hull is first rebuilt with Qhull merging every facet whose centrum lies within that length of its
+neighbour's plane, so the facets and edges the method sees are convex by more than the tolerance: rounding
+noise below it (a CAD export's finely triangulated flat faces, single-precision coordinates, a unit
+conversion) leaves no sliver facets or kinked edges that would create or hide a saddle. The merged hull lies
+within about the tolerance of the input's, so an energy is exact to about ``2 m g LENGTH_RTOL`` times the
+diameter (for the 0.3 m robot, a few microjoules) and a saddle's direction to about the tolerance over the
+CoM's distance to the hull; ``benchmarks/accuracy.py --cad`` checks this on CAD-like families. A body with
+features smaller than that tolerance is treated as the body without them. Faces closer than that to
+coplanar are merged; a CoM that projects within that distance of a face's boundary
 is *above the edge or vertex*: the face is not a minimum (the body tips over, as a marginal equilibrium would
 under any disturbance); a start exactly on a saddle rolls to the lower of the two faces (ties: the lower face
 index) and a start exactly on a vertex maximum to the lowest face at that vertex.
