@@ -290,11 +290,11 @@ def test_the_two_rests_measure_a_small_mounting():
 @needs_data
 @pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
 def test_opening_transient_benchmark_prints_the_closing_table(capsys):
-    """benchmarks/opening_transient.py, one cell and one simulated opening: the third table puts the robot's tilt
+    """benchmarks/physical/opening_transient.py, one cell and one simulated opening: the third table puts the robot's tilt
     at closing, its gyro check and the rigid saddle beside the set's; a bad cell is one line and exit 2."""
     from tests.conftest import load_script
 
-    mod = load_script("benchmarks/opening_transient.py")
+    mod = load_script("benchmarks/physical/opening_transient.py")
     argv = ["--data", str(DATA), "--robot", str(LAB_URDF), "--models", "physical", "--trials", "1"]
     assert mod.main([*argv, "--phase", "0.17", "--cells", "60:30"]) == 0
     out = capsys.readouterr().out

@@ -206,11 +206,11 @@ def test_an_upright_robot_reads_as_a_tilt_but_gives_no_lean():
 @needs_data
 @pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
 def test_hold_lean_benchmark_prints_both_tables(capsys):
-    """benchmarks/hold_lean.py, one cell and one one-opening trial: the robot's leans and departures beside the
+    """benchmarks/physical/hold_lean.py, one cell and one one-opening trial: the robot's leans and departures beside the
     set's; a bad cell is one line and exit 2."""
     from tests.conftest import load_script
 
-    mod = load_script("benchmarks/hold_lean.py")
+    mod = load_script("benchmarks/physical/hold_lean.py")
     argv = ["--data", str(DATA), "--robot", str(LAB_URDF), "--models", "physical", "--attempts", "1"]
     assert mod.main([*argv, "--cells", "60:30"]) == 0
     out = capsys.readouterr().out

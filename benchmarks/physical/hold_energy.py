@@ -30,7 +30,7 @@ noise.
 With ``--vary TABLE.KEY=V1,V2`` (repeatable) each value is also tried on its own in a copy of the first set, with
 ``--with TABLE.KEY=V`` in every variant (as ``nose_over.py``).
 
-Run:  PYTHONPATH=. .venv/bin/python benchmarks/hold_energy.py [--data DIR] [--robot URDF]
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical/hold_energy.py [--data DIR] [--robot URDF]
       [--models physical-head,physical-offset] [--cells 60:30,60:45,75:15,75:30] [--vary TABLE.KEY=V1,V2 ...]
       [--with TABLE.KEY=V ...]
 """
@@ -51,7 +51,7 @@ from geometry.frames import pitch_roll_from_up
 from landscape.analysis.calibration import add_set_options
 from landscape.analysis.physical import imu_to_body, read_recording, trial_cell, trial_files, up_in_body
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 WING_CLOSE_S = 1.04
 """When the wings start closing after the opening starts, s (the measured profiles' plateaus end at 1.04-1.06 s,
 ``[actuation.wing.*]`` of the measured sets)."""

@@ -6,12 +6,12 @@ weighs and swings as before but that part can no longer touch the ground, in the
 gone) and in the simulation (no collision shape). Mesh paths are made absolute, so the copy loads from anywhere.
 Feed the copy to any command that takes ``--robot``, e.g. without the leg's rod and sphere:
 
-    PYTHONPATH=. .venv/bin/python benchmarks/strip_geometry.py ../shared/ref/lab_robot/lab_robot.urdf \
+    PYTHONPATH=. .venv/bin/python benchmarks/physical/strip_geometry.py ../shared/ref/lab_robot/lab_robot.urdf \
         --link pendulum --out noleg
     landscape physical validate --data ../shared/ref/physical_robot --robot noleg/lab_robot.urdf \
         --model physical-head --phase protocol --cells 75:45,90:15,90:30,90:45 --trials 5 --out validation-noleg
 
-Run:  PYTHONPATH=. .venv/bin/python benchmarks/strip_geometry.py URDF --link NAME [--link NAME ...] [--out DIR]
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical/strip_geometry.py URDF --link NAME [--link NAME ...] [--out DIR]
 """
 
 from __future__ import annotations

@@ -22,7 +22,7 @@ With ``--vary TABLE.KEY=V1,V2`` (repeatable) each value is also tried on its own
 median |tilt| and hold wobble per cell beside the robot's; ``--with TABLE.KEY=V`` (repeatable) sets a key in
 every variant (e.g. a damping while the stiffness varies); ``--cells 60:30,60:45`` limits the cells.
 
-Run:  PYTHONPATH=. .venv/bin/python benchmarks/opening_transient.py [--data DIR] [--robot URDF]
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical/opening_transient.py [--data DIR] [--robot URDF]
       [--models paper,physical] [--trials 5] [--seed 0] [--cells W:L,...] [--phase P]
       [--vary TABLE.KEY=V1,V2 ...] [--with TABLE.KEY=V ...]
 """
@@ -44,7 +44,7 @@ from landscape.analysis.opening import recorded_first_openings, simulated_openin
 from landscape.analysis.physical import measured_plateaus_deg
 from landscape.analysis.validation import cell_phases, parse_cells, simulates_commands
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def summary(responses) -> str:

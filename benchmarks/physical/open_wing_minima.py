@@ -9,7 +9,7 @@ righting barrier out of that one (``landscape compute --start-pitch P --start-ro
 thrown out of the hold with its wings open that lands in such a state rests there, propped on its side, until
 the leg gives it that much or the wings close.
 
-Run:  PYTHONPATH=. .venv/bin/python benchmarks/open_wing_minima.py [--robot URDF] [--model physical-head]
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical/open_wing_minima.py [--robot URDF] [--model physical-head]
       [--commands 60,75,90] [--legs 0,30,-30]
 """
 
@@ -32,7 +32,7 @@ from landscape.energy import G_M_S2, energy_landscape, height_at
 from landscape.minima import local_descent
 from sim.model_set import load_model_set
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def local_minima(pose) -> list[tuple[float, float]]:

@@ -1,4 +1,4 @@
-"""benchmarks/open_wing_minima.py: with its wings held open at 90 deg, physical-head leaves a 1.9 mJ hold only to
+"""benchmarks/physical/open_wing_minima.py: with its wings held open at 90 deg, physical-head leaves a 1.9 mJ hold only to
 come to rest propped on its head, one wing and the leg's sphere, 9.6 mJ below the next saddle; at 60 deg the
 states past the hold are flat."""
 
@@ -9,7 +9,7 @@ from tests.conftest import LAB_URDF, load_script
 
 @pytest.fixture(scope="module")
 def bench():
-    return load_script("benchmarks/open_wing_minima.py")
+    return load_script("benchmarks/physical/open_wing_minima.py")
 
 
 @pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")

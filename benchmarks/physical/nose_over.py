@@ -18,7 +18,7 @@ With ``--vary TABLE.KEY=V1,V2`` (repeatable) each value is also tried on its own
 (``landscape.analysis.calibration.variant_sets``), e.g. wing springs, friction or contact damping;
 ``--with TABLE.KEY=V`` (repeatable) sets a key in every variant (a damping while the stiffness varies).
 
-Run:  PYTHONPATH=. .venv/bin/python benchmarks/nose_over.py [--data DIR] [--robot URDF]
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical/nose_over.py [--data DIR] [--robot URDF]
       [--models physical-head,physical-offset] [--cells 90:0,90:30] [--vary TABLE.KEY=V1,V2 ...]
       [--with TABLE.KEY=V ...]
 """
@@ -36,7 +36,7 @@ import numpy as np
 from geometry.errors import UsageError
 from landscape.analysis.calibration import add_set_options
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def peak_nose_deg(response) -> float:

@@ -1,4 +1,4 @@
-"""benchmarks/nose_over.py: at the 90 deg command every first opening of the robot throws its nose past
+"""benchmarks/physical/nose_over.py: at the 90 deg command every first opening of the robot throws its nose past
 vertical, even with the leg still, while the set that holds where the robot holds stops short of it; at 60 deg
 neither comes near; and the hold, where the set that rests like the robot holds within 1.5 deg of it."""
 
@@ -10,7 +10,7 @@ from tests.landscape.analysis.test_physical import DATA, needs_data
 
 @pytest.fixture(scope="module")
 def bench():
-    return load_script("benchmarks/nose_over.py")
+    return load_script("benchmarks/physical/nose_over.py")
 
 
 @needs_data

@@ -23,7 +23,7 @@ per cell at the first number of trials, which simulated counts agree and each mo
 robot righted 5 of 5 (or 0 of 5) agrees only with a simulation that rights every trial (or none), because a
 Wilson interval reaches 100 % only at k = n.
 
-Run:  PYTHONPATH=. .venv/bin/python benchmarks/referee_power.py [--data DIR] [--trials 10,20,40]
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical/referee_power.py [--data DIR] [--trials 10,20,40]
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ from scipy.stats import betabinom, binom
 
 from geometry.errors import UsageError
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 P_GRID = np.linspace(0.0, 1.0, 2001)
 """Probabilities searched for the best possible model."""
 

@@ -1,4 +1,4 @@
-"""benchmarks/referee_power.py against hand counts: the Wilson rule's agreeing simulated counts, the plug-in
+"""benchmarks/physical/referee_power.py against hand counts: the Wilson rule's agreeing simulated counts, the plug-in
 and beta-binomial probabilities, and the count distribution's convolution."""
 
 import pytest
@@ -9,7 +9,7 @@ from tests.conftest import load_script
 
 @pytest.fixture(scope="module")
 def bench():
-    return load_script("benchmarks/referee_power.py")
+    return load_script("benchmarks/physical/referee_power.py")
 
 
 def test_a_robot_cell_of_5_of_5_agrees_only_with_a_simulation_that_always_rights(bench):

@@ -1,4 +1,4 @@
-"""benchmarks/time_to_right_frame.py: world-up's z in a body frame pitched against the IMU's (none: the recorded
+"""benchmarks/physical/time_to_right_frame.py: world-up's z in a body frame pitched against the IMU's (none: the recorded
 value exactly; 10 deg: a body standing at 90 deg by its IMU is 10 deg short of vertical), and the robot's time
 to right at 90 deg moving later once its body is pitched below its IMU."""
 
@@ -12,7 +12,7 @@ from tests.landscape.analysis.test_physical import DATA, needs_data
 
 @pytest.fixture(scope="module")
 def bench():
-    return load_script("benchmarks/time_to_right_frame.py")
+    return load_script("benchmarks/physical/time_to_right_frame.py")
 
 
 def test_the_mounting_turns_world_up_about_the_body_y_axis():

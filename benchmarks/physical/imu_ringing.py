@@ -15,7 +15,7 @@ fourth upward zero crossing): peak and plateau (median 0.2-0.27 s after the cros
 of the swing, time from the peak until the angle stays within 2 % of the swing of the plateau, and the
 damping ratio of the second-order system with that overshoot.
 
-Run:  PYTHONPATH=. .venv/bin/python benchmarks/imu_ringing.py [--data DIR]
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical/imu_ringing.py [--data DIR]
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from scipy.optimize import curve_fit
 from geometry.errors import UsageError
 from landscape.analysis.physical import read_recording, trial_files
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 FS_HZ = 60.0
 LEG_LAG_S, WING_LAG_S = 0.06, 0.08
 AXES = ("roll (x)", "pitch (y)", "yaw (z)")

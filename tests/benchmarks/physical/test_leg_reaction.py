@@ -1,4 +1,4 @@
-"""benchmarks/leg_reaction.py: the free body's turn against its swinging leg conserves angular momentum, so it
+"""benchmarks/physical/leg_reaction.py: the free body's turn against its swinging leg conserves angular momentum, so it
 is zero without a swing, grows in proportion to the swing (small angles) and turns against the leg (+ for a
 swing from +A to -A); a robot without the lab's joints is refused in one line."""
 
@@ -9,7 +9,7 @@ from tests.conftest import LAB_URDF, load_script, needs_lab
 
 @pytest.fixture(scope="module")
 def bench():
-    return load_script("benchmarks/leg_reaction.py")
+    return load_script("benchmarks/physical/leg_reaction.py")
 
 
 WINGS = dict.fromkeys(("wing_pitch_left", "wing_pitch_right", "wing_roll_left", "wing_roll_right"), 80.0)

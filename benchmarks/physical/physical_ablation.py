@@ -14,11 +14,11 @@ seeds for every variant), and the table gives the cells agreeing (fit, held-out,
 physical outcomes, the per-attempt rates agreeing and the simulated side fraction. Every variant keeps its own
 trial store in ``--out``, so a rerun resumes.
 
-Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical_ablation.py [--base paper] [--from FILE] [--trials 10]
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical/physical_ablation.py [--base paper] [--from FILE] [--trials 10]
       [--out DIR]
       [--data ../shared/ref/physical_robot] [--robot ../shared/ref/lab_robot/lab_robot.urdf]
 
-Last run: see the README's "The physical robot" section (the command above, its output pasted).
+Last run: see the docs' physical-robot chapter (docs/physical/), the command above with its output.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from geometry.errors import UsageError
 from landscape.analysis.validation import validate
 from sim.model_set import OPTIONAL_TABLES, load_model_set, read_toml
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 CAUSES = ("actuation", "contact", *OPTIONAL_TABLES)
 
 

@@ -1,4 +1,4 @@
-"""benchmarks/resting_pose_fit.py: in the body frame the two rests give, the lab's CAD holds 8-11 deg short of the
+"""benchmarks/physical/resting_pose_fit.py: in the body frame the two rests give, the lab's CAD holds 8-11 deg short of the
 robot at every wing command; the head 17 mm further back holds within 1.2 deg and leaves a 28 mJ barrier at 60 deg,
 where the wings opened further lower it but cannot match all three holds."""
 
@@ -10,7 +10,7 @@ from tests.landscape.analysis.test_physical import DATA, needs_data
 
 @pytest.fixture(scope="module")
 def bench():
-    return load_script("benchmarks/resting_pose_fit.py")
+    return load_script("benchmarks/physical/resting_pose_fit.py")
 
 
 @needs_data

@@ -1,4 +1,4 @@
-"""benchmarks/hold_energy.py: along the robot's roll-overs out of the hold the rigid landscape climbs no more than
+"""benchmarks/physical/hold_energy.py: along the robot's roll-overs out of the hold the rigid landscape climbs no more than
 the body's kinetic energy at its departure can pay at 75 deg (it falls), while the leg's swings in the hold
 throw the robot's body several times as far as the model's."""
 
@@ -14,7 +14,7 @@ from tests.landscape.analysis.test_physical import DATA, needs_data
 
 @pytest.fixture(scope="module")
 def bench():
-    return load_script("benchmarks/hold_energy.py")
+    return load_script("benchmarks/physical/hold_energy.py")
 
 
 def test_doctests(bench):

@@ -14,7 +14,7 @@ pitched that much less than its IMU reads) and prints, per cell, the median time
 validate --imu-mounting`` judges them); with ``--validation DIR`` (``landscape physical validate --out DIR``) the
 simulated median beside them.
 
-Run:  PYTHONPATH=. .venv/bin/python benchmarks/time_to_right_frame.py [--data DIR] [--mount 0,2.6,11.5]
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical/time_to_right_frame.py [--data DIR] [--mount 0,2.6,11.5]
       [--validation DIR]
 """
 
@@ -31,7 +31,7 @@ import numpy as np
 
 from geometry.errors import UsageError
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def main(argv=None) -> int:

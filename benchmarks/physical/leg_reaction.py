@@ -13,7 +13,7 @@ robot's (median over its recorded first openings; in the row's last column when 
 the last upward command before the opening plus half the leg period) beside each set's (one simulated first
 opening at the protocol's leg phase, no noise; its last column: when its leg crossed zero going down).
 
-Run:  PYTHONPATH=. .venv/bin/python benchmarks/leg_reaction.py [--data DIR] [--robot URDF]
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical/leg_reaction.py [--data DIR] [--robot URDF]
       [--models physical-offset] [--cells 60:30,75:45,90:15,90:30,90:45] [--phase 0.17]
 """
 
@@ -29,7 +29,7 @@ from geometry.errors import UsageError
 from landscape.analysis.opening import PROTOCOL_PHASE, lateral_tilt_deg, opening_response, simulated_openings
 from sim.protocol import PAPER_LEG_PERIOD_S
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SWING_S = 0.12
 """Duration of the free body's leg swing from +A to -A, s (the measured profile's +A to -A takes 0.10-0.14 s)."""
 TIMES_S = (0.2, 0.25, 0.3, 0.35, 0.4, 0.45, 0.5)

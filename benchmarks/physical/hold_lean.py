@@ -10,7 +10,7 @@ no noise; the leg's side is the sign of the simulated leg angle). Medians over t
 A second table gives when the openings that roll over leave the level (``departure_s``: the last time the tilt
 rose through 5 deg before passing 45 deg), the median over those that rolled, and how many did.
 
-Run:  PYTHONPATH=. .venv/bin/python benchmarks/hold_lean.py [--data DIR] [--robot URDF]
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical/hold_lean.py [--data DIR] [--robot URDF]
       [--models paper,physical] [--attempts 3] [--seed 0] [--phase 0.17] [--cells W:L,...]
 """
 
@@ -27,10 +27,10 @@ from landscape.analysis.validation import parse_cells, simulates_commands
 from landscape.viz.physical_plots import departure_text as departure
 from landscape.viz.physical_plots import lean_text as lean
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from sim_convergence import Progress  # noqa: E402  (the benchmarks' progress line, #17)
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def main(argv=None) -> int:

@@ -1,4 +1,4 @@
-"""benchmarks/strip_geometry.py: a URDF copy whose named links keep their mass but lose their shape."""
+"""benchmarks/physical/strip_geometry.py: a URDF copy whose named links keep their mass but lose their shape."""
 
 import numpy as np
 import pytest
@@ -8,7 +8,7 @@ from tests.conftest import LAB_URDF, load_script
 
 @pytest.fixture(scope="module")
 def bench():
-    return load_script("benchmarks/strip_geometry.py")
+    return load_script("benchmarks/physical/strip_geometry.py")
 
 
 @pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")

@@ -10,7 +10,7 @@ method). Candidates: the head moved back along the body (``[geometry] shift_join
 with every wing servo opened further than its measured plateau (degrees: ``[actuation] wing_extra_deg`` as one
 constant; ``--extra-on pitch`` or ``roll`` opens only those servos); and the shipped sets as they pose the robot.
 
-Run:  PYTHONPATH=. .venv/bin/python benchmarks/resting_pose_fit.py [--data DIR] [--robot URDF]
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical/resting_pose_fit.py [--data DIR] [--robot URDF]
       [--head 0,-5,-10,-15,-17] [--extra 0,4,8] [--extra-on all|pitch|roll]
       [--models physical,physical-posed,physical-offset,physical-head]
 """
@@ -31,7 +31,7 @@ from landscape.computation import compute
 from landscape.minima import metastable_orientation
 from sim.model_set import load_model_set
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 COMMANDS = (60.0, 75.0, 90.0)
 TOLERANCE_DEG = 1.5
 """Issue #15's resting-pose acceptance: within this of the robot's hold at every command."""
