@@ -214,7 +214,7 @@ class BodyTorsion(Spring):
 
     The robot's shell is thin. Under the body's weight the two wings carry equal and opposite moments about the
     long axis, which cancel across the body, so a torsion spring does not sag the resting pose as a spring in
-    each wing joint does (docs/physical/sixty-degrees.md); a load that differs between the sides, such as the
+    each wing joint does (docs/physical/resting-pose.md); a load that differs between the sides, such as the
     leg's swing, twists it. :func:`sim.model.add_body_torsion` inserts the joint (``TORSION_JOINT``) and
     :class:`sim.world.World` drives it with the torque ``-k q - c dq/dt``, renewed before every
     ``stepSimulation`` call (settling included).
