@@ -42,8 +42,8 @@ if __name__ == "__main__":
     summary = client.get("/api/landscape", params={"robot": "builtin", "theta_w": 74, "theta_l": 30}).json()
     b = summary["barrier"]
     print(
-        f"righting {b['righting_j'] * 1e3:.3f} mJ by {b['direction']}, saddle ({b['saddle_pitch_deg']}, "
-        f"{b['saddle_roll_deg']})"
+        f"righting {b['righting_j'] * 1e3:.3f} mJ by {b['direction']}, saddle ({b['saddle_pitch_deg']:.2f}°, "
+        f"{b['saddle_roll_deg']:.2f}°)"
     )
     npz = np.load(
         io.BytesIO(
