@@ -6,8 +6,8 @@ A trial's body pitch and roll, recorded every 10 ms, drawn over the landscape of
 ``landscape simulate --trace t.csv`` records and ``landscape render --trace t.csv`` draws. The minimal barrier
 says how high the lowest way out is; the trajectory shows which way the robot really went.
 
-Quick version: two trials of at most 4 s. Full version (``LANDSCAPE_DOCS_FULL=1``): six trials of 10 s, as
-``python figures/trajectory_examples.py`` draws for the README.
+Quick version: three trials of at most 4 s. Full version (``LANDSCAPE_DOCS_FULL=1``): six phases, trials of
+10 s.
 """
 
 import os
@@ -21,14 +21,14 @@ from sim.trial import run_trial
 full = os.environ.get("LANDSCAPE_DOCS_FULL") == "1"
 theta_w_deg, theta_l_deg = 74.0, 30.0
 c = landscape.compute(landscape.load_robot(), theta_w_deg=theta_w_deg, theta_l_deg=theta_l_deg)
+# The leg's phase at the first wing opening (phi_1) changes the way over: one trial per phase.
+phases = (0.0, 1 / 6, 2 / 6, 3 / 6, 4 / 6, 5 / 6) if full else (0.1, 0.4, 0.7)
 trials = [
-    run_trial(
-        theta_w_deg, theta_l_deg, phase=0.7, cv=0.1, rng=seed, duration_s=10.0 if full else 4.0, trace=True
-    )
-    for seed in range(6 if full else 2)
+    run_trial(theta_w_deg, theta_l_deg, phase=ph, cv=0.1, rng=0, duration_s=10.0 if full else 4.0, trace=True)
+    for ph in phases
 ]
-for seed, r in enumerate(trials):
-    print(f"seed {seed}: " + (f"righted at {r.time_to_right_s:.2f} s" if r.success else "not righted"))
+for ph, r in zip(phases, trials, strict=True):
+    print(f"phase {ph:.2f}: " + (f"righted at {r.time_to_right_s:.2f} s" if r.success else "not righted"))
 
 # %%
 # Paths are drawn as points because pitch and roll wrap round the torus at ±180°.
@@ -36,11 +36,9 @@ a = c.landscape.angles_deg
 fig, ax = plt.subplots(figsize=(6.4, 5.2))
 cs = ax.contourf(a, a, c.landscape.energy_j.T * 1e3, levels=30, cmap="Greys_r")
 fig.colorbar(cs, ax=ax, label="potential energy (mJ)")
-for seed, r in enumerate(trials):
-    t = r.trace
-    ax.plot(
-        t.pitch_deg, t.roll_deg, ".", ms=2, label=f"seed {seed} ({'righted' if r.success else 'not righted'})"
-    )
+for ph, r in zip(phases, trials, strict=True):
+    label = f"phase {ph:.2f} ({'righted' if r.success else 'not righted'})"
+    ax.plot(r.trace.pitch_deg, r.trace.roll_deg, ".", ms=2, label=label)
 rt = c.barrier.righting
 ax.plot(c.minimum.pitch_deg, c.minimum.roll_deg, "o", color="tab:red", label="start minimum")
 ax.plot(
@@ -57,8 +55,8 @@ ax.legend(fontsize=7, loc="lower left")
 # The energy along each trial against time, with the start energy plus the minimal barrier as a line: a trial
 # rights only after it has climbed past that level.
 fig, ax = plt.subplots(figsize=(6.4, 3.4))
-for seed, r in enumerate(trials):
-    ax.plot(r.trace.t_s, r.trace.energy_j * 1e3, label=f"seed {seed}")
+for ph, r in zip(phases, trials, strict=True):
+    ax.plot(r.trace.t_s, r.trace.energy_j * 1e3, label=f"phase {ph:.2f}")
 ax.axhline((c.minimum.energy_j + rt.barrier_j) * 1e3, color="tab:orange", ls="--", label="start + barrier")
 ax.set(xlabel="time (s)", ylabel="potential energy (mJ)")
 ax.legend(fontsize=7)
