@@ -7,7 +7,7 @@ Parts (all dimensions and placements in :class:`BuiltinParameters`):
   outline reaches beyond the ellipsoid's rim. Its five parameters were fitted by
   ``benchmarks/fit_builtin_shell.py`` to 16 landmarks of the lab robot's part hulls in ``../shared/ref`` (rms
   height residual 2.7 mm there, 5.1 mm over all the lab's shell vertices: the lab's shell bottom is flattened,
-  lowest at |y| ~ 50 mm). The plan outline (half-width at stations along x) and the pieces' extents carry over
+  lowest at ``|y| ~ 50 mm``). The plan outline (half-width at stations along x) and the pieces' extents carry over
   the lab's: the head is a horseshoe band ``5.4 <= x <= 134.5 mm``, from an inner half-width (open middle) out to
   ``|y| <= 71.3 mm``; each wing spans ``-125.4 <= x <= 98.2 mm, |y| >= 21.8 mm`` out to the outline. Like the
   lab's meshes, head and wings overlap in plan where the lab's do.

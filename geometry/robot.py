@@ -1112,7 +1112,7 @@ class Robot:
         """The same robot with one joint's origin moved by ``offset_m`` (m, in its parent link's frame): the
         joint's child link and everything it carries move with it, geometry and mass alike. It stands for a part
         the description places where the real one does not touch the ground, e.g. the lab robot's head
-        (``head_mount``; README, "The physical robot"). ``description_hash`` folds the shift in.
+        (``head_mount``; docs/physical/resting-pose.md). ``description_hash`` folds the shift in.
 
         Raises
         ------

@@ -536,7 +536,7 @@ def barrier_map(
         A robot with joints.
     theta_w_deg, theta_l_deg : list of float
         Wing and leg angles, degrees.
-    step_deg, method
+    step_deg, method : float, str
         As in :func:`compute`.
     progress : callable, optional
         Called with 1 after each pose (e.g. a progress bar's ``update``), in the calling process.

@@ -46,7 +46,7 @@ class Minimum:
     Attributes
     ----------
     pitch_deg, roll_deg : float
-        Orientation, degrees, on the branch |pitch| <= 90.
+        Orientation, degrees, on the branch ``|pitch| <= 90``.
     energy_j, height_m : float
         Potential energy m g h, J, and CoM height h, m.
     """

@@ -214,7 +214,7 @@ class BodyTorsion(Spring):
 
     The robot's shell is thin. Under the body's weight the two wings carry equal and opposite moments about the
     long axis, which cancel across the body, so a torsion spring does not sag the resting pose as a spring in
-    each wing joint does (README, "The physical robot"); a load that differs between the sides, such as the
+    each wing joint does (docs/physical/resting-pose.md); a load that differs between the sides, such as the
     leg's swing, twists it. :func:`sim.model.add_body_torsion` inserts the joint (``TORSION_JOINT``) and
     :class:`sim.world.World` drives it with the torque ``-k q - c dq/dt``, renewed before every
     ``stepSimulation`` call (settling included).
@@ -261,7 +261,7 @@ class LegBend(Spring):
 
     The lab robot's leg is a thin plate (1.5 mm across its swing plane's normal, 8 mm in it) carrying 51.5 g at
     its end: stiff in its swing, soft out of it. The robot's IMU rings in pitch at about 3.9 Hz after every leg
-    step (``benchmarks/imu_ringing.py``); ``k = I (2 pi f)^2`` with the leg's moment of inertia ``I`` about the
+    step (``benchmarks/physical/imu_ringing.py``); ``k = I (2 pi f)^2`` with the leg's moment of inertia ``I`` about the
     bending axis gives that frequency.
 
     Examples

@@ -91,7 +91,7 @@ new wing command."""
 SERVO_SIDES = ("as-labelled", "mirrored")
 """How a measured set's servos (the lab's LP, RP, LR, RR) drive the robot's wing joints (the joint map's left
 pitch, right pitch, left roll, right roll): as labelled, or mirrored (the lab's left servos drive the model's
-right joints; the side the robot rolls over to favours mirrored, README "The physical robot")."""
+right joints; the side the robot rolls over to favours mirrored, docs/physical/side.md)."""
 _SERVOS = ("LP", "RP", "LR", "RR")
 MIRRORED = (1, 0, 3, 2)
 """Mirrored sides: the servo (index into LP, RP, LR, RR) that drives each of the joint map's wing joints."""
@@ -792,7 +792,7 @@ def wing_extra_knots_deg(wing_knots_deg, extra_deg) -> tuple:
 
     A pose correction. The body holds where its support (head and wing edges) puts it, and a set whose wings open
     further holds it further over; the recorded pitch says the robot holds further over than the CAD at its
-    measured servo angles (README, "The physical robot"), whatever the part that does it.
+    measured servo angles (docs/physical/resting-pose.md), whatever the part that does it.
 
     Examples
     --------

@@ -161,7 +161,7 @@ class TrialResult:
     wall_s, cpu_s : float
         Wall-clock and process CPU time of the whole trial (model, settling, stepping), s.
     max_tracking_error_deg : float
-        Largest |measured - commanded| driven-joint angle over the trial, deg.
+        Largest ``|measured - commanded|`` driven-joint angle over the trial, deg.
     robot_hash, model_hash : str
         Hash of the robot (``geometry.Robot.robot_hash``: its files, and its joint map when not the default) and
         of the simulated model (hulls).

@@ -1,4 +1,4 @@
-"""The README's Python examples run as written (so a README line that stops working turns CI red)."""
+"""The README's and the documentation pages' examples run as written (so a line that stops working turns CI red)."""
 
 from __future__ import annotations
 
@@ -7,13 +7,25 @@ from pathlib import Path
 
 import pytest
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+ROOT = Path(__file__).resolve().parents[1]
+README = ROOT / "README.md"
+DOCS = ROOT / "docs"
+PAGES = [README] + sorted(
+    p for p in DOCS.rglob("*.md") if not {"_build", "auto_examples"} & set(p.relative_to(DOCS).parts)
+)
+"""The README and every Markdown page of the documentation: their examples run as written."""
+TWINS_PAGE = DOCS / "howto" / "python_api.md"
+SERVICE_PAGE = DOCS / "howto" / "service.md"
 
 
-def _fenced_blocks(info: str) -> list[str]:
-    """The README's fenced code blocks whose info string is ``info`` ("" for plain ```)."""
+def _page_id(page: Path) -> str:
+    return str(page.relative_to(ROOT))
+
+
+def _fenced_blocks(info: str, page: Path = README) -> list[str]:
+    """The page's fenced code blocks whose info string is ``info`` ("" for plain ```)."""
     blocks, current = [], None
-    for line in README.read_text(encoding="utf-8").splitlines():
+    for line in page.read_text(encoding="utf-8").splitlines():
         if line.startswith("```"):
             if current is None:
                 current = [] if line[3:].strip() == info else False
@@ -29,12 +41,12 @@ def _fenced_blocks(info: str) -> list[str]:
 
 
 def _python_blocks() -> list[str]:
-    return _fenced_blocks(info="python")
+    return _fenced_blocks(info="python", page=TWINS_PAGE)
 
 
-def test_readme_has_the_python_twins():
+def test_the_python_api_page_has_the_python_twins():
     blocks = _python_blocks()
-    assert blocks, "the README lost its Python API block"
+    assert blocks, "the Python API page lost its block"
     text = "\n".join(blocks)
     for cmd in (
         "compute",
@@ -58,14 +70,75 @@ def test_readme_has_the_python_twins():
 
 
 @pytest.mark.parametrize("block", _python_blocks())
-def test_readme_python_block_runs(block, capsys):
+def test_python_twin_block_runs(block, capsys, monkeypatch):
     pytest.importorskip("pybullet")
+    monkeypatch.chdir(ROOT)  # the block names ../shared relative to the checkout
     namespace: dict = {}
-    exec(compile(block, str(README), "exec"), namespace)
+    exec(compile(block, str(TWINS_PAGE), "exec"), namespace)
     out = capsys.readouterr().out
     assert "righting" in out and "mJ by roll" in out
     assert namespace["summary"].ran == 2 and namespace["page"].is_file()
     assert "speed-up" in namespace["table"] and "robot.urdf" in namespace["files_by_name"]
+
+
+PYCON = [(page, block) for page in PAGES for block in _fenced_blocks("pycon", page)]
+
+
+def test_the_readme_has_a_python_snippet():
+    assert any(page == README for page, _ in PYCON), "the README lost its Python snippet"
+
+
+@pytest.mark.parametrize("page, block", PYCON, ids=[f"{_page_id(p)}-{i}" for i, (p, _) in enumerate(PYCON)])
+def test_pycon_block_prints_what_the_page_shows(page, block):
+    """A ``pycon`` block is a doctest: every ``>>>`` line runs and prints what the page shows under it."""
+    import doctest
+
+    pytest.importorskip("pybullet")
+    test = doctest.DocTestParser().get_doctest(block, {}, _page_id(page), str(page), 0)
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
+    runner.run(test)
+    assert runner.failures == 0 and runner.tries > 0, f"{_page_id(page)}: see the doctest report above"
+
+
+def test_every_service_endpoint_has_a_curl_and_a_python_example():
+    routes = re.findall(
+        r'@app\.(get|post|delete)\("(/api/[^"]*)"', (ROOT / "landscape/service/app.py").read_text()
+    )
+    assert len(routes) >= 15
+    text = SERVICE_PAGE.read_text(encoding="utf-8")
+    curl = "\n".join(_fenced_blocks("bash", SERVICE_PAGE))
+    python = "\n".join(_fenced_blocks("python", SERVICE_PAGE))
+    for method, path in routes:
+        generic = re.sub(r"\{[^}]*\}", "{}", path)  # {job_id} on the page is {id}
+        assert generic in re.sub(r"\{[^}]*\}", "{}", text), f"the page does not name {method.upper()} {path}"
+        fixed = re.sub(r"\{[^}]*\}.*", "", path)  # the part before the first path parameter
+        tail = path.rstrip("/").rsplit("/", 1)[-1]
+        tail = "" if tail.startswith("{") else tail
+        assert fixed in curl and tail in curl, f"{method.upper()} {path}: no curl example"
+        assert f'"{fixed}' in python or f'f"{fixed}' in python, f"{method.upper()} {path}: no Python example"
+        if method != "get":
+            assert f"-X {method.upper()}" in curl or "-F " in curl, (
+                f"{method.upper()} {path}: curl without -X"
+            )
+            assert f"api.{method}(" in python, f"{method.upper()} {path}: no api.{method} call"
+
+
+def test_the_service_page_python_examples_run(tmp_path):
+    """docs/howto/service.md's Python examples, in order, against the app in process (TestClient for httpx)."""
+    pytest.importorskip("fastapi")
+    pytest.importorskip("httpx2")
+    from fastapi.testclient import TestClient
+
+    from landscape.service.app import create_app
+    from landscape.service.config import ServiceConfig
+
+    blocks = _fenced_blocks("python", SERVICE_PAGE)
+    assert 'api = httpx.Client(base_url="http://127.0.0.1:8000")' in blocks[0]
+    with TestClient(create_app(ServiceConfig(data_dir=tmp_path / "data", workers=1))) as client:
+        namespace: dict = {"api": client}
+        for block in blocks[1:]:
+            exec(compile(block, str(SERVICE_PAGE), "exec"), namespace)
+    assert namespace["job"]["status"] == "done" and namespace["rows"]
 
 
 # ---------------------------------------------------------------------------------------------- $ landscape ...
@@ -89,10 +162,10 @@ VOLATILE = (
 """Output lines holding times, paths or machine-dependent counts: not compared."""
 
 
-def _examples() -> list[tuple[str, list[str]]]:
-    """Every `$ landscape ...` line of the README with the output lines printed under it."""
+def _examples(page: Path = README) -> list[tuple[str, list[str]]]:
+    """Every `$ landscape ...` line of a page with the output lines printed under it."""
     out: list[tuple[str, list[str]]] = []
-    for block in _fenced_blocks(info=""):
+    for block in _fenced_blocks(info="", page=page):
         current = None  # output lines belong to the command above them in the same block
         for line in block.splitlines():
             if line.startswith("$ landscape"):
@@ -113,33 +186,64 @@ def _slow(cmd: str) -> bool:
     )
 
 
-EXAMPLES = _examples()
+EXAMPLES = [(page, c, e) for page in PAGES for c, e in _examples(page)]
 
 
 def test_the_readme_shows_examples():
-    assert len(EXAMPLES) >= 5 and any(c.startswith("landscape compute") for c, _ in EXAMPLES)
+    readme = [c for page, c, _ in EXAMPLES if page == README]
+    assert len(readme) >= 5 and any(c.startswith("landscape compute") for c in readme)
+    for cmd in ("compute", "render", "barrier-map", "sweep", "report"):
+        assert any(c.startswith(f"landscape {cmd} ") for c in readme), f"the README's tour lost {cmd}"
 
 
-@pytest.mark.parametrize(
-    "cmd, expected",
-    [pytest.param(c, e, marks=[pytest.mark.slow] if _slow(c) else [], id=c[:60]) for c, e in EXAMPLES],
-)
-def test_readme_command_prints_what_the_readme_shows(cmd, expected, tmp_path):
-    """Each README command runs as written (from a scratch directory) and prints the README's stable lines."""
+def _run(cmd: str, cwd: Path):
     import shlex
     import subprocess
     import sys
 
-    if "../shared" in cmd and not (README.parent.parent / "shared").is_dir():
-        pytest.skip("needs ../shared")
     args = shlex.split(cmd)
-    args = [str(README.parent.parent / a[3:]) if a.startswith("../shared") else a for a in args]
+    args = [str(ROOT.parent / a[3:]) if a.startswith("../shared") else a for a in args]
     exe = Path(sys.executable).parent / "landscape"
-    r = subprocess.run([str(exe), *args[1:]], capture_output=True, text=True, cwd=tmp_path, timeout=900)
+    return subprocess.run([str(exe), *args[1:]], capture_output=True, text=True, cwd=cwd, timeout=900)
+
+
+def _db(cmd: str) -> str | None:
+    import shlex
+
+    args = shlex.split(cmd)
+    return args[args.index("--db") + 1] if "--db" in args[:-1] else None
+
+
+@pytest.fixture(scope="module")
+def page_dirs(tmp_path_factory):
+    """One scratch directory per page: a page's commands run in order there, so a report finds its sweep."""
+    return {page: tmp_path_factory.mktemp(page.stem) for page in PAGES}
+
+
+@pytest.mark.parametrize(
+    "page, cmd, expected",
+    [
+        pytest.param(p, c, e, marks=[pytest.mark.slow] if _slow(c) else [], id=f"{_page_id(p)}: {c[:60]}")
+        for p, c, e in EXAMPLES
+    ],
+)
+def test_command_prints_what_the_page_shows(page, cmd, expected, page_dirs):
+    """Each command of a page runs as written (in that page's scratch directory) and prints the page's stable
+    lines; a command reading a database an earlier command of the page writes gets that command run first."""
+    if "../shared" in cmd and not (ROOT.parent / "shared").is_dir():
+        pytest.skip("needs ../shared")
+    cwd = page_dirs[page]
+    db = _db(cmd)
+    if db and not (cwd / db).exists() and " sweep " not in cmd:
+        producers = [c for p, c, _ in EXAMPLES if p == page and " sweep " in c and _db(c) == db]
+        if producers:
+            made = _run(producers[0], cwd)
+            assert made.returncode == 0, made.stdout + made.stderr
+    r = _run(cmd, cwd)
     text = r.stdout + r.stderr
     error_example = any(e.startswith("landscape: error:") for e in expected)
     assert (r.returncode == 2) if error_example else (r.returncode == 0), text
-    if "--json" in args:
+    if "--json" in cmd.split():
         _check_json_excerpt(expected, r.stdout, cmd)
         return
     for line in expected:

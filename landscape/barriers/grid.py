@@ -5,8 +5,8 @@ reaches a set of cells is the lowest possible maximum energy along any grid path
 
 - *righting*: reach the upright set u_z < 0 by any path. Its direction is "pitch" (a somersault over head or
   tail) when the saddle lies further from the start in pitch than in roll, else "roll" (to one side).
-- *pitch-wise* and *roll-wise*: the same, with the path kept in the sector |d roll| <= |d pitch| (resp.
-  |d pitch| <= |d roll|) around the start, as the lab's rays in the pitch-roll plane are. Without the sector a
+- *pitch-wise* and *roll-wise*: the same, with the path kept in the sector ``|d roll| <= |d pitch|`` (resp.
+  ``|d pitch| <= |d roll|``) around the start, as the lab's rays in the pitch-roll plane are. Without the sector a
   "pitch-wise" path could roll over the side saddle first and walk to the head along the side.
 - *escape*: reach any other grid local minimum (another basin), the start's own orientation excepted (its twin
   on the double cover and its plateau).

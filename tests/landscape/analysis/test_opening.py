@@ -287,24 +287,6 @@ def test_the_two_rests_measure_a_small_mounting():
     assert moved.mount_deg == pytest.approx(m.mount_deg, abs=0.1)
 
 
-@needs_data
-@pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
-def test_opening_transient_benchmark_prints_the_closing_table(capsys):
-    """benchmarks/opening_transient.py, one cell and one simulated opening: the third table puts the robot's tilt
-    at closing, its gyro check and the rigid saddle beside the set's; a bad cell is one line and exit 2."""
-    from tests.conftest import load_script
-
-    mod = load_script("benchmarks/opening_transient.py")
-    argv = ["--data", str(DATA), "--robot", str(LAB_URDF), "--models", "physical", "--trials", "1"]
-    assert mod.main([*argv, "--phase", "0.17", "--cells", "60:30"]) == 0
-    out = capsys.readouterr().out
-    assert "| wing cmd | leg | saddle | robot (n) | gyro | physical |" in out
-    assert "| 60° | 30° | 29.0° | +20.9° (20.9°); 4/5 at 1.13 s (5) | 2.7° (3.7°) | " in out
-    with pytest.raises(SystemExit) as exc:
-        mod.main([*argv, "--cells", "61:30"])
-    assert exc.value.code == 2
-
-
 def test_opening_log_likelihood_prefers_the_recorded_behaviour():
     """Against a robot that rocks and rolls at closing (the 60°/30° cell's pattern), a simulated opening that does
     the same scores higher than one that sits still, and one that sits still scores higher against a still robot;

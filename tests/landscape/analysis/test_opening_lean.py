@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 
 from landscape.analysis import opening as op
-from tests.conftest import LAB_URDF
 from tests.landscape.analysis.test_physical import DATA, needs_data
 
 DT_S = 0.01
@@ -200,26 +199,6 @@ def test_an_upright_robot_reads_as_a_tilt_but_gives_no_lean():
                 )
                 assert leans == []
     assert len(upright_tilts) >= 2 and all(x > 10.0 for x in upright_tilts)
-
-
-@pytest.mark.shared
-@needs_data
-@pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
-def test_hold_lean_benchmark_prints_both_tables(capsys):
-    """benchmarks/hold_lean.py, one cell and one one-opening trial: the robot's leans and departures beside the
-    set's; a bad cell is one line and exit 2."""
-    from tests.conftest import load_script
-
-    mod = load_script("benchmarks/hold_lean.py")
-    argv = ["--data", str(DATA), "--robot", str(LAB_URDF), "--models", "physical", "--attempts", "1"]
-    assert mod.main([*argv, "--cells", "60:30"]) == 0
-    out = capsys.readouterr().out
-    assert "| wing cmd | leg | robot + | robot − | physical + | physical − |" in out
-    assert "| 60° | 30° | +7.8° (3) | -1.0° (7) | " in out
-    assert "| 60° | 30° | 0.81 s (6/8) | (0/1) |" in out
-    with pytest.raises(SystemExit) as exc:
-        mod.main([*argv, "--cells", "60:0"])
-    assert exc.value.code == 2
 
 
 def test_leg_sides_from_the_log_and_from_an_angle():
