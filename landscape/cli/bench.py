@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import click
 
-from landscape.cli.options import THETA_W_HELP, finite, robot_from, robot_options
+from landscape.cli.options import THETA_W_LANDSCAPE_HELP, finite, robot_from, robot_options
 
 
 @click.command()
 @click.option(
-    "--theta-w", type=float, default=74.0, show_default=True, help=f"{THETA_W_HELP} The timed pose."
+    "--theta-w", type=float, default=74.0, show_default=True, help=f"{THETA_W_LANDSCAPE_HELP} The timed pose."
 )
 @click.option(
     "--repeat",
