@@ -978,6 +978,11 @@ class Robot:
         sep = "" if joints_option.endswith("=") else " "
         current = self.joint_map if self.has_joints else None
         mapped = "no joint map" if current is None else f"joint map '{current.text()}'"
+        if current is not None and set(movable) <= {*current.wing, *current.leg}:
+            return UnknownJointError(
+                f"{option}: no joint of {self.name} is driven by {what} ({mapped}; every movable joint is "
+                f"mapped); drop {option}"
+            )
         return UnknownJointError(
             f"{option}: no joint of {self.name} is driven by {what} ({mapped}; movable joints: "
             f"{', '.join(movable)}); map them with {joints_option}{sep}'{self._map_example(angle)}' (each group "
