@@ -41,7 +41,10 @@ UNITS_M = {"mm": 1e-3, "cm": 1e-2, "m": 1.0}
 MOVABLE_JOINT_TYPES = ("revolute", "continuous")
 """Joint types a joint map may drive (theta_w and theta_l are angles)."""
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
-_JOINTS_HINT = "declare the mapping with --joints 'wing=NAME,...;leg=NAME,...'"
+_JOINTS_HINT = (
+    "declare the mapping 'wing=NAME,...;leg=NAME,...' (either group may be left out) with --joints on the command "
+    "line, joints= in Python"
+)
 _GROUPS = {"theta_w": "wing", "theta_l": "leg"}
 """Each angle and the joint-map group it drives."""
 

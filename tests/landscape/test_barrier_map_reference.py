@@ -5,7 +5,9 @@ lab robot (theta_w -10..90 at 2.5 deg, theta_l 0), every pose's start minimum an
 roll-wise and escape exits (barrier, saddle, direction) as ``barrier_map(..., method="exact")`` computed them at
 commit bd6cd45 (before the compiled searches, batched path pieces and worker processes), except 21 of the
 built-in robot's saddles, replaced by their mirror images (roll sign) when the exact method's tie rule between
-equal saddles came in (issue #12; their energies unchanged). The map must give the same numbers to 1e-12 J
+equal saddles came in (issue #12; their energies unchanged), and 9 more at theta_l 0, where the built-in robot is
+mirror-symmetric, reported at positive roll by ``landscape.computation.positive_roll_twins`` (the tie rule between
+mirror saddles; energies unchanged). The map must give the same numbers to 1e-12 J
 (barriers, energies) and 1e-9 deg (angles) in this process and over worker processes.
 """
 
