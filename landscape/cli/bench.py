@@ -24,4 +24,6 @@ def bench(theta_w, repeat, **kw):
     from landscape.analysis.bench import landscape_bench
 
     finite(theta_w, "theta-w")
-    click.echo(landscape_bench(robot_from(kw, theta_w_deg=theta_w), theta_w_deg=theta_w, repeat=repeat))
+    robot = robot_from(kw, theta_w_deg=theta_w)
+    theta_w = theta_w if robot.drives("theta_w") else 0.0  # the default pose of a body without wing joints
+    click.echo(landscape_bench(robot, theta_w_deg=theta_w, repeat=repeat))

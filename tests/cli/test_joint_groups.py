@@ -165,3 +165,27 @@ def test_bad_scale_on_a_visual_mesh_is_refused(capsys, tmp_path):
     (d / src.name).write_text(text)
     err = one_line_error(*run(capsys, "compute", "--robot", d / src.name)[::2])
     assert "link 'wing1': visual mesh 'wing1.obj' scale [nan, nan, nan] must be finite and non-zero" in err
+
+
+def test_legless_body_renders_with_its_wing_angle_alone(capsys, renamed, tmp_path):
+    from landscape.viz import render as rd
+
+    if rd.off_screen_problem() is not None:
+        pytest.skip(rd.off_screen_problem())
+    out = tmp_path / "fig"
+    code, _, err = run(
+        capsys,
+        "render",
+        "--robot",
+        renamed,
+        "--joints",
+        WINGS,
+        "--theta-w",
+        "74",
+        "--step",
+        "10",
+        "--out",
+        out,
+    )
+    assert code == 0, err  # the title's leg angle was None: an internal error
+    assert "<!-- builtin_robot  wing 74°  righting barrier" in (out / "contour.svg").read_text()
