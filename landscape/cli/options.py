@@ -12,7 +12,7 @@ from contextlib import contextmanager
 import click
 
 from geometry.errors import UsageError
-from geometry.robots import DEFAULT_MESH_MASS_KG, PLAUSIBLE_SIZE_M  # noqa: F401  (re-exported)
+from geometry.robots import DEFAULT_MESH_MASS_KG
 from landscape.params import parse_values
 from sim.protocol import PAPER_LEG_PERIOD_S, PAPER_WING_PERIOD_S
 
@@ -394,11 +394,10 @@ def robot_options(f):
     return f
 
 
-def robot_from(kw: dict, *, theta_w_deg=None, opening: bool = False):
-    """The robot of a command's :func:`robot_options` keywords. An angle option given explicitly that no joint
-    of the robot takes is refused (:func:`check_driven`); a wing angle ``theta_w_deg`` (a value or a list) is
-    checked against the wing joints' range, from 0 up for a command that opens the wings (``opening``,
-    :func:`check_theta_w`).
+def robot_from(kw: dict, *, theta_w_deg=None):
+    """The robot of a landscape command's :func:`robot_options` keywords. An angle option given explicitly that
+    no joint of the robot takes is refused (:func:`check_driven`); a wing angle ``theta_w_deg`` (a value or a
+    list) is checked against the wing joints' whole range (:func:`check_theta_w` with ``opening=False``).
 
     Mesh-only options without ``--mesh`` are refused (they would be ignored). A mesh whose size is implausible
     in its units gets a warning on stderr naming the ``--units`` fix (:func:`geometry.robots.units_warning`).
@@ -431,7 +430,7 @@ def robot_from(kw: dict, *, theta_w_deg=None, opening: bool = False):
             click.echo(f"landscape: warning: {text}", err=True)
     check_driven(robot)
     if theta_w_deg is not None and robot.drives("theta_w"):
-        check_theta_w(theta_w_deg, robot.theta_limits_deg(), robot.name, opening=opening)
+        check_theta_w(theta_w_deg, robot.theta_limits_deg(), robot.name, opening=False)
     return robot
 
 
