@@ -39,7 +39,7 @@ def _readme_outputs() -> list[str]:
         if not line.startswith("$ landscape "):
             continue
         args = shlex.split(line[2:])
-        for opt, value in zip(args, args[1:]):
+        for opt, value in zip(args[:-1], args[1:], strict=True):
             if (opt in OUTPUT_OPTIONS or (args[1] == "serve" and opt == "--data")) and not value.startswith(
                 ("figures/", "../", "/")
             ):
