@@ -956,12 +956,15 @@ class Robot:
             raise ValueError(f"angle must be one of {', '.join(_GROUPS)}; got {angle!r}")
         return self.has_joints and bool(getattr(self.joint_map, _GROUPS[angle]))
 
-    def undriven(self, angle: str, *, option: str, joints_option: str = "--joints") -> UnknownJointError:
+    def undriven(
+        self, angle: str, *, option: str, joints_option: str = "--joints", drop: bool = True
+    ) -> UnknownJointError:
         """The error for a value of ``angle`` (``"theta_w"`` or ``"theta_l"``) that no joint of this robot
         takes: it names the robot's movable joints and the joint map that would drive them.
 
         ``option`` and ``joints_option`` name the angle and the joint map where the value came in: the command
-        line's ``--theta-w`` and ``--joints``, or Python's ``theta_w_deg`` and ``joints=``.
+        line's ``--theta-w`` and ``--joints``, or Python's ``theta_w_deg`` and ``joints=``. ``drop``: also offer
+        to drop the angle (not where sweeping it is the point, as in a barrier map).
 
         Examples
         --------
@@ -972,11 +975,12 @@ class Robot:
         """
         what = {"theta_w": "the wing angle", "theta_l": "the leg angle"}[angle]
         movable = self.movable_joints
+        drop_it = "; drop it" if drop else ""
         if not movable:
             return UnknownJointError(
-                f"{self.name} is a single rigid body without joints: nothing takes {option}; drop it"
+                f"{self.name} is a single rigid body without joints: nothing takes {option}{drop_it}"
                 if not self.joints
-                else f"{self.name} has no movable joint (revolute or continuous): nothing takes {option}; drop it"
+                else f"{self.name} has no movable joint (revolute or continuous): nothing takes {option}{drop_it}"
             )
         sep = "" if joints_option.endswith("=") else " "
         current = self.joint_map if self.has_joints else None
@@ -984,12 +988,12 @@ class Robot:
         if current is not None and set(movable) <= {*current.wing, *current.leg}:
             return UnknownJointError(
                 f"{option}: no joint of {self.name} is driven by {what} ({mapped}; every movable joint is "
-                f"mapped); drop {option}"
+                f"mapped)" + (f"; drop {option}" if drop else "")
             )
         return UnknownJointError(
             f"{option}: no joint of {self.name} is driven by {what} ({mapped}; movable joints: "
             f"{', '.join(movable)}); map them with {joints_option}{sep}'{self._map_example(angle)}' (each group "
-            f"holding the joints its angle drives), or drop {option}"
+            f"holding the joints its angle drives)" + (f", or drop {option}" if drop else "")
         )
 
     def _map_example(self, angle: str) -> str:

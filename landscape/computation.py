@@ -657,14 +657,20 @@ def barrier_map(
     Raises
     ------
     UsageError
-        If the robot has no joints, or a grid is empty.
+        If no joint map drives the robot's joints (:meth:`geometry.Robot.undriven` names them), or a grid is
+        empty.
     JointLimitError, GridError
         For angles outside the joint limits (checked before any work) or a step not dividing 360.
     """
     from geometry.errors import UsageError
 
     if not robot.has_joints:
-        raise UsageError("a barrier map needs a robot with joints (--robot FILE.urdf or the built-in robot)")
+        if robot.movable_joints:
+            raise robot.undriven("theta_w", option="theta_w_deg", joints_option="joints=", drop=False)
+        raise UsageError(
+            f"a barrier map sweeps joint angles, and {robot.name} is a single rigid body without joints; "
+            "compute() gives its landscape and barriers"
+        )
     ws, ls_ = [float(w) for w in theta_w_deg], [float(x) for x in theta_l_deg]
     if not ws or not ls_:
         raise UsageError("a barrier map needs at least one theta_w and one theta_l")

@@ -13,6 +13,7 @@ from landscape.cli.options import (
     MJ,
     MM,
     THETA_W_LANDSCAPE_HELP,
+    UsageError,
     finite,
     grid_step,
     memory_budget_bytes,
@@ -219,6 +220,13 @@ def barrier_map(theta_w, theta_l, step, method, pose_model, out, **kw):
     grid_step(step)
     writable_dir(out, "--out")
     robot = robot_from(kw, theta_w_deg=ws)
+    if not robot.has_joints:
+        if robot.movable_joints:
+            raise robot.undriven("theta_w", option="--theta-w", drop=False)
+        raise UsageError(
+            f"barrier-map sweeps joint angles, and {robot.name} is a single rigid body without joints; "
+            "`landscape compute` gives its landscape and barriers"
+        )
     # an angle no joint takes (a legless or wingless body) stays 0; given explicitly, robot_from refused it
     ws = ws if robot.drives("theta_w") else [0.0]
     ls_ = ls_ if robot.drives("theta_l") else [0.0]

@@ -189,3 +189,27 @@ def test_legless_body_renders_with_its_wing_angle_alone(capsys, renamed, tmp_pat
     )
     assert code == 0, err  # the title's leg angle was None: an internal error
     assert "<!-- builtin_robot  wing 74°  righting barrier" in (out / "contour.svg").read_text()
+
+
+def test_barrier_map_of_a_body_without_a_joint_map_says_what_would_map_it(capsys, renamed, box_stl, tmp_path):
+    err = one_line_error(*run(capsys, "barrier-map", "--robot", renamed, "--out", tmp_path / "o")[::2])
+    assert (
+        "movable joints: wpl, wpr, wrl, wrr, tail); map them with --joints 'wing=wpl,wpr,wrl,wrr;leg=tail'"
+        in err
+    )
+    err = one_line_error(
+        *run(capsys, "barrier-map", "--mesh", box_stl, "--units", "mm", "--out", tmp_path / "o")[::2]
+    )
+    assert "barrier-map sweeps joint angles, and box is a single rigid body without joints" in err
+
+
+def test_a_visual_mesh_without_a_filename_is_refused(capsys, tmp_path):
+    src = robot_urdf_path()
+    d = tmp_path / "bad"
+    shutil.copytree(src.parent, d)
+    text = (d / src.name).read_text()
+    visual = text.index("<visual", text.index('<link name="wing1"'))
+    text = text[:visual] + text[visual:].replace('<mesh filename="wing1.obj"/>', "<mesh/>", 1)
+    (d / src.name).write_text(text)
+    err = one_line_error(*run(capsys, "compute", "--robot", d / src.name)[::2])
+    assert "link 'wing1': visual: a <mesh> has no filename" in err
