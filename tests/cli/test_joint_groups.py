@@ -35,17 +35,37 @@ def one_line_error(code: int, err: str) -> str:
     return err
 
 
+def builtin_copy(tmp_path, edit):
+    """The built-in robot's files copied into ``tmp_path``, its URDF's text passed through ``edit``."""
+    src = robot_urdf_path()
+    d = tmp_path / "robot"
+    shutil.copytree(src.parent, d)
+    (d / src.name).write_text(edit((d / src.name).read_text()))
+    return d / src.name
+
+
+def wing1_visual_mesh(element: str):
+    """An ``edit`` for :func:`builtin_copy`: the mesh of link wing1's visual (not its collision) replaced."""
+
+    def edit(text: str) -> str:
+        visual = text.index("<visual", text.index('<link name="wing1"'))
+        end = text.index("</visual>", visual)
+        assert '<mesh filename="wing1.obj"/>' in text[visual:end]
+        return text[:visual] + text[visual:end].replace('<mesh filename="wing1.obj"/>', element) + text[end:]
+
+    return edit
+
+
 @pytest.fixture()
 def renamed(tmp_path):
     """The built-in robot with all five joints renamed (none has a default name)."""
-    src = robot_urdf_path()
-    d = tmp_path / "renamed"
-    shutil.copytree(src.parent, d)
-    text = (d / src.name).read_text()
-    for old, new in RENAMES.items():
-        text = text.replace(f'name="{old}"', f'name="{new}"').replace(f'joint="{old}"', f'joint="{new}"')
-    (d / src.name).write_text(text)
-    return d / src.name
+
+    def edit(text: str) -> str:
+        for old, new in RENAMES.items():
+            text = text.replace(f'name="{old}"', f'name="{new}"').replace(f'joint="{old}"', f'joint="{new}"')
+        return text
+
+    return builtin_copy(tmp_path, edit)
 
 
 @pytest.fixture()
@@ -154,16 +174,8 @@ def test_help_says_which_wing_range_applies(capsys, cmd, says):
 
 
 def test_bad_scale_on_a_visual_mesh_is_refused(capsys, tmp_path):
-    src = robot_urdf_path()
-    d = tmp_path / "bad"
-    shutil.copytree(src.parent, d)
-    text = (d / src.name).read_text()
-    visual = text.index("<visual", text.index('<link name="wing1"'))
-    mesh = text.index('<mesh filename="wing1.obj"/>', visual)
-    assert mesh < text.index("</visual>", visual)
-    text = text[:mesh] + '<mesh filename="wing1.obj" scale="nan nan nan"/>' + text[mesh + 28 :]
-    (d / src.name).write_text(text)
-    err = one_line_error(*run(capsys, "compute", "--robot", d / src.name)[::2])
+    urdf = builtin_copy(tmp_path, wing1_visual_mesh('<mesh filename="wing1.obj" scale="nan nan nan"/>'))
+    err = one_line_error(*run(capsys, "compute", "--robot", urdf)[::2])
     assert "link 'wing1': visual mesh 'wing1.obj' scale [nan, nan, nan] must be finite and non-zero" in err
 
 
@@ -204,12 +216,6 @@ def test_barrier_map_of_a_body_without_a_joint_map_says_what_would_map_it(capsys
 
 
 def test_a_visual_mesh_without_a_filename_is_refused(capsys, tmp_path):
-    src = robot_urdf_path()
-    d = tmp_path / "bad"
-    shutil.copytree(src.parent, d)
-    text = (d / src.name).read_text()
-    visual = text.index("<visual", text.index('<link name="wing1"'))
-    text = text[:visual] + text[visual:].replace('<mesh filename="wing1.obj"/>', "<mesh/>", 1)
-    (d / src.name).write_text(text)
-    err = one_line_error(*run(capsys, "compute", "--robot", d / src.name)[::2])
+    urdf = builtin_copy(tmp_path, wing1_visual_mesh("<mesh/>"))
+    err = one_line_error(*run(capsys, "compute", "--robot", urdf)[::2])
     assert "link 'wing1': visual: a <mesh> has no filename" in err
