@@ -33,9 +33,14 @@ def _numba_cache_dir() -> Path:
     import tempfile
 
     env = os.environ.get("LANDSCAPE_CACHE")
-    root = Path(env) if env and env != "off" else Path.home() / ".cache" / "selfrighting-landscape"
     user = os.getuid() if hasattr(os, "getuid") else os.environ.get("USERNAME", "user")
-    for path in (root / "numba", Path(tempfile.gettempdir()) / f"selfrighting-landscape-{user}" / "numba"):
+    candidates = [Path(tempfile.gettempdir()) / f"selfrighting-landscape-{user}" / "numba"]
+    try:
+        root = Path(env) if env and env != "off" else Path.home() / ".cache" / "selfrighting-landscape"
+        candidates.insert(0, (root / "numba").expanduser().absolute())
+    except RuntimeError:  # no home directory
+        pass
+    for path in candidates:
         try:
             path.mkdir(parents=True, exist_ok=True)
         except OSError:
