@@ -253,7 +253,7 @@ def _check_geometry_numbers(root: etree._Element) -> None:
             if mesh is not None:
                 fname = mesh.get("filename", "")
                 if not fname:
-                    raise RobotDescriptionError(f"{what}: a <mesh> has no filename; add filename=\"FILE\"")
+                    raise RobotDescriptionError(f'{what}: a <mesh> has no filename; add filename="FILE"')
                 scale = _floats(mesh.get("scale"), 3, f"{what} mesh '{fname}' scale", 1.0)
                 if not (np.isfinite(scale).all() and (scale != 0).all()):
                     raise RobotDescriptionError(
