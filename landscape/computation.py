@@ -394,7 +394,8 @@ def compute(
     ----------
     robot : Robot
     theta_w_deg, theta_l_deg : float
-        Wing and leg angle, degrees (ignored for a robot without joints).
+        Wing and leg angle, degrees, anywhere within the joints' limits; an angle no joint takes (a single
+        rigid mesh, a joint map without that group) must be None or 0.
     step_deg : float
         Grid step, degrees (divides 360).
     start_pitch_deg, start_roll_deg : float, optional
@@ -428,6 +429,12 @@ def compute(
         Each wing joint at its own angle, degrees (e.g. a model set's measured servo plateaus at the wing
         command ``theta_w_deg``, which then only labels the result). The start follows a slow opening to the
         smallest of them, then descends on this pose (unless a start is given).
+
+    Returns
+    -------
+    Computation
+        On a body mirror-symmetric in its x-z plane with the start on that plane, each exit is the mirror twin at
+        non-negative saddle roll (:func:`positive_roll_twins`), whichever twin the search met first.
 
     Raises
     ------
