@@ -41,7 +41,12 @@ UNITS_M = {"mm": 1e-3, "cm": 1e-2, "m": 1.0}
 MOVABLE_JOINT_TYPES = ("revolute", "continuous")
 """Joint types a joint map may drive (theta_w and theta_l are angles)."""
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
-_JOINTS_HINT = "declare the mapping with --joints 'wing=NAME,...;leg=NAME,...'"
+_JOINTS_HINT = (
+    "declare the mapping 'wing=NAME,...;leg=NAME,...' (either group may be left out) with --joints on the command "
+    "line, joints= in Python"
+)
+_GROUPS = {"theta_w": "wing", "theta_l": "leg"}
+"""Each angle and the joint-map group it drives."""
 
 
 @dataclass(frozen=True)
@@ -51,12 +56,15 @@ class JointMap:
     Every joint in ``wing`` is set to theta_w (each wing's pitch and roll joints), every joint in ``leg`` to
     theta_l. The default names are those of the lab robot's URDF. A robot whose joints are named otherwise
     declares its own map: ``JointMap.parse("wing=a,b,c,d;leg=e")`` in Python, ``--joints "wing=a,b,c,d;leg=e"``
-    on the command line.
+    on the command line. Either group may be left out (a body with wings and no leg, ``"wing=a,b"``, or a leg
+    and no wings); then nothing drives that angle. At least one group names a joint.
 
     Examples
     --------
     >>> JointMap.parse("wing=wl,wr;leg=tail").leg
     ('tail',)
+    >>> JointMap.parse("wing=wl,wr").leg
+    ()
     """
 
     wing: tuple[str, ...] = ("wing_pitch_left", "wing_pitch_right", "wing_roll_left", "wing_roll_right")
@@ -69,10 +77,10 @@ class JointMap:
             if isinstance(names, str) or not all(isinstance(n, str) for n in names):
                 raise GeometryError(f"joint map {key} must be a tuple of joint names; got {names!r}")
             object.__setattr__(self, key, tuple(names))
-            if not names or not all(n.strip() for n in names):
+            if not all(n.strip() for n in names):
                 raise GeometryError(
-                    f"joint map group '{key}' is empty or has an empty name ({','.join(names)!r}); name at least "
-                    "one joint in each group, e.g. 'wing=a,b,c,d;leg=e'"
+                    f"joint map group '{key}' has an empty name ({','.join(names)!r}); name each joint, "
+                    "e.g. 'wing=a,b,c,d;leg=e'"
                 )
             for n in names:
                 if n in seen:
@@ -81,10 +89,16 @@ class JointMap:
                         "not both: name it once"
                     )
                 seen.add(n)
+        if not seen:
+            raise GeometryError(
+                "the joint map names no joint; name the joints theta_w or theta_l drives, e.g. 'wing=a,b' "
+                "or 'wing=a,b,c,d;leg=e'"
+            )
 
     @classmethod
     def parse(cls, text: str) -> JointMap:
-        """Parse ``'wing=NAME,...;leg=NAME,...'`` (both groups, each naming at least one joint, no joint twice).
+        """Parse ``'wing=NAME,...;leg=NAME,...'``; either group may be left out (nothing drives that angle),
+        but at least one joint is named and none twice.
 
         Raises
         ------
@@ -104,22 +118,21 @@ class JointMap:
             groups[key] = tuple(n.strip() for n in names.split(","))
             if groups[key] == ("",):
                 groups[key] = ()
-        for key in ("wing", "leg"):
-            if key not in groups:
-                raise GeometryError(
-                    f"joint map {text!r} has no '{key}=' group; give both: 'wing=NAME,...;leg=NAME,...'"
-                )
-        return cls(**groups)
+        return cls(wing=groups.get("wing", ()), leg=groups.get("leg", ()))
 
     def text(self) -> str:
-        """The map as ``'wing=NAME,...;leg=NAME,...'`` (what :meth:`parse` reads).
+        """The map as ``'wing=NAME,...;leg=NAME,...'`` (what :meth:`parse` reads; an empty group left out).
 
         Examples
         --------
         >>> JointMap().text()
         'wing=wing_pitch_left,wing_pitch_right,wing_roll_left,wing_roll_right;leg=leg'
+        >>> JointMap(leg=()).text()
+        'wing=wing_pitch_left,wing_pitch_right,wing_roll_left,wing_roll_right'
         """
-        return f"wing={','.join(self.wing)};leg={','.join(self.leg)}"
+        return ";".join(
+            f"{key}={','.join(names)}" for key, names in (("wing", self.wing), ("leg", self.leg)) if names
+        )
 
 
 @dataclass(frozen=True)
@@ -924,6 +937,89 @@ class Robot:
     def has_joints(self) -> bool:
         return bool(self.joints) and self.joint_map is not None
 
+    @property
+    def movable_joints(self) -> tuple[str, ...]:
+        """Names of the joints a joint map may drive (revolute or continuous, not mimics), in URDF order."""
+        return tuple(j.name for j in self.joints if j.type in MOVABLE_JOINT_TYPES and not j.mimic)
+
+    def drives(self, angle: str) -> bool:
+        """Whether some joint of this robot is driven by ``angle``, ``"theta_w"`` or ``"theta_l"``.
+
+        Examples
+        --------
+        >>> from geometry.robots import load_robot
+        >>> r = load_robot()
+        >>> r.drives("theta_w"), r.drives("theta_l")
+        (True, True)
+        """
+        if angle not in _GROUPS:
+            raise ValueError(f"angle must be one of {', '.join(_GROUPS)}; got {angle!r}")
+        return self.has_joints and bool(getattr(self.joint_map, _GROUPS[angle]))
+
+    def undriven(
+        self, angle: str, *, option: str, joints_option: str = "--joints", drop: bool = True
+    ) -> UnknownJointError:
+        """The error for a value of ``angle`` (``"theta_w"`` or ``"theta_l"``) that no joint of this robot
+        takes: it names the robot's movable joints and the joint map that would drive them.
+
+        ``option`` and ``joints_option`` name the angle and the joint map where the value came in: the command
+        line's ``--theta-w`` and ``--joints``, or Python's ``theta_w_deg`` and ``joints=``. ``drop``: also offer
+        to drop the angle (not where sweeping it is the point, as in a barrier map).
+
+        Examples
+        --------
+        >>> import trimesh
+        >>> box = Robot.from_trimesh(trimesh.creation.box(extents=(0.2, 0.1, 0.05)), name="box")
+        >>> str(box.undriven("theta_w", option="--theta-w"))
+        'box is a single rigid body without joints: nothing takes --theta-w; drop it'
+        """
+        what = {"theta_w": "the wing angle", "theta_l": "the leg angle"}[angle]
+        movable = self.movable_joints
+        drop_it = "; drop it" if drop else ""
+        if not movable:
+            return UnknownJointError(
+                f"{self.name} is a single rigid body without joints: nothing takes {option}{drop_it}"
+                if not self.joints
+                else f"{self.name} has no movable joint (revolute or continuous): nothing takes {option}{drop_it}"
+            )
+        sep = "" if joints_option.endswith("=") else " "
+        current = self.joint_map if self.has_joints else None
+        mapped = "no joint map" if current is None else f"joint map '{current.text()}'"
+        if current is not None and set(movable) <= {*current.wing, *current.leg}:
+            return UnknownJointError(
+                f"{option}: no joint of {self.name} is driven by {what} ({mapped}; every movable joint is "
+                f"mapped)" + (f"; drop {option}" if drop else "")
+            )
+        return UnknownJointError(
+            f"{option}: no joint of {self.name} is driven by {what} ({mapped}; movable joints: "
+            f"{', '.join(movable)}); map them with {joints_option}{sep}'{self._map_example(angle)}' (each group "
+            f"holding the joints its angle drives)" + (f", or drop {option}" if drop else "")
+        )
+
+    def _map_example(self, angle: str) -> str:
+        """A joint map for :meth:`undriven`: the mapped joints where they are; of the others, a name with "leg"
+        or "tail" in it in the leg group, with "wing" in it in the wing group, the rest in the group no name
+        chose (the group of ``angle`` when neither or both were chosen)."""
+        groups = {"wing": [], "leg": []}
+        if self.has_joints:
+            groups["wing"] += self.joint_map.wing
+            groups["leg"] += self.joint_map.leg
+        taken = set(groups["wing"]) | set(groups["leg"])
+        rest = []
+        for n in self.movable_joints:
+            low = n.lower()
+            if n in taken:
+                continue
+            if "leg" in low or "tail" in low:
+                groups["leg"].append(n)
+            elif "wing" in low:
+                groups["wing"].append(n)
+            else:
+                rest.append(n)
+        empty = [k for k, v in groups.items() if not v]
+        groups[empty[0] if len(empty) == 1 else _GROUPS[angle]] += rest
+        return ";".join(f"{k}={','.join(v)}" for k, v in groups.items() if v)
+
     def joint_limits_deg(self, joint: str) -> tuple[float, float]:
         """Lower and upper limit of a joint, degrees (+-inf where the URDF sets none)."""
         j = self._joint_by_name[joint]
@@ -934,31 +1030,38 @@ class Robot:
         return float(lo), float(hi)
 
     def theta_limits_deg(self) -> dict[str, tuple[float, float]]:
-        """The range of theta_w and theta_l that every mapped joint allows, degrees."""
+        """The range of theta_w and theta_l that every mapped joint allows, degrees ((0, 0) for an angle that
+        no joint takes: it stays 0)."""
         out = {}
-        for key, names in (("theta_w", self.joint_map.wing), ("theta_l", self.joint_map.leg)):
+        wing, leg = (self.joint_map.wing, self.joint_map.leg) if self.has_joints else ((), ())
+        for key, names in (("theta_w", wing), ("theta_l", leg)):
+            if not names:
+                out[key] = (0.0, 0.0)
+                continue
             lims = [self.joint_limits_deg(n) for n in names]
-            out[key] = (
-                max((lo for lo, _ in lims), default=-np.inf),
-                min((hi for _, hi in lims), default=np.inf),
-            )
+            out[key] = (max(lo for lo, _ in lims), min(hi for _, hi in lims))
         return out
 
-    def joint_values_rad(self, theta_w_deg: float, theta_l_deg: float) -> dict[str, float]:
-        """Joint values for (theta_w, theta_l), radians, after checking the joint limits.
+    def joint_values_rad(self, theta_w_deg: float | None, theta_l_deg: float | None) -> dict[str, float]:
+        """Joint values for (theta_w, theta_l), radians, after checking the joint limits. An angle that no
+        joint takes (a group the joint map leaves out) must be None or 0.
 
         Raises
         ------
         JointLimitError
             If an angle is not finite or lies outside a mapped joint's limits.
+        UnknownJointError
+            If an angle other than None or 0 is given that no joint takes.
         """
         values = {}
-        for what, val, names in (
-            ("theta_w", theta_w_deg, self.joint_map.wing),
-            ("theta_l", theta_l_deg, self.joint_map.leg),
-        ):
-            if not np.isfinite(val):
-                raise JointLimitError(f"{what} must be a finite angle in degrees; got {val!r}")
+        wing, leg = (self.joint_map.wing, self.joint_map.leg) if self.has_joints else ((), ())
+        for what, val, names in (("theta_w", theta_w_deg, wing), ("theta_l", theta_l_deg, leg)):
+            if not names:
+                if val is not None and val != 0:
+                    raise self.undriven(what, option=f"{what}_deg", joints_option="joints=")
+                continue
+            if val is None or not np.isfinite(val):
+                raise JointLimitError(f"{what}_deg must be a finite angle in degrees; got {val!r}")
             for n in names:
                 lo, hi = self.joint_limits_deg(n)
                 if not lo - 1e-9 <= val <= hi + 1e-9:
@@ -1015,18 +1118,25 @@ class Robot:
     def pose(self, theta_w_deg: float | None = 0.0, theta_l_deg: float | None = 0.0) -> Pose:
         """The rigid body at wing angle theta_w and leg angle theta_l (degrees).
 
-        For a single rigid mesh the angles are ignored and reported as None.
+        For a single rigid mesh the angles are ignored and reported as None; so is an angle no joint takes (a
+        group the joint map leaves out), which must then be None or 0.
 
         Raises
         ------
         JointLimitError
             If an angle is not finite or outside the joint limits.
+        UnknownJointError
+            If an angle other than None or 0 is given that no joint takes.
         """
         if not self.has_joints:
             T = self.link_transforms({})
             theta_w_deg = theta_l_deg = None
         else:
-            T = self.link_transforms(self.joint_values_rad(float(theta_w_deg), float(theta_l_deg)))
+            tw = None if theta_w_deg is None else float(theta_w_deg)
+            tl = None if theta_l_deg is None else float(theta_l_deg)
+            T = self.link_transforms(self.joint_values_rad(tw, tl))
+            theta_w_deg = tw if self.joint_map.wing else None
+            theta_l_deg = tl if self.joint_map.leg else None
         return self._pose_from(T, theta_w_deg, theta_l_deg)
 
     def pose_joints(self, joint_values_deg: dict[str, float]) -> Pose:

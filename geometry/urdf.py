@@ -230,6 +230,48 @@ def _mesh_refs(root: etree._Element, urdf_dir: Path) -> list[MeshRef]:
     return refs
 
 
+_SHAPE_NUMBERS = {
+    "box": (("size", 3),),
+    "cylinder": (("radius", 1), ("length", 1)),
+    "sphere": (("radius", 1),),
+}
+"""The numbers of each primitive shape (attribute, count), each finite and positive."""
+
+
+def _check_geometry_numbers(root: etree._Element) -> None:
+    """Every geometry element of every link, visual and collision alike (rendering and the trial video read
+    visual meshes, the landscape only some of them): a mesh ``scale`` finite and non-zero, a primitive's size
+    finite and positive."""
+    for link in root.findall("link"):
+        name = link.get("name", "")
+        for el in (*link.findall("collision"), *link.findall("visual")):
+            geometry = el.find("geometry")
+            if geometry is None:
+                continue
+            what = f"link '{name}': {el.tag}"
+            mesh = geometry.find("mesh")
+            if mesh is not None:
+                fname = mesh.get("filename", "")
+                if not fname:
+                    raise RobotDescriptionError(f'{what}: a <mesh> has no filename; add filename="FILE"')
+                scale = _floats(mesh.get("scale"), 3, f"{what} mesh '{fname}' scale", 1.0)
+                if not (np.isfinite(scale).all() and (scale != 0).all()):
+                    raise RobotDescriptionError(
+                        f"{what} mesh '{fname}' scale {scale.tolist()} must be finite and non-zero; fix it"
+                    )
+            for shape, attributes in _SHAPE_NUMBERS.items():
+                prim = geometry.find(shape)
+                if prim is None:
+                    continue
+                for attr, n in attributes:
+                    vals = _floats(prim.get(attr), n, f"{what} {shape} {attr}", np.nan)
+                    if not (np.isfinite(vals).all() and (vals > 0).all()):
+                        raise RobotDescriptionError(
+                            f"{what} {shape} {attr} = {prim.get(attr)!r} must be {n} finite positive "
+                            f"number{'s' if n > 1 else ''}; fix it"
+                        )
+
+
 def read_urdf(path: str | Path) -> UrdfFile:
     """Read a URDF file strictly, with the mesh files its geometry uses, and hash them.
 
@@ -246,13 +288,14 @@ def read_urdf(path: str | Path) -> UrdfFile:
     ------
     RobotDescriptionError
         If the file or a mesh file is missing, the XML is malformed (line and column given) or declares a DTD,
-        or a mesh ``scale`` is bad.
+        or a mesh ``scale`` or a primitive's size is not finite, in any visual or collision element.
     """
     path = Path(path)
     if not path.is_file():
         raise RobotDescriptionError(f"robot file '{path}' not found; give the path to a .urdf file")
     data = path.read_bytes()
     root = parse_xml(data, str(path)).getroot()
+    _check_geometry_numbers(root)
     refs = _mesh_refs(root, path.parent)
     h = hashlib.sha256(b"urdf\0" + data)
     for m in refs:

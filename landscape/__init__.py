@@ -5,6 +5,11 @@ lives in subpackages of its own: :mod:`landscape.cli` (the ``landscape`` command
 (analyses of trial databases), :mod:`landscape.viz` (plots, rendering, files, the report). Names below are
 loaded on first use, so ``import landscape.cli`` does not pay for the numerics.
 
+The compiled kernels are cached per user, in ``$LANDSCAPE_CACHE/numba`` or
+``~/.cache/selfrighting-landscape/numba`` (``NUMBA_CACHE_DIR``, when set, takes precedence), never beside the
+installed sources: a cache there would outlive an uninstall and turn a later editable install's ``landscape``
+into an empty namespace package.
+
 Examples
 --------
 >>> import landscape
@@ -16,6 +21,49 @@ Examples
 from __future__ import annotations
 
 import importlib
+import os
+import sys
+from pathlib import Path
+
+
+def _numba_cache_dir() -> Path:
+    """Where numba caches the kernels of this package: ``$LANDSCAPE_CACHE/numba``, else
+    ``~/.cache/selfrighting-landscape/numba`` (also when ``LANDSCAPE_CACHE`` is ``off``, which turns off only
+    the robot cache); a directory under the temporary directory if that cannot be created."""
+    import tempfile
+
+    env = os.environ.get("LANDSCAPE_CACHE")
+    user = os.getuid() if hasattr(os, "getuid") else os.environ.get("USERNAME", "user")
+    candidates = [Path(tempfile.gettempdir()) / f"selfrighting-landscape-{user}" / "numba"]
+    try:
+        root = Path(env) if env and env != "off" else Path.home() / ".cache" / "selfrighting-landscape"
+        candidates.insert(0, (root / "numba").expanduser().absolute())
+    except RuntimeError:  # no home directory
+        pass
+    for path in candidates:
+        try:
+            path.mkdir(parents=True, exist_ok=True)
+        except OSError:
+            continue
+        if os.access(path, os.W_OK | os.X_OK):
+            return path
+    return path
+
+
+def _use_user_numba_cache() -> None:
+    """Point numba's cache (``@numba.njit(cache=True)``) at :func:`_numba_cache_dir` unless the user chose one
+    with ``NUMBA_CACHE_DIR``. Runs before any kernel module is imported (they all live in this package);
+    numba reads the variable when it is imported, or, if it already was, when its configuration is reloaded."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return
+    os.environ["NUMBA_CACHE_DIR"] = str(_numba_cache_dir())
+    if "numba" in sys.modules:
+        from numba.core import config
+
+        config.reload_config()
+
+
+_use_user_numba_cache()
 
 _EXPORTS = {
     "Exit": "landscape.barriers",

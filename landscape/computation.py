@@ -226,6 +226,101 @@ def start_orientation(
     return local_descent(pose, 0.0, 0.0)
 
 
+def check_angles(
+    robot: Robot,
+    *,
+    theta_w_deg: float | None = None,
+    theta_l_deg: float | None = None,
+    wing_joints_deg: dict[str, float] | None = None,
+) -> None:
+    """Refuse an angle no joint of ``robot`` takes: ``theta_w_deg`` or ``theta_l_deg`` other than None or 0, or
+    ``wing_joints_deg``, given a single rigid body, a URDF without a joint map or a joint map leaving that
+    group out; the error names the robot's movable joints and the ``joints=`` of
+    :func:`geometry.robots.load_robot` that would drive them (:meth:`geometry.Robot.undriven`).
+
+    Raises
+    ------
+    UnknownJointError
+        If an angle is given that no joint takes.
+
+    Examples
+    --------
+    >>> from geometry.robots import load_robot
+    >>> check_angles(load_robot(), theta_w_deg=74.0, theta_l_deg=0.0)
+    """
+    for angle, value in (("theta_w", theta_w_deg), ("theta_l", theta_l_deg)):
+        if value is not None and value != 0 and not robot.drives(angle):
+            raise robot.undriven(angle, option=f"{angle}_deg", joints_option="joints=")
+    if wing_joints_deg and not robot.drives("theta_w"):
+        raise robot.undriven("theta_w", option="wing_joints_deg", joints_option="joints=")
+
+
+MIRROR_TOL = 1e-9
+"""Relative tolerance (of the body's size) of :func:`is_roll_mirror_symmetric`."""
+
+
+def is_roll_mirror_symmetric(pose: Pose, *, rel_tol: float = MIRROR_TOL) -> bool:
+    """Whether the posed body is its own mirror image in its x-z plane (y -> -y): the CoM has y = 0 and every
+    hull vertex has a mirror twin, both within ``rel_tol`` times the body's size. Then E(pitch, -roll) =
+    E(pitch, roll) (roll -> -roll mirrors world-up in y, geometry/frames.py).
+
+    Examples
+    --------
+    >>> corners = np.array([(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 2)], float)
+    >>> box = Pose(None, None, 1.0, np.zeros(3), corners, {}, ())
+    >>> is_roll_mirror_symmetric(box), is_roll_mirror_symmetric(replace(box, com_m=np.array([0, 0.1, 0])))
+    (True, False)
+    """
+    from scipy.spatial import cKDTree
+
+    pts = np.asarray(pose.hull_points_m, dtype=np.float64)
+    if not len(pts):
+        return False
+    tol = rel_tol * max(float(np.ptp(pts, axis=0).max()), np.finfo(float).tiny)
+    if abs(float(pose.com_m[1])) > tol:
+        return False
+    dist, _ = cKDTree(pts).query(pts * np.array([1.0, -1.0, 1.0]))
+    return bool(dist.max() <= tol)
+
+
+def _mirrored(x: Exit) -> Exit:
+    """The mirror twin of an exit: saddle and path at the opposite roll, the same barrier."""
+    path = np.array(x.path_deg, dtype=np.float64, copy=True)
+    if path.ndim == 2 and path.shape[1] == 2:
+        path[:, 1] = -path[:, 1]
+    return replace(
+        x, saddle_roll_deg=canonical_pitch_roll_deg(x.saddle_pitch_deg, -x.saddle_roll_deg)[1], path_deg=path
+    )
+
+
+def positive_roll_twins(pose: Pose, minimum: Minimum, barrier: Barrier) -> Barrier:
+    """The tie rule between mirror saddles: on a body mirror-symmetric in its x-z plane
+    (:func:`is_roll_mirror_symmetric`) with the start minimum on that plane (roll 0 or 180 deg), every exit has a
+    mirror twin at the opposite roll with the same barrier; the twin reported is the one at non-negative saddle
+    roll (0 to 180 deg), so the answer does not depend on which of two equal saddles a search met first.
+    Elsewhere the barrier is returned unchanged.
+
+    Examples
+    --------
+    >>> from landscape.barriers import Exit
+    >>> corners = np.array([(x, y, z) for x in (-1, 1) for y in (-2, 2) for z in (-1, 1)], float)
+    >>> box = Pose(None, None, 1.0, np.zeros(3), corners, {}, ())
+    >>> x = Exit(0.4, 0.0, -45.0, "roll", np.array([[0.0, 0.0], [0.0, -45.0]]))
+    >>> b = positive_roll_twins(box, Minimum(0.0, 0.0, 1.0, 1.0), Barrier(x, None, x, x))
+    >>> b.righting.saddle_roll_deg, b.righting.path_deg[-1].tolist()
+    (45.0, [0.0, 45.0])
+    """
+    start_roll = abs(float(wrap_deg(minimum.roll_deg)))
+    if min(start_roll, 180.0 - start_roll) > 1e-9 or not is_roll_mirror_symmetric(pose):
+        return barrier
+    fields = {}
+    for name in ("righting", "pitch_wise", "roll_wise", "escape"):
+        x = getattr(barrier, name)
+        if x is not None and -180.0 < canonical_pitch_roll_deg(x.saddle_pitch_deg, x.saddle_roll_deg)[1] < 0:
+            fields[name] = _mirrored(x)
+    return replace(barrier, **fields) if fields else barrier
+
+
 BYTES_PER_CELL = 72
 """Peak memory of :func:`compute` per landscape grid cell, bytes: the grid method's (energies, the flood's
 levels, parents and heap), the largest of the methods (exact needs about half); tracemalloc, checked by
@@ -299,7 +394,8 @@ def compute(
     ----------
     robot : Robot
     theta_w_deg, theta_l_deg : float
-        Wing and leg angle, degrees (ignored for a robot without joints).
+        Wing and leg angle, degrees, anywhere within the joints' limits; an angle no joint takes (a single
+        rigid mesh, a joint map without that group) must be None or 0.
     step_deg : float
         Grid step, degrees (divides 360).
     start_pitch_deg, start_roll_deg : float, optional
@@ -334,13 +430,23 @@ def compute(
         command ``theta_w_deg``, which then only labels the result). The start follows a slow opening to the
         smallest of them, then descends on this pose (unless a start is given).
 
+    Returns
+    -------
+    Computation
+        On a body mirror-symmetric in its x-z plane with the start on that plane, each exit is the mirror twin at
+        non-negative saddle roll (:func:`positive_roll_twins`), whichever twin the search met first.
+
     Raises
     ------
     JointLimitError, GridError, ValueError
         For angles outside the joint limits, a step not dividing 360, or a non-finite start.
+    UnknownJointError
+        For an angle other than None or 0, or ``wing_joints_deg``, that no joint of the robot takes
+        (:func:`check_angles`).
     UsageError
         If ``landscape_grid`` is False with the method "grid".
     """
+    check_angles(robot, theta_w_deg=theta_w_deg, theta_l_deg=theta_l_deg, wing_joints_deg=wing_joints_deg)
     solver = barrier_method(method)
     if not landscape_grid and solver.SECTORS:
         raise UsageError(
@@ -376,6 +482,7 @@ def compute(
     if not solver.SECTORS and (landscape_grid if sector_exits is None else sector_exits):
         grid = _SectorGrid(pose, step_deg, g_m_s2, ls)
         barrier = _with_sectors(barrier, minimum, grid, connectivity)
+    barrier = positive_roll_twins(pose, minimum, barrier)
     timing["barrier"] = time.perf_counter() - t0
     return Computation(
         pose.theta_w_deg,
@@ -557,14 +664,20 @@ def barrier_map(
     Raises
     ------
     UsageError
-        If the robot has no joints, or a grid is empty.
+        If no joint map drives the robot's joints (:meth:`geometry.Robot.undriven` names them), or a grid is
+        empty.
     JointLimitError, GridError
         For angles outside the joint limits (checked before any work) or a step not dividing 360.
     """
     from geometry.errors import UsageError
 
     if not robot.has_joints:
-        raise UsageError("a barrier map needs a robot with joints (--robot FILE.urdf or the built-in robot)")
+        if robot.movable_joints:
+            raise robot.undriven("theta_w", option="theta_w_deg", joints_option="joints=", drop=False)
+        raise UsageError(
+            f"a barrier map sweeps joint angles, and {robot.name} is a single rigid body without joints; "
+            "compute() gives its landscape and barriers"
+        )
     ws, ls_ = [float(w) for w in theta_w_deg], [float(x) for x in theta_l_deg]
     if not ws or not ls_:
         raise UsageError("a barrier map needs at least one theta_w and one theta_l")

@@ -637,6 +637,37 @@ def rest_pitch_deg(robot: Robot) -> float:
     return float(np.rad2deg(pitch[int(np.argmin(h))]))
 
 
+TRIAL_NEEDS = (
+    "a trial opens the wings (theta_w) and swings the leg (theta_l), so it needs both joint groups; '{name}' "
+    "{lacks}; movable joints: {movable}: give a joint map with both, e.g. '{example}'"
+)
+"""What a trial needs of a robot's joints, said when a group is missing."""
+
+
+def check_trial_joints(robot: Robot, name: str) -> None:
+    """Refuse a robot a trial cannot drive: one whose joint map leaves out the wing or the leg group.
+
+    Raises
+    ------
+    RobotDescriptionError
+        If no joint takes theta_w or none takes theta_l (:data:`TRIAL_NEEDS` says what to give).
+    """
+    if robot.drives("theta_w") and robot.drives("theta_l"):
+        return
+    if not robot.has_joints:
+        lacks = "has none of the default wing/leg joints, so it would be a rigid body"
+    else:
+        groups = " and ".join(g for a, g in (("theta_w", "wing"), ("theta_l", "leg")) if not robot.drives(a))
+        lacks = f"maps no {groups} joint (its joint map is '{robot.joint_map.text()}')"
+    movable = robot.movable_joints
+    wing, leg = (list(robot.joint_map.wing), list(robot.joint_map.leg)) if robot.has_joints else ([], [])
+    rest = [n for n in movable if n not in wing and n not in leg]
+    example = f"wing={','.join(wing or rest[:-1] or ['A', 'B'])};leg={','.join(leg or rest[-1:] or ['C'])}"
+    raise RobotDescriptionError(
+        TRIAL_NEEDS.format(name=name, lacks=lacks, movable=", ".join(movable) or "none", example=example)
+    )
+
+
 @lru_cache(maxsize=8)
 def _build(
     path_str: str,
@@ -656,11 +687,7 @@ def _build(
     robot = Robot.from_urdf(path, joint_map=joint_map)
     # the set's variant (its rest pitch); the file's hashes stay the model's, as for a CoM offset
     variant = robot.with_joint_shift(*joint_shift) if joint_shift is not None else robot
-    if not robot.has_joints:
-        raise RobotDescriptionError(
-            f"'{path.name}' has none of the default wing/leg joints, so it would be a rigid body; the simulation "
-            "needs theta_w and theta_l joints: declare them with a joint map 'wing=NAME,...;leg=NAME,...'"
-        )
+    check_trial_joints(robot, path.name)
     urdf_file = robot.urdf_file
     root = copy.deepcopy(urdf_file.root)
     meshes: dict[str, str] = {}

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import click
 
-from landscape.cli.options import THETA_W_HELP, finite, robot_from, robot_options
+from landscape.cli.options import THETA_W_LANDSCAPE_HELP, finite, robot_from, robot_options
 
 
 @click.command()
 @click.option(
-    "--theta-w", type=float, default=74.0, show_default=True, help=f"{THETA_W_HELP} The timed pose."
+    "--theta-w", type=float, default=74.0, show_default=True, help=f"{THETA_W_LANDSCAPE_HELP} The timed pose."
 )
 @click.option(
     "--repeat",
@@ -24,4 +24,6 @@ def bench(theta_w, repeat, **kw):
     from landscape.analysis.bench import landscape_bench
 
     finite(theta_w, "theta-w")
-    click.echo(landscape_bench(robot_from(kw, theta_w_deg=theta_w), theta_w_deg=theta_w, repeat=repeat))
+    robot = robot_from(kw, theta_w_deg=theta_w)
+    theta_w = theta_w if robot.drives("theta_w") else 0.0  # the default pose of a body without wing joints
+    click.echo(landscape_bench(robot, theta_w_deg=theta_w, repeat=repeat))

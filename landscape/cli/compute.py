@@ -12,7 +12,8 @@ import click
 from landscape.cli.options import (
     MJ,
     MM,
-    THETA_W_HELP,
+    THETA_W_LANDSCAPE_HELP,
+    UsageError,
     finite,
     grid_step,
     memory_budget_bytes,
@@ -65,8 +66,14 @@ def human_summary(c, robot, *, mass_note: str = "", units: str | None = None) ->
 
 
 @click.command()
-@click.option("--theta-w", type=float, default=0.0, show_default=True, help=THETA_W_HELP)
-@click.option("--theta-l", type=float, default=0.0, show_default=True, help="Leg angle, degrees.")
+@click.option("--theta-w", type=float, default=0.0, show_default=True, help=THETA_W_LANDSCAPE_HELP)
+@click.option(
+    "--theta-l",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="Leg angle, degrees, within the leg joint's limits.",
+)
 @click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees; divides 360.")
 @click.option(
     "--start-pitch",
@@ -179,8 +186,8 @@ def compute(
     type=str,
     default="70:76:2",
     show_default=True,
-    help="Wing angles: list 70,72 or range START:STOP:STEP (inclusive), degrees, from 0 to the wing "
-    "joints' limit.",
+    help="Wing angles: list 70,72 or range START:STOP:STEP (inclusive), degrees, anywhere within the wing "
+    "joints' limits (below 0 too, where the joints allow it).",
 )
 @click.option(
     "--theta-l",
@@ -188,7 +195,7 @@ def compute(
     type=str,
     default="20:50:10",
     show_default=True,
-    help="Leg angles: list or range, degrees.",
+    help="Leg angles: list or range, degrees (a body without a leg joint: leave it out).",
 )
 @click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees; divides 360.")
 @method_option
@@ -213,6 +220,16 @@ def barrier_map(theta_w, theta_l, step, method, pose_model, out, **kw):
     grid_step(step)
     writable_dir(out, "--out")
     robot = robot_from(kw, theta_w_deg=ws)
+    if not robot.has_joints:
+        if robot.movable_joints:
+            raise robot.undriven("theta_w", option="--theta-w", drop=False)
+        raise UsageError(
+            f"barrier-map sweeps joint angles, and {robot.name} is a single rigid body without joints; "
+            "`landscape compute` gives its landscape and barriers"
+        )
+    # an angle no joint takes (a legless or wingless body) stays 0; given explicitly, robot_from refused it
+    ws = ws if robot.drives("theta_w") else [0.0]
+    ls_ = ls_ if robot.drives("theta_l") else [0.0]
     ms = pose_model_set(pose_model, robot)
     robot = ms.robot_for(robot) if ms else robot
     joints = ms.wing_joints_by_theta_w(robot.joint_map.wing, ws) if ms else None

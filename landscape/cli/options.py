@@ -12,22 +12,22 @@ from contextlib import contextmanager
 import click
 
 from geometry.errors import UsageError
+from geometry.robots import DEFAULT_MESH_MASS_KG
 from landscape.params import parse_values
 from sim.protocol import PAPER_LEG_PERIOD_S, PAPER_WING_PERIOD_S
 
 MJ = 1e3
 MM = 1e3
-DEFAULT_MESH_MASS_KG = 1.0
-"""Mass of a ``--mesh`` body when ``--mass`` is not given, kg (said beside it in the output)."""
-PLAUSIBLE_SIZE_M = (0.005, 5.0)
-"""A ``--mesh`` body outside this size range (largest extent, m) gets a ``--units`` warning."""
 
 __all__ = [
     "MJ",
     "MM",
+    "THETA_W_LANDSCAPE_HELP",
+    "THETA_W_OUT_OF_JOINT_RANGE",
     "THETA_W_OUT_OF_RANGE",
     "RobotParam",
     "UsageError",
+    "check_driven",
     "check_theta_w",
     "finite",
     "joints_option",
@@ -49,7 +49,10 @@ __all__ = [
     "workers_option",
 ]
 
-THETA_W_HELP = "Wing opening angle, degrees, from 0 (closed) to the wing joints' limit."
+THETA_W_HELP = "Wing opening angle, degrees, from 0 (closed) to the wing joints' limit (a trial opens the wings from closed)."
+THETA_W_LANDSCAPE_HELP = (
+    "Wing angle, degrees, anywhere within the wing joints' limits (below 0 too, where the joints allow it)."
+)
 ROBOT_HELP = "The robot: a URDF file or a registered name (builtin)."
 JOINTS_HELP = (
     "Joint map 'wing=J1,J2,...;leg=J' for a URDF whose joint names differ [default: the lab robot's "
@@ -59,7 +62,13 @@ THETA_W_OUT_OF_RANGE = (
     "--theta-w {got:g} deg is outside [{lo:g}, {hi:g}] deg, the wing opening range of {robot} (from closed, 0 deg, "
     "to its wing joints' limit); choose a value inside it"
 )
-"""The one message every command that takes ``--theta-w`` refuses an out-of-range wing angle with."""
+"""The one message every command that opens the wings from closed (a trial) refuses an out-of-range wing angle
+with."""
+THETA_W_OUT_OF_JOINT_RANGE = (
+    "--theta-w {got:g} deg is outside [{lo:g}, {hi:g}] deg, the wing joints' range of {robot}; choose a value "
+    "inside it"
+)
+"""The one message every landscape command (the whole joint range) refuses an out-of-range wing angle with."""
 
 
 def finite(value: float | None, name: str) -> float | None:
@@ -104,15 +113,25 @@ def load_robot(
     mesh: str | None,
     *,
     com: str | None = None,
-    mass: float = 1.0,
+    mass: float | None = None,
     units: str = "m",
     com_model: str = "auto",
     joints: str | None = None,
 ):
     """The robot the options describe: a URDF, a single mesh, or the built-in robot
-    (:func:`geometry.robot.load_robot`)."""
+    (:func:`geometry.robots.load_robot`), refused with the options' names when they do not fit together. A
+    mesh's units warning is left to :func:`robot_from`, which names ``--units``."""
+    import warnings
+
+    from geometry.robots import ImplausibleUnitsWarning
     from geometry.robots import load_robot as _load
 
+    if robot is not None and mesh is not None:
+        raise UsageError("give either --robot FILE.urdf or --mesh FILE, not both")
+    if mesh is None:
+        return _load(robot, joints=joints)
+    if joints:
+        raise UsageError("--joints applies to a URDF robot, not to a single --mesh body; drop it")
     c = None
     if com is not None:
         try:
@@ -122,7 +141,9 @@ def load_robot(
         if len(c) != 3 or not all(math.isfinite(x) for x in c):
             raise UsageError(f"--com must be three finite numbers X,Y,Z; got {com!r}")
     finite(mass, "mass")
-    return _load(robot, mesh=mesh, com=c, mass_kg=mass, units=units, com_model=com_model, joints=joints)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ImplausibleUnitsWarning)
+        return _load(mesh=mesh, com=c, mass_kg=mass, units=units, com_model=com_model)
 
 
 METHOD_HELP = (
@@ -157,12 +178,19 @@ class RobotParam(click.ParamType):
     def convert(self, value, param, ctx):
         from pathlib import Path
 
-        from geometry.robots import ROBOTS
+        from geometry.robots import ROBOTS, is_mesh_file
 
         text = str(value)
         if text in ROBOTS:
             return text
         path = Path(text)
+        if is_mesh_file(path):
+            self.fail(
+                f"{text} is a mesh file, not a URDF; give a single rigid body with --mesh {text} "
+                "(and its --units, --mass)",
+                param,
+                ctx,
+            )
         if path.is_dir():
             self.fail(f"{text} is a directory; give the .urdf file inside it", param, ctx)
         if not path.is_file():
@@ -254,35 +282,74 @@ validation_duration_option = click.option(
 """``--duration`` of the simulated physical-robot cells (``physical validate``, ``calibrate``)."""
 
 
-def wing_range_deg(theta_limits_deg: dict) -> tuple[float, float]:
-    """The wing angles every command accepts, degrees: from closed (0) to the wing joints' upper limit, within
-    the joints' limits (``theta_limits_deg["theta_w"]``, e.g. :meth:`geometry.Robot.theta_limits_deg`).
+def wing_range_deg(theta_limits_deg: dict, *, opening: bool = True) -> tuple[float, float]:
+    """The wing angles a command accepts, degrees: within the wing joints' limits
+    (``theta_limits_deg["theta_w"]``, e.g. :meth:`geometry.Robot.theta_limits_deg`), and for a command whose
+    trial opens the wings from closed (``opening``) from 0 up.
 
-    A trial opens the wings from closed, so a negative wing angle is not an opening; a landscape at one (the lab's
-    barrier table goes down to -10 deg) stays available from the library, :func:`landscape.computation.compute`.
+    The landscape commands (``compute``, ``barrier-map``, ``render``, ``bench``), the service and
+    :func:`landscape.computation.compute` take the joints' whole range (``opening=False``); ``simulate`` and
+    ``sweep`` open the wings from closed, so a negative wing angle is no opening.
 
     Examples
     --------
     >>> wing_range_deg({"theta_w": (-10.0, 95.0), "theta_l": (-60.0, 60.0)})
     (0.0, 95.0)
+    >>> wing_range_deg({"theta_w": (-10.0, 95.0), "theta_l": (-60.0, 60.0)}, opening=False)
+    (-10.0, 95.0)
     """
     lo, hi = theta_limits_deg["theta_w"]
-    return max(float(lo), 0.0), float(hi)
+    return (max(float(lo), 0.0) if opening else float(lo)), float(hi)
 
 
-def check_theta_w(values_deg, theta_limits_deg: dict, robot_name: str) -> None:
-    """Refuse a wing angle outside :func:`wing_range_deg` with :data:`THETA_W_OUT_OF_RANGE` (one message for
-    every command).
+def check_theta_w(values_deg, theta_limits_deg: dict, robot_name: str, *, opening: bool = True) -> None:
+    """Refuse a wing angle outside :func:`wing_range_deg` with :data:`THETA_W_OUT_OF_RANGE` (``opening``: a
+    trial's) or :data:`THETA_W_OUT_OF_JOINT_RANGE` (a landscape's): one message per rule for every command.
 
     Raises
     ------
     UsageError
         If a value lies outside the range.
     """
-    lo, hi = wing_range_deg(theta_limits_deg)
+    lo, hi = wing_range_deg(theta_limits_deg, opening=opening)
+    message = THETA_W_OUT_OF_RANGE if opening else THETA_W_OUT_OF_JOINT_RANGE
     for v in values_deg if isinstance(values_deg, (list, tuple)) else [values_deg]:
         if not lo - 1e-9 <= v <= hi + 1e-9:
-            raise UsageError(THETA_W_OUT_OF_RANGE.format(got=v, lo=lo, hi=hi, robot=robot_name))
+            raise UsageError(message.format(got=v, lo=lo, hi=hi, robot=robot_name))
+
+
+ANGLE_OPTIONS = {"theta_w": "--theta-w", "theta_l": "--theta-l"}
+"""The command line's option of each angle (the click parameter has the angle's name)."""
+
+
+def given_angles() -> list[str]:
+    """The angles (``theta_w``, ``theta_l``) the running command was given explicitly, not by default."""
+    from click.core import ParameterSource
+
+    ctx = click.get_current_context(silent=True)
+    if ctx is None:
+        return []
+    return [
+        a
+        for a in ANGLE_OPTIONS
+        if a in ctx.params and ctx.get_parameter_source(a) not in (None, ParameterSource.DEFAULT)
+    ]
+
+
+def check_driven(robot, angles=None) -> None:
+    """Refuse ``--theta-w``/``--theta-l`` given to a robot none of whose joints that angle drives (a mesh, a URDF
+    without a joint map, a joint map that leaves the group out): the one rule of every command, in one line
+    naming the robot's movable joints and the ``--joints`` that would map them
+    (:meth:`geometry.Robot.undriven`). ``angles``: those to check (default: the ones given explicitly).
+
+    Raises
+    ------
+    UsageError
+        If a given angle drives no joint.
+    """
+    for a in given_angles() if angles is None else angles:
+        if not robot.drives(a):
+            raise robot.undriven(a, option=ANGLE_OPTIONS[a])
 
 
 def robot_options(f):
@@ -328,12 +395,15 @@ def robot_options(f):
 
 
 def robot_from(kw: dict, *, theta_w_deg=None):
-    """The robot of a command's :func:`robot_options` keywords; a URDF robot's ``theta_w_deg`` (a value or a list)
-    is checked against its wing opening range (:func:`check_theta_w`).
+    """The robot of a landscape command's :func:`robot_options` keywords. An angle option given explicitly that
+    no joint of the robot takes is refused (:func:`check_driven`); a wing angle ``theta_w_deg`` (a value or a
+    list) is checked against the wing joints' whole range (:func:`check_theta_w` with ``opening=False``).
 
     Mesh-only options without ``--mesh`` are refused (they would be ignored). A mesh whose size is implausible
-    in its assumed units gets a warning on stderr naming the ``--units`` fix.
+    in its units gets a warning on stderr naming the ``--units`` fix (:func:`geometry.robots.units_warning`).
     """
+    from geometry.robots import mesh_size_m, units_warning
+
     if kw["mesh"] is None:
         given = [
             f"--{k.replace('_', '-')}" for k in ("com", "mass", "units", "com_model") if kw[k] is not None
@@ -344,36 +414,23 @@ def robot_from(kw: dict, *, theta_w_deg=None):
                 "a URDF robot takes its masses and CoM from its <inertial> elements"
             )
         robot = load_robot(kw["robot"], None, joints=kw["joints"])
-        if theta_w_deg is not None and robot.has_joints:
-            check_theta_w(theta_w_deg, robot.theta_limits_deg(), robot.name)
-        return robot
-    mass = DEFAULT_MESH_MASS_KG if kw["mass"] is None else kw["mass"]
-    units = kw["units"] or "m"
-    robot = load_robot(
-        kw["robot"],
-        kw["mesh"],
-        com=kw["com"],
-        mass=mass,
-        units=units,
-        com_model=kw["com_model"] or "auto",
-        joints=kw["joints"],
-    )
-    import numpy as np
-
-    size_m = max(
-        (float(np.ptp(p.hull_link_m, axis=0).max()) for p in robot.parts if len(p.hull_link_m)), default=0.0
-    )
-    if kw["units"] is None and not PLAUSIBLE_SIZE_M[0] <= size_m <= PLAUSIBLE_SIZE_M[1]:
-        guess = "mm" if size_m > PLAUSIBLE_SIZE_M[1] else None
-        click.echo(
-            f"landscape: warning: the mesh is {size_m:.3g} m across, read in metres (the default); "
-            + (
-                f"if it was saved in millimetres (CAD exports usually are), add --units {guess}"
-                if guess
-                else "give its --units if it was not saved in metres"
-            ),
-            err=True,
+    else:
+        units = kw["units"] or "m"
+        robot = load_robot(
+            kw["robot"],
+            kw["mesh"],
+            com=kw["com"],
+            mass=kw["mass"],
+            units=units,
+            com_model=kw["com_model"] or "auto",
+            joints=kw["joints"],
         )
+        text = units_warning(mesh_size_m(robot), units, units_as="--units")
+        if text is not None:
+            click.echo(f"landscape: warning: {text}", err=True)
+    check_driven(robot)
+    if theta_w_deg is not None and robot.drives("theta_w"):
+        check_theta_w(theta_w_deg, robot.theta_limits_deg(), robot.name, opening=False)
     return robot
 
 

@@ -10,7 +10,7 @@ import click
 
 from landscape.barriers import EXITS
 from landscape.cli.options import (
-    THETA_W_HELP,
+    THETA_W_LANDSCAPE_HELP,
     UsageError,
     check_theta_w,
     finite,
@@ -24,7 +24,7 @@ from landscape.cli.options import (
 
 
 @click.command()
-@click.option("--theta-w", type=float, default=0.0, show_default=True, help=THETA_W_HELP)
+@click.option("--theta-w", type=float, default=0.0, show_default=True, help=THETA_W_LANDSCAPE_HELP)
 @click.option("--theta-l", type=float, default=0.0, show_default=True, help="Leg angle, degrees.")
 @click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees; divides 360.")
 @method_option
@@ -90,8 +90,8 @@ def render(ctx, theta_w, theta_l, step, method, exit_kind, traces, physical_dir,
 
         read = [read_trace_csv(t) for t in traces]
         theta_w, theta_l = _traces_pose(ctx, read, theta_w, theta_l)
-    if robot.has_joints:
-        check_theta_w(theta_w, robot.theta_limits_deg(), robot.name)
+    if robot.drives("theta_w"):
+        check_theta_w(theta_w, robot.theta_limits_deg(), robot.name, opening=False)
     c = run(
         robot,
         theta_w_deg=theta_w,
@@ -182,8 +182,8 @@ def _render_physical(ctx, robot, data_dir, theta_w, theta_l, step, method, exit_
         cmd, plateau, attempts = pose.theta_w_cmd_deg, pose.theta_w_deg, pose.attempts
         if pose.note:
             notes.append(pose.note)
-        if robot.has_joints:
-            check_theta_w(plateau, robot.theta_limits_deg(), robot.name)
+        if robot.drives("theta_w"):
+            check_theta_w(plateau, robot.theta_limits_deg(), robot.name, opening=False)
         c = run(
             robot,
             theta_w_deg=plateau,

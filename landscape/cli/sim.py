@@ -71,13 +71,16 @@ def _warn_coarse_dt(dt: float | None, robot: str | None) -> None:
 
 
 def _check_wing(theta_w_deg, robot: str | None, joints: str | None) -> None:
-    """The wing angles checked against the robot's wing opening range, as ``landscape compute`` checks them."""
+    """Before any trial: the robot drives both angles (:func:`sim.model.check_trial_joints` says what a trial
+    needs), and the wing angles lie in its wing opening range, from closed (0) to the joints' limit."""
+    from pathlib import Path
+
     from landscape.cli.options import load_robot
+    from sim.model import check_trial_joints
 
     r = load_robot(robot, None, joints=joints)
-    if not r.has_joints:  # no wing joints found: the simulator says which joint names it expected
-        return
-    check_theta_w(theta_w_deg, r.theta_limits_deg(), r.name)
+    check_trial_joints(r, Path(r.source).name if r.source else r.name)
+    check_theta_w(theta_w_deg, r.theta_limits_deg(), r.name, opening=True)
 
 
 SCHEDULER_RE = re.compile(r"(tcp|tls|inproc|ucx)://[^\s:/]+(:\d{1,5})?")

@@ -291,13 +291,15 @@ def create_app(config: ServiceConfig) -> FastAPI:
     async def upload(
         file: Annotated[UploadFile, File(description="a .zip of a URDF and its meshes, or one mesh file")],
         units: Annotated[str, Form(description="units of a single mesh: mm, cm or m")] = "m",
-        mass: Annotated[float, Form(description="mass of a single mesh, kg")] = 1.0,
+        mass: Annotated[
+            float | None, Form(description="mass of a single mesh, kg [default: 1, said as a default]")
+        ] = None,
         com: Annotated[str | None, Form(description="CoM of a single mesh X,Y,Z in its units")] = None,
     ):
         """Store a robot; answers its description (201 new, 200 already stored)."""
         if units not in ("mm", "cm", "m"):
             raise UploadError(f"units must be mm, cm or m; got {units!r}")
-        if not (mass == mass and abs(mass) != float("inf") and mass > 0):
+        if mass is not None and not (mass == mass and abs(mass) != float("inf") and mass > 0):
             raise UploadError(f"mass must be a positive finite number of kg; got {mass!r}")
         c = None
         if com:

@@ -18,11 +18,14 @@ import shutil
 import stat
 import threading
 import uuid
+import warnings
 import zipfile
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path, PurePosixPath
 from typing import BinaryIO
+
+from geometry.robots import DEFAULT_MESH_MASS_KG, ImplausibleUnitsWarning, mesh_size_m, units_warning
 
 from .errors import ConflictError, NotFoundError, TooLargeError, UploadError
 
@@ -69,8 +72,17 @@ def _finite_or_none(x: float) -> float | None:
     return x if math.isfinite(x) else None
 
 
-def robot_info(robot, robot_id: str, kind: str, filename: str | None = None) -> dict:
-    """The public description of a robot (no server paths)."""
+def robot_info(
+    robot,
+    robot_id: str,
+    kind: str,
+    filename: str | None = None,
+    *,
+    mass_default: bool = False,
+    warnings: list[str] | None = None,
+) -> dict:
+    """The public description of a robot (no server paths): ``mass_default`` says the mass is the default of a
+    mesh whose mass was not given; ``warnings`` holds what the upload should be told (e.g. implausible units)."""
     limits = None
     if robot.has_joints:
         limits = {
@@ -86,9 +98,20 @@ def robot_info(robot, robot_id: str, kind: str, filename: str | None = None) -> 
         "has_joints": bool(robot.has_joints),
         "theta_limits_deg": limits,
         "mass_kg": float(robot.total_mass_kg),
+        "mass_default": bool(mass_default),
         "com_source": robot.com_source,
         "vertices": n_vertices,
+        "warnings": list(warnings or []),
     }
+
+
+def upload_warnings(robot, kind: str, units: str) -> list[str]:
+    """What an upload's answer warns of: a mesh implausibly large or small in its ``units`` (the form field),
+    as ``landscape compute --mesh`` warns."""
+    if kind != "mesh":
+        return []
+    text = units_warning(mesh_size_m(robot), units, units_as="units")
+    return [] if text is None else [text]
 
 
 class RobotRegistry:
@@ -194,7 +217,11 @@ class RobotRegistry:
             return load_robot()
         if meta["kind"] == "urdf":
             return load_robot(str(source))
-        return load_robot(mesh=str(source), com=meta.get("com"), mass_kg=meta["mass_kg"], units=meta["units"])
+        with warnings.catch_warnings():  # said once, in the upload's answer (robot_info's warnings)
+            warnings.simplefilter("ignore", ImplausibleUnitsWarning)
+            return load_robot(
+                mesh=str(source), com=meta.get("com"), mass_kg=meta["mass_kg"], units=meta["units"]
+            )
 
     # ------------------------------------------------------------------ upload
     def add_upload(
@@ -203,10 +230,14 @@ class RobotRegistry:
         data: BinaryIO,
         *,
         units: str = "m",
-        mass_kg: float = 1.0,
+        mass_kg: float | None = None,
         com: list[float] | None = None,
     ) -> tuple[dict, bool]:
         """Check, load and store an upload; return (its info, whether it is new).
+
+        A mesh's mass defaults to :data:`geometry.robots.DEFAULT_MESH_MASS_KG` (its info then says
+        ``mass_default``), and a mesh implausibly large or small in ``units`` gets a warning in its info
+        (:func:`geometry.robots.units_warning`), as the command line warns.
 
         Raises
         ------
@@ -247,7 +278,8 @@ class RobotRegistry:
                 "kind": kind,
                 "entry": entry.as_posix(),
                 "units": units,
-                "mass_kg": float(mass_kg),
+                "mass_kg": float(DEFAULT_MESH_MASS_KG if mass_kg is None else mass_kg),
+                "mass_default": kind == "mesh" and mass_kg is None,
                 "com": com,
                 "filename": name,
             }
@@ -259,7 +291,14 @@ class RobotRegistry:
                 id=rid,
                 content_sha256=_tree_digest(files, meta),
                 uploaded_utc=datetime.now(timezone.utc).isoformat(timespec="seconds"),
-                info=robot_info(robot, rid, kind, name),
+                info=robot_info(
+                    robot,
+                    rid,
+                    kind,
+                    name,
+                    mass_default=meta["mass_default"],
+                    warnings=upload_warnings(robot, kind, units),
+                ),
             )
             (work / "meta.json").write_text(json.dumps(meta, indent=1))
             final = self.root / rid

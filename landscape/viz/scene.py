@@ -13,6 +13,20 @@ from geometry.frames import body_to_world
 from landscape.barriers import EXITS
 
 
+def pose_label(c) -> str:
+    """The joint angles of a computation as a figure says them, e.g. "wing 74°, leg 30°"; an angle no joint takes
+    (None) is left out ("" for a rigid body).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> pose_label(SimpleNamespace(theta_w_deg=74.0, theta_l_deg=None))
+    'wing 74°'
+    """
+    parts = [(name, v) for name, v in (("wing", c.theta_w_deg), ("leg", c.theta_l_deg)) if v is not None]
+    return ", ".join(f"{name} {v:g}°" for name, v in parts)
+
+
 def wrapped_path_deg(path_deg: NDArray[np.float64]) -> NDArray[np.float64]:
     """A continuous (unwrapped) torus path moved into [-180, 180), with a NaN row wherever it wraps.
 
@@ -145,7 +159,8 @@ def render_computation(c, out_dir, *, robot_name: str, exit_kind: str = "rightin
     angles_deg, energy_j = c.landscape.inclusive()
     ex = getattr(c.barrier, EXITS[exit_kind])
     marks = landscape_marks(c, exit_kind)
-    pose_text = "" if c.theta_w_deg is None else f"  wing {c.theta_w_deg:g}°, leg {c.theta_l_deg:g}°"
+    pose_text = pose_label(c)
+    pose_text = f"  {pose_text}" if pose_text else ""
     barrier_text = (
         f"{exit_kind} barrier none" if ex is None else f"{exit_kind} barrier {ex.barrier_j * 1e3:.2f} mJ"
     )

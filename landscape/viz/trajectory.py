@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from geometry.errors import UsageError
 from landscape.viz._mpl import plt, save
-from landscape.viz.scene import wrapped_path_deg
+from landscape.viz.scene import pose_label, wrapped_path_deg
 
 __all__ = [
     "NOT_RIGHTED_COLOUR",
@@ -520,7 +520,7 @@ def render_trajectories(
         f"{exit_kind} barrier none" if ex is None else f"{exit_kind} barrier {ex.barrier_j * 1e3:.2f} mJ"
     )
     title = (
-        f"{robot_name}  wing {c.theta_w_deg:g}°, leg {c.theta_l_deg:g}°  {barrier}\n"
+        f"{robot_name}  {pose_label(c)}  {barrier}\n"
         f"{len(flags)} {what} attempts: {n_ok} righted, {len(flags) - n_ok} not"
     )
     angles_deg, energy_j = c.landscape.inclusive()

@@ -94,7 +94,7 @@ def test_lab_robot_bad_angles(capsys, lab_robot):
     code, _, err = run(capsys, "compute", "--theta-w", "120", "--robot", str(lab_robot.source))
     assert (
         code == 2
-        and "outside [0, 95] deg, the wing opening range of lab_robot" in err
+        and "outside [-10, 95] deg, the wing joints' range of lab_robot" in err
         and err.count("\n") == 1
     )
     code, _, err = run(capsys, "compute", "--robot", str(lab_robot.source), "--joints", "wing=x;leg=leg")
@@ -216,7 +216,7 @@ def test_unexpected_exception_is_reported_as_a_bug_not_as_bad_input(capsys, monk
 
 def test_bad_input_is_exit_2_and_one_line(capsys):
     code, out, err = run(capsys, "compute", "--theta-w", "120")
-    assert code == 2 and len(err.strip().splitlines()) == 1 and "outside [0, 95] deg" in err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "outside [-10, 95] deg" in err
 
 
 def test_no_arguments_prints_help_and_exits_0(capsys):

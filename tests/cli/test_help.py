@@ -9,7 +9,7 @@ import click
 import pytest
 
 from landscape.cli import cli, main
-from landscape.cli.options import THETA_W_OUT_OF_RANGE, RobotParam
+from landscape.cli.options import THETA_W_OUT_OF_JOINT_RANGE, THETA_W_OUT_OF_RANGE, RobotParam
 
 
 def _commands(cmd=cli, path=()):
@@ -109,21 +109,25 @@ def test_missing_robot_is_refused_alike(capsys, argv):
     assert err.count("\n") == 1 and "URDF file missing.urdf not found" in err
 
 
+@pytest.mark.parametrize("theta_w", ["-12", "120"])
+def test_theta_w_range_is_the_same_for_compute_and_barrier_map(capsys, theta_w):
+    """The landscape commands take the wing joints' whole range (built-in: [-10, 95])."""
+    expected = THETA_W_OUT_OF_JOINT_RANGE.format(got=float(theta_w), lo=-10.0, hi=95.0, robot="builtin_robot")
+    for argv in (["compute", "--step", "30"], ["barrier-map", "--step", "30"]):
+        assert main([*argv, "--theta-w", theta_w]) == 2, argv
+        assert capsys.readouterr().err == f"landscape: error: {expected}\n"
+
+
 @pytest.mark.parametrize("theta_w", ["-5", "120"])
-def test_theta_w_range_is_the_same_for_compute_and_simulate(capsys, theta_w):
-    """Both take the wing opening range from the robot's joint limits (built-in: [-10, 95] -> [0, 95])."""
+def test_theta_w_range_is_the_same_for_simulate_and_sweep(capsys, theta_w):
+    """The trial commands open the wings from closed: [0, the joints' limit] (built-in: [-10, 95] -> [0, 95])."""
     expected = THETA_W_OUT_OF_RANGE.format(got=float(theta_w), lo=0.0, hi=95.0, robot="builtin_robot")
-    errors = []
     for argv in (
-        ["compute", "--step", "30"],
         ["simulate", "--theta-l", "30", "--duration", "0.1"],
         ["sweep", "--db", "unused.sqlite", "--trials", "1"],
-        ["barrier-map", "--step", "30"],
     ):
         assert main([*argv, "--theta-w", theta_w]) == 2, argv
-        errors.append(capsys.readouterr().err)
-    for err in errors:
-        assert err == f"landscape: error: {expected}\n"
+        assert capsys.readouterr().err == f"landscape: error: {expected}\n"
 
 
 def test_theta_w_inside_the_range_is_accepted(capsys):

@@ -51,7 +51,7 @@ def refused(r, *needles):
     "args, needles",
     [
         (["compute", "--theta-w", "nan"], ["--theta-w must be a finite number"]),
-        (["compute", "--theta-w", "120"], ["--theta-w 120 deg is outside [0, 95] deg"]),
+        (["compute", "--theta-w", "120"], ["--theta-w 120 deg is outside [-10, 95] deg"]),
         (["compute", "--step", "7"], ["does not divide 360"]),
         (["compute", "--method", "magic"], ["magic"]),
         (["compute", "--robot", "{d}/robotdir"], ["is a directory"]),

@@ -119,11 +119,11 @@ def test_joint_to_a_missing_link_and_disconnected_links_are_refused(tmp_path):
 @pytest.mark.parametrize(
     "text, match",
     [
-        ("wing=;leg=", "empty"),
-        ("wing=a;leg=", "empty"),
+        ("wing=;leg=", "names no joint"),
+        ("", "names no joint"),
+        ("wing=a,,b", "empty name"),
         ("wing=leg;leg=leg", "twice"),
         ("wing=a,a;leg=b", "twice"),
-        ("wing=a", "leg"),
         ("wing=a;wing=b;leg=c", "twice"),
         ("arm=x", "not 'wing=NAME"),
     ],
@@ -131,6 +131,21 @@ def test_joint_to_a_missing_link_and_disconnected_links_are_refused(tmp_path):
 def test_bad_joint_maps_are_refused(text, match):
     with pytest.raises(GeometryError, match=match):
         JointMap.parse(text)
+
+
+@pytest.mark.parametrize(
+    "text, wing, leg",
+    [
+        ("wing=a", ("a",), ()),
+        ("wing=a;leg=", ("a",), ()),
+        ("leg=c", (), ("c",)),
+        ("wing=a,b;leg=c", ("a", "b"), ("c",)),
+    ],
+)
+def test_either_joint_group_may_be_left_out(text, wing, leg):
+    jm = JointMap.parse(text)
+    assert (jm.wing, jm.leg) == (wing, leg)
+    assert JointMap.parse(jm.text()) == jm
 
 
 def test_joint_map_round_trips_through_its_text():

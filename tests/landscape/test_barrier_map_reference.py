@@ -5,11 +5,12 @@ lab robot (theta_w -10..90 at 2.5 deg, theta_l 0), every pose's start minimum an
 roll-wise and escape exits (barrier, saddle, direction) as ``barrier_map(..., method="exact")`` computed them at
 commit bd6cd45 (before the compiled searches, batched path pieces and worker processes), except 21 of the
 built-in robot's saddles, replaced by their mirror images (roll sign) when the exact method's tie rule between
-equal saddles came in (issue #12; their energies unchanged), and three rows rewritten when the exact method
-began merging facets within its length tolerance (issue #31): the built-in robot at theta_w 65 (theta_l 0 and
-30), whose resting face and every barrier above it moved by 1.2e-7 J (5e-8 m of CoM height, within the
-tolerance), and the lab robot's righting saddle at theta_w 0, which moved 0.14 deg along a ridge at the same
-energy. The map must give the same numbers to 1e-12 J
+equal saddles came in (issue #12; their energies unchanged), 9 more at theta_l 0, where the built-in robot is
+mirror-symmetric, reported at positive roll by ``landscape.computation.positive_roll_twins`` (the tie rule between
+mirror saddles; energies unchanged), and three rows rewritten when the exact method began merging facets within
+its length tolerance (issue #31): the built-in robot at theta_w 65 (theta_l 0 and 30), whose resting face and
+every barrier above it moved by 1.2e-7 J (5e-8 m of CoM height, within the tolerance), and the lab robot's
+righting saddle at theta_w 0, which moved 0.14 deg along a ridge at the same energy. The map must give the same numbers to 1e-12 J
 (barriers, energies) and 1e-9 deg (angles) in this process and over worker processes.
 """
 

@@ -59,7 +59,9 @@ def test_barrier_map_keeps_the_barriers_not_the_grids(robot):
     assert all(c.landscape is None and c.pose is None for c in bm.computations)
     one = compute(robot, theta_w_deg=74.0, theta_l_deg=30.0)
     assert bm.righting_j[1, 1] == pytest.approx(one.barrier.righting.barrier_j, rel=1e-9)
-    with pytest.raises(UsageError, match="needs a robot with joints"):
+    with pytest.raises(
+        UsageError, match="a barrier map sweeps joint angles, and mesh is a single rigid body"
+    ):
         import trimesh
 
         barrier_map(Robot.from_trimesh(trimesh.creation.box(extents=(1, 1, 1))), [0.0], [0.0])

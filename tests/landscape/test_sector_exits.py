@@ -1,6 +1,7 @@
 """Pitch-wise and roll-wise exits of the exact method (issue #12): the single sector flood gives what the full
 grid search gives, with the grid given or its energies computed only where the flood reaches, and compute's and
-the barrier map's sectors equal the former construction from ``grid_barrier`` on the whole grid."""
+the barrier map's sectors equal the former construction from ``grid_barrier`` on the whole grid (both reported by
+the mirror-tie rule, ``positive_roll_twins``)."""
 
 from dataclasses import replace
 
@@ -11,7 +12,14 @@ from geometry import Robot
 from geometry.builtin import builtin_urdf_path
 from landscape.barriers import method as barrier_method
 from landscape.barriers.grid import grid_barrier
-from landscape.computation import _in_sector, _SectorGrid, barrier_map, compute, sweep_starts
+from landscape.computation import (
+    _in_sector,
+    _SectorGrid,
+    barrier_map,
+    compute,
+    positive_roll_twins,
+    sweep_starts,
+)
 from landscape.energy import G_M_S2, energy_landscape
 from landscape.minima import grid_minimum
 
@@ -66,15 +74,15 @@ def test_exact_sectors_equal_former_construction(robot, tw, tl):
     cell = grid_minimum(ls, m.pitch_deg, m.roll_deg)
     gb = grid_barrier(ls, cell)
     shift = ls.at(*cell) - m.energy_j
-    for kind, got, x in (
-        ("pitch", c.barrier.pitch_wise, gb.pitch_wise),
-        ("roll", c.barrier.roll_wise, gb.roll_wise),
-    ):
+    wants = []
+    for kind, x in (("pitch", gb.pitch_wise), ("roll", gb.roll_wise)):
         if r is not None and _in_sector(r.path_deg, kind):
-            want = replace(r, direction=kind)
+            wants.append(replace(r, direction=kind))
         else:
-            want = None if x is None else replace(x, barrier_j=x.barrier_j + shift)
-        _same_exit(got, want)
+            wants.append(None if x is None else replace(x, barrier_j=x.barrier_j + shift))
+    want = positive_roll_twins(c.pose, m, replace(c.barrier, pitch_wise=wants[0], roll_wise=wants[1]))
+    _same_exit(c.barrier.pitch_wise, want.pitch_wise)
+    _same_exit(c.barrier.roll_wise, want.roll_wise)
 
 
 def _former_map_pose(robot, tw, tl, start_deg):
@@ -94,7 +102,7 @@ def _former_map_pose(robot, tw, tl, start_deg):
         else:
             searched += 1
             out.append(None if x is None else replace(x, barrier_j=x.barrier_j + shift))
-    return m, replace(b, pitch_wise=out[0], roll_wise=out[1]), searched
+    return m, positive_roll_twins(pose, m, replace(b, pitch_wise=out[0], roll_wise=out[1])), searched
 
 
 def _assert_map_equals_former(robot, ws, ls_):

@@ -499,3 +499,32 @@ def test_a_computation_already_done_when_submitted_does_not_deadlock():
     t.join(timeout=10)
     assert not t.is_alive(), "submit deadlocked on its own lock"
     assert out[0].done() and ls._inflight == {}
+
+
+def test_a_millimetre_mesh_upload_is_warned_of_and_its_default_mass_said(client, tmp_path):
+    import trimesh
+
+    f = tmp_path / "box100.stl"
+    trimesh.creation.box(extents=(100.0, 60.0, 40.0)).export(f)  # saved in millimetres
+    r = client.post("/api/robots", files={"file": ("box100.stl", f.read_bytes(), "model/stl")})
+    assert r.status_code == 201, r.text
+    info = r.json()
+    assert info["mass_default"] is True and info["mass_kg"] == 1.0
+    assert info["warnings"] == [
+        "the mesh is 100 m across, read in metres; if it was saved in millimetres (CAD exports usually are), "
+        "give units mm"
+    ]
+    assert client.get(f"/api/robots/{info['id']}").json()["warnings"] == info["warnings"]
+    r = client.post(
+        "/api/robots",
+        files={"file": ("box100.stl", f.read_bytes(), "model/stl")},
+        data={"units": "mm", "mass": "0.2"},
+    )
+    assert r.status_code == 201 and r.json()["warnings"] == [] and r.json()["mass_default"] is False
+
+
+def test_the_service_takes_the_wing_joints_whole_range_as_the_cli(client):
+    ok = client.get("/api/landscape", params={"robot": "builtin", "theta_w": -10, "theta_l": 0, "step": 10})
+    assert ok.status_code == 200, ok.text
+    bad = client.get("/api/landscape", params={"robot": "builtin", "theta_w": -12, "theta_l": 0, "step": 10})
+    assert bad.status_code in (400, 422) and "outside joint" in bad.text

@@ -66,8 +66,10 @@ async function chooseRobot(id) {
   const { body } = await api("/api/robots/" + encodeURIComponent(id));
   state.robot = id;
   state.info = body;
-  $("robot-info").textContent = `${body.name}: ${fmt(body.mass_kg * 1e3, 1)} g, ${body.vertices} vertices` +
-    (body.has_joints ? "" : " (rigid: the sliders do nothing)");
+  $("robot-info").textContent = `${body.name}: ${fmt(body.mass_kg * 1e3, 1)} g` +
+    (body.mass_default ? " (default mass: give the mass when uploading)" : "") + `, ${body.vertices} vertices` +
+    (body.has_joints ? "" : " (rigid: the sliders do nothing)") +
+    ((body.warnings || []).length ? "; warning: " + body.warnings.join("; ") : "");
   applyLimits();
   requestLandscape(0);
 }
@@ -136,10 +138,12 @@ $("upload-form").addEventListener("submit", async (e) => {
   if (!f) { say("choose a file to upload first", true); return; }
   const data = new FormData(e.target);
   if (!data.get("com")) data.delete("com");
+  if (!data.get("mass")) data.delete("mass");  // the service's default, said as a default
   say("uploading " + f.name + " ...");
   try {
     const { status, body } = await api("/api/robots", { method: "POST", body: data });
-    say((status === 201 ? "stored " : "already stored: ") + body.name + " (" + body.id + ")");
+    const warned = (body.warnings || []).length ? "; warning: " + body.warnings.join("; ") : "";
+    say((status === 201 ? "stored " : "already stored: ") + body.name + " (" + body.id + ")" + warned, !!warned);
     await loadRobots(body.id);
   } catch (err) { say(err.message, true); }
 });
