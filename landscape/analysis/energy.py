@@ -477,6 +477,59 @@ def recorded_motion(
     )
 
 
+DEFAULT_PHYSICAL_SET = "physical-head"
+"""The model set the robot's recordings are measured with by default: of the shipped sets, the one whose hold
+matches the robot's (its head placed where the real one touches the ground)."""
+
+
+@dataclass(frozen=True)
+class RecordedMotions:
+    """The robot's recorded trials as motions, and how they were read.
+
+    Attributes
+    ----------
+    motions : list of Motion
+    body : BodyModel
+        The robot as the model set poses it.
+    mount_deg : float
+        The IMU's mounting pitch the two rests measure (:func:`landscape.analysis.opening.mounting_from_rests`),
+        degrees.
+    model_set : str
+        The set's label.
+    """
+
+    motions: list
+    body: BodyModel
+    mount_deg: float
+    model_set: str
+
+
+def recorded_motions(data_dir, robot, model_set, *, use_gyro: bool = True) -> RecordedMotions:
+    """Every recorded trial of a data directory as a :class:`Motion` (:func:`recorded_motion`), the wings and leg
+    following ``model_set``'s actuation at each trial's commands, in the body frame the two rests measure.
+
+    Raises
+    ------
+    landscape.analysis.physical.PhysicalDataError
+        If the directory holds no trial or a file is not in the lab's format.
+    """
+    from landscape.analysis.opening import mounting_from_rests
+    from landscape.analysis.physical import read_recording, trial_cell, trial_files
+
+    files = trial_files(data_dir)
+    commands = sorted({trial_cell(f)[0] for f in files})
+    body = body_model(
+        robot, model_set, theta_w_cmd_deg=float(np.median(commands)) if model_set.measured else None
+    )
+    mount = mounting_from_rests(data_dir, body.robot).mount_deg
+    motions = []
+    for f in files:
+        rec = read_recording(f)
+        act = model_set.actuation(rec.theta_w_cmd_deg, rec.theta_l_deg)
+        motions.append(recorded_motion(rec, mount_deg=mount, actuation=act, use_gyro=use_gyro))
+    return RecordedMotions(motions, body, float(mount), model_set.label)
+
+
 # ------------------------------------------------------------------------------------------------ the budget
 @dataclass(frozen=True)
 class EnergyTrace:

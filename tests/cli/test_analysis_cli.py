@@ -42,7 +42,7 @@ def test_report_builds_every_analysis_from_a_real_database(capsys, db, tmp_path)
     out = tmp_path / "report"
     code, stdout, err = run(capsys, "report", "--db", db, "--out", out)
     assert code == 0, err
-    assert "6/6 analyses" in stdout
+    assert "7/7 analyses" in stdout
     html = (out / "index.html").read_text()
     for title in (
         "Self-righting probability",
@@ -51,6 +51,7 @@ def test_report_builds_every_analysis_from_a_real_database(capsys, db, tmp_path)
         "Phase evolution",
         "Barrier against outcome",
         "Trajectories of simulated trials",
+        "Energy budget of the attempts",
     ):
         assert title in html
     assert "Not enough data" not in html
@@ -67,6 +68,9 @@ def test_report_builds_every_analysis_from_a_real_database(capsys, db, tmp_path)
     reruns = _csv(out / "trajectories.csv")
     assert len(reruns) == 3 and all(r["reproduced"] == "1" for r in reruns)  # the 3 trials of one setting
     assert (out / "trajectories" / "trajectories_contour.png").stat().st_size > 1000
+    energy = _csv(out / "energy.csv")
+    assert energy and {r["source"] for r in energy} == {"simulated"}
+    assert all(r["reproduced"] == "1" for r in _csv(out / "energy_reruns.csv"))
 
 
 def test_report_says_which_command_produces_missing_trials(capsys, tmp_path):
