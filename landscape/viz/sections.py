@@ -264,8 +264,18 @@ def section_phase_map(rows: list[dict], out: Path, db: Path, *, leg_period_s: fl
     )
 
 
-def section_prediction(rows: list[dict], out: Path, db: Path) -> Section:
-    """Fig. 8 analogue: phase-based prediction of the first righting attempt against simulation."""
+def section_prediction(
+    rows: list[dict],
+    out: Path,
+    db: Path,
+    *,
+    states_path: str | Path | None = None,
+    robot: str | Path | None = None,
+    progress: bool = True,
+) -> Section:
+    """Fig. 8 analogue: phase-based prediction of the first righting attempt against simulation, and beside it
+    the prediction that also knows the state each attempt starts from (:func:`prediction_scores`, both held out;
+    its opening states in ``states_path``), written to ``out/prediction_scores.csv``."""
     from landscape.viz.analysis_plots import plot_prediction
 
     title = "Phase-based prediction of multi-attempt outcomes"
@@ -360,12 +370,218 @@ def section_prediction(rows: list[dict], out: Path, db: Path) -> Section:
             f"righting attempt is predicted in {k_tr}/{n_tr} trials ({k_tr / n_tr * 100:.0f} %); predicted "
             f"and simulated probability differ by {rmse:.2f} RMS."
         )
+    tables = [Table("Accuracy per setting", csv_path)]
+    if clean:
+        res = prediction_scores(rows, db, states_path=states_path, robot=robot, progress=progress)
+        paras.append(
+            f"Held out, θw {res.setting[0]:g}°, θl {res.setting[1]:g}°, {res.reruns} trials over {res.pairs} (Tw, Tl) "
+            "settings: "
+            + "; ".join(
+                f"{x.name} {x.correct}/{x.trials} = {x.accuracy * 100:.1f} % (95 % [{x.ci95[0] * 100:.1f}, "
+                f"{x.ci95[1] * 100:.1f}] %)"
+                for x in res.scores
+            )
+            + f". The state predictor (landscape.analysis.prediction) is fitted on the other settings' trials for "
+            f"each setting it predicts; it reads each attempt's opening state from the trials rerun with a trace "
+            f"({res.reproduced} of {res.reruns} reproduce their stored outcome)."
+        )
+        tables.append(
+            Table(
+                "Both predictors, held out (Wilson 95 %)",
+                _write_csv(
+                    out / "prediction_scores.csv",
+                    [{**x.as_json(), "ci95": f"{x.ci95[0]:.4f}-{x.ci95[1]:.4f}"} for x in res.scores],
+                ),
+            )
+        )
+        _write_csv(out / "prediction_state_trials.csv", res.per_trial)
     return Section(
         "prediction",
         title,
         tuple(paras),
         (Figure(png, "Prediction accuracy and predicted vs simulated probability", png.with_suffix(".svg")),),
-        (Table("Accuracy per setting", csv_path),),
+        tuple(tables),
+    )
+
+
+@dataclass(frozen=True)
+class PredictionScores:
+    """Both predictors scored on the prediction study (:func:`prediction_scores`).
+
+    Attributes
+    ----------
+    scores : list of PredictorScore
+        The phase map's, then the state predictor's.
+    setting : (float, float)
+        The study's (theta_w, theta_l), degrees.
+    pairs : int
+        Its (Tw, Tl) settings.
+    reruns, reproduced, new_runs : int
+        Trials rerun with a trace (from the states file or now), how many reproduce their stored outcome, and
+        how many were run now.
+    states_path : Path
+        The file of opening states (resumable: trials already in it are not run again).
+    per_trial : list of dict
+        Per trial: its setting, stored first righting attempt and each predictor's.
+    """
+
+    scores: list
+    setting: tuple[float, float]
+    pairs: int
+    reruns: int
+    reproduced: int
+    new_runs: int
+    states_path: Path
+    per_trial: list
+
+
+def _study_trials(rows: list[dict], maps: dict) -> tuple[tuple[float, float] | None, list[dict]]:
+    """The prediction study: the noise-free multi-attempt trials of the mapped (theta_w, theta_l) with the most
+    (Tw, Tl) settings that have a phase map, one trial per (Tw, Tl, phi_1) (without noise, seeds repeat it)."""
+    cands: dict[tuple[float, float], set] = {}
+    for r in rows:
+        if r["status"] != "ok" or r["attempts"] != 0 or r["cv"] != 0.0:
+            continue
+        pm = maps.get((r["theta_w_deg"], r["leg_period_s"]))
+        if pm is not None and np.isclose(pm.theta_l_deg, r["theta_l_deg"], rtol=0.0, atol=1e-9).any():
+            cands.setdefault((r["theta_w_deg"], r["theta_l_deg"]), set()).add(
+                (r["wing_period_s"], r["leg_period_s"])
+            )
+    if not cands:
+        return None, []
+    study = max(cands, key=lambda k: (len(cands[k]), k))
+    seen, out = set(), []
+    for r in sorted(rows, key=lambda r: (r["trial"], r["seed"])):
+        if r["status"] != "ok" or r["attempts"] != 0 or r["cv"] != 0.0:
+            continue
+        if (r["theta_w_deg"], r["theta_l_deg"]) != study or (
+            r["wing_period_s"],
+            r["leg_period_s"],
+        ) not in cands[study]:
+            continue
+        key = (r["wing_period_s"], r["leg_period_s"], r["phase"], r["duration_s"], r["dt_s"])
+        if key not in seen:
+            seen.add(key)
+            out.append(r)
+    return study, out
+
+
+def _read_states(path: Path) -> dict[str, dict]:
+    import json
+
+    done = {}
+    if path.is_file():
+        for line in path.read_text().splitlines():
+            try:
+                d = json.loads(line)
+            except json.JSONDecodeError:
+                continue  # a line cut short by an interruption: that trial is run again
+            if isinstance(d, dict) and "key" in d and "states" in d:
+                done[d["key"]] = d
+    return done
+
+
+def prediction_scores(
+    rows: list[dict],
+    db: Path,
+    *,
+    states_path: str | Path | None = None,
+    robot: str | Path | None = None,
+    progress: bool = True,
+) -> PredictionScores:
+    """The paper's phase-map prediction and the state predictor (:mod:`landscape.analysis.prediction`) on the
+    prediction study's trials, both held out, with Wilson 95 % intervals.
+
+    The state predictor needs each trial's opening states: every study trial is rerun with a trace (as stored:
+    :func:`rerun_trial`, checked against its stored outcome) and its states appended to ``states_path``
+    (default: beside the database, ``DB.opening-states.jsonl``); trials already there are not run again, so an
+    interrupted run resumes.
+
+    Raises
+    ------
+    UsageError
+        If the database holds no study (noise-free multi-attempt trials with a single-attempt phase map).
+    """
+    import json
+    import sys
+
+    from tqdm import tqdm
+
+    from landscape.analysis import prediction as pr
+    from landscape.analysis.energy import body_model
+    from sim.model_set import load_model_set
+
+    maps = an.phase_maps(rows)
+    study, trials = _study_trials(rows, maps)
+    if study is None:
+        raise UsageError(
+            "no noise-free multi-attempt trials with a matching single-attempt phase map; run "
+            f"`{PHASE_MAP_TL_SWEEP.format(db=db)}`, its Tl 0.8 s column and `{PREDICTION_SWEEP.format(db=db)}`"
+        )
+    base = {
+        (p.wing_period_s, p.leg_period_s, p.phase): p for p in an.predict_trials(trials, maps) if p.cv == 0.0
+    }
+    path = Path(states_path) if states_path is not None else Path(f"{db}.opening-states.jsonl")
+    done = _read_states(path)
+    todo = [r for r in trials if pr.trial_key(r) not in done]
+    if todo:
+        rb = _robot_of(todo, robot)
+        inertia = {}
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with open(path, "a") as f:
+            for r in tqdm(
+                todo, desc="opening states", unit="trial", file=sys.stderr, disable=None if progress else True
+            ):
+                res = rerun_trial(r, robot_urdf=rb.source)
+                name = r.get("model_set") or "paper"
+                if name not in inertia:
+                    inertia[name] = body_model(rb, load_model_set(name)).pose(0.0, 0.0).inertia_kg_m2
+                key = pr.trial_key(r)
+                states = pr.opening_states(res, key, inertia_kg_m2=inertia[name])
+                d = {"key": key, "reproduced": _reproduces(r, res), "states": [st.as_dict() for st in states]}
+                f.write(json.dumps(d) + "\n")
+                f.flush()
+                done[key] = d
+    per, base_ok, pairs = [], [], []
+    for r in trials:
+        d = done[pr.trial_key(r)]
+        states = [
+            pr.OpeningState(**{**st, "wing_period_s": r["wing_period_s"], "leg_period_s": r["leg_period_s"]})
+            for st in d["states"]
+        ]
+        pairs.append((r, states))
+    map_pms = {tl: m for (w, tl), m in maps.items() if w == study[0]}
+    map_attempts = pr.map_states(rows, *study)
+    state_pred = pr.held_out_state_predictions(pairs, map_pms, map_attempts, study[1])
+    state_ok = []
+    for r, predicted in state_pred:
+        stored = r["attempt"] if r["success"] else None
+        b = base[(r["wing_period_s"], r["leg_period_s"], r["phase"])]
+        base_ok.append(b.correct)
+        state_ok.append(predicted == stored)
+        per.append(
+            {
+                "wing_period_s": r["wing_period_s"],
+                "leg_period_s": r["leg_period_s"],
+                "phase": r["phase"],
+                "simulated_attempt": stored,
+                "phase_map_attempt": b.predicted_attempt,
+                "state_attempt": predicted,
+            }
+        )
+    reproduced = sum(bool(done[pr.trial_key(r)]["reproduced"]) for r in trials)
+    return PredictionScores(
+        [
+            pr.score("phase map", base_ok, held_out=True),
+            pr.score("state", state_ok, held_out=True),
+        ],
+        study,
+        len({(r["wing_period_s"], r["leg_period_s"]) for r in trials}),
+        len(trials),
+        reproduced,
+        len(todo),
+        path,
+        per,
     )
 
 

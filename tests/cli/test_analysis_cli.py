@@ -84,6 +84,35 @@ def test_report_says_which_command_produces_missing_trials(capsys, tmp_path):
     assert f"landscape sweep --db {only_map}" in html  # the paper sweep, for probability and barrier
 
 
+def test_analyze_prediction_scores_both_predictors_held_out_and_resumes(capsys, db, tmp_path):
+    """--json: one object per predictor; the study's 8 trials (74/30, Tw 2 and 2.5 s, 4 phases) are rerun once
+    into the states file, and a second run reads them back instead of running them again."""
+    import json
+
+    states = tmp_path / "states.jsonl"
+    code, out, err = run(
+        capsys, "analyze", "prediction", "--db", db, "--json", "--states", states, "--no-progress"
+    )
+    assert code == 0, err
+    scores = json.loads(out)
+    assert [s["name"] for s in scores] == ["phase map", "state"]
+    for s in scores:
+        assert set(s) == {"name", "trials", "correct", "accuracy", "ci95", "held_out"}
+        assert s["trials"] == 8 and s["held_out"] is True and s["accuracy"] == s["correct"] / 8
+        assert s["ci95"][0] <= s["accuracy"] <= s["ci95"][1]
+    lines = states.read_text().splitlines()
+    assert len(lines) == 8 and all(json.loads(x)["reproduced"] for x in lines)
+    stamp = states.stat().st_mtime_ns
+    code, out2, err = run(capsys, "analyze", "prediction", "--db", db, "--json", "--states", states)
+    assert code == 0 and json.loads(out2) == scores and states.stat().st_mtime_ns == stamp
+    code, out, err = run(
+        capsys, "analyze", "prediction", "--db", db, "--out", tmp_path / "p", "--states", states
+    )
+    assert code == 0, err
+    assert "phase map " in out and "state " in out and "held out" in out.lower()
+    assert (tmp_path / "p" / "prediction_scores.csv").is_file()
+
+
 def test_analyze_commands_write_their_files_and_refuse_bad_input(capsys, db, tmp_path):
     code, out, err = run(capsys, "analyze", "phase-map", "--db", db, "--out", tmp_path)
     assert code == 0, err
