@@ -68,9 +68,11 @@ def plot_energy_time(
         len(items), 1, figsize=(7.0, 2.6 * len(items)), squeeze=False, constrained_layout=True
     )
     for ax, (label, m, et) in zip(axes[:, 0], items, strict=True):
-        sel = np.ones(len(et.t_s), dtype=bool)
-        if window_s is not None:
-            sel = (et.t_s >= window_s[0]) & (et.t_s <= window_s[1])
+        lo, hi = (-np.inf, np.inf) if window_s is None else window_s
+        up = np.flatnonzero(m.up_z < 0)
+        if len(up):
+            hi = min(hi, float(m.t_s[up[0]]))
+        sel = (et.t_s >= lo) & (et.t_s <= hi)
         t = et.t_s[sel]
         along = et.ke_along_j()[sel] * 1e3
         ax.plot(t, et.ke_j[sel] * 1e3, color="0.6", lw=0.8, label="kinetic energy, whole")
@@ -82,9 +84,11 @@ def plot_energy_time(
             if t.size and t[0] <= s <= t[-1]:
                 ax.axvline(s, color="#1a9850" if ok else "0.5", lw=0.8, ls=":")
         ax.set_yscale("symlog", linthresh=1.0)
+        ax.set_ylim(-1.0, None)
         ax.set_ylabel("energy (mJ)")
         ax.set_title(label, fontsize=9)
         ax.grid(True, alpha=0.3)
     axes[-1, 0].set_xlabel("time (s)")
-    axes[0, 0].legend(fontsize=7, ncols=2, loc="upper right")
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=7, ncols=3, loc="outside lower center")
     return save(fig, png, svg_too=True, dpi=130, bbox_inches="tight")
