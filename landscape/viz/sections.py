@@ -371,8 +371,13 @@ def section_prediction(
             f"and simulated probability differ by {rmse:.2f} RMS."
         )
     tables = [Table("Accuracy per setting", csv_path)]
+    res = None
     if clean:
-        res = prediction_scores(rows, db, states_path=states_path, robot=robot, progress=progress)
+        try:
+            res = prediction_scores(rows, db, states_path=states_path, robot=robot, progress=progress)
+        except UsageError as exc:  # e.g. the trials' robot file moved: the phase map's numbers still stand
+            paras.append(f"The prediction that knows each attempt's state needs the trials rerun: {exc}")
+    if res is not None:
         paras.append(
             f"Held out, θw {res.setting[0]:g}°, θl {res.setting[1]:g}°, {res.reruns} trials over {res.pairs} (Tw, Tl) "
             "settings: "

@@ -152,6 +152,7 @@ def test_quaternion_rates_recover_a_constant_body_rate():
     np.testing.assert_allclose(rates, np.broadcast_to(w, rates.shape), atol=1e-9)
 
 
+@pytest.mark.shared
 @needs_physical
 def test_gyro_and_differentiated_quaternions_agree_on_every_recorded_first_opening():
     """Over the first second of each recording's first opening, the rotational kinetic energy integrated over
