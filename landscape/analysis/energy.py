@@ -32,6 +32,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -118,9 +119,18 @@ class BodyModel:
         names = self.robot.joint_map.wing
         return {n: float(theta_w_deg) * s for n, s in zip(names, self.wing_shares, strict=True)}
 
+    @cached_property
+    def limits_deg(self) -> tuple[tuple[float, float], tuple[float, float]]:
+        """The theta_w range that keeps every wing joint within its limits, and the leg's range, degrees."""
+        lim = self.robot.theta_limits_deg()
+        top_share = max(self.wing_shares) if self.wing_shares else 1.0
+        return (lim["theta_w"][0] / top_share, lim["theta_w"][1] / top_share), lim["theta_l"]
+
     def pose(self, theta_w_deg: float, theta_l_deg: float):
-        """The posed rigid body (:class:`geometry.Pose`) at the angles rounded to ``POSE_ROUND_DEG``, cached."""
-        key = (_round(theta_w_deg), _round(theta_l_deg))
+        """The posed rigid body (:class:`geometry.Pose`) at the angles rounded to ``POSE_ROUND_DEG`` and held within
+        the joints' limits (a measured profile can dip a degree below a closed wing), cached."""
+        (w_lo, w_hi), (l_lo, l_hi) = self.limits_deg
+        key = (_round(min(max(theta_w_deg, w_lo), w_hi)), _round(min(max(theta_l_deg, l_lo), l_hi)))
         if key not in self._poses:
             from landscape.computation import posed
 
@@ -792,15 +802,12 @@ def energy_budget(
     if not motions:
         raise UsageError("no trace to measure: give at least one simulated or recorded trial")
     if table is None:
-        lim = body.robot.theta_limits_deg()
-        wing_hi = lim["theta_w"]
-        if body.wing_shares is not None:  # the joint driven furthest must stay within its limit
-            wing_hi = (wing_hi[0], wing_hi[1] / max(body.wing_shares))
+        wing_lim, leg_lim = body.limits_deg  # the joint driven furthest stays within its limit
         ws, ls = table_axes(
             np.concatenate([m.wing_deg for m in motions]),
             np.concatenate([m.leg_deg for m in motions]),
-            wing_limits_deg=wing_hi,
-            leg_limits_deg=lim["theta_l"],
+            wing_limits_deg=wing_lim,
+            leg_limits_deg=leg_lim,
         )
         table = barrier_table(body, ws, ls, progress=progress)
     traces = [energy_trace(m, body, table) for m in motions]
