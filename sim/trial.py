@@ -100,6 +100,11 @@ class Trace:
         ndarray of shape (N,): time (s); body pitch and roll (deg); world-up's body-z component; CoM height (m);
         potential energy m g z_com (J); commanded and measured wing angle (mean of the wing joints) and leg
         angle (deg).
+    omega_body_rad_s : ndarray of shape (N, 3) or None
+        The body's (base link's) angular velocity in the body frame, rad/s, from the engine (not in
+        ``COLUMNS``: a trace file holds the ten columns only).
+    com_velocity_m_s : ndarray of shape (N, 3) or None
+        Velocity of the whole robot's mass-weighted CoM in the world frame, m/s, from the engine.
     """
 
     t_s: NDArray[np.float64]
@@ -112,6 +117,8 @@ class Trace:
     wing_deg: NDArray[np.float64]
     leg_cmd_deg: NDArray[np.float64]
     leg_deg: NDArray[np.float64]
+    omega_body_rad_s: NDArray[np.float64] | None = field(default=None, repr=False)
+    com_velocity_m_s: NDArray[np.float64] | None = field(default=None, repr=False)
 
     COLUMNS = (
         "t_s",
@@ -553,8 +560,9 @@ def run_trial(
     attempt = int(np.searchsorted(starts, run.t_right, side="right")) if run.success else None
     tr = None
     if trace:
-        a = np.asarray(run.rows, dtype=np.float64).reshape(-1, len(Trace.COLUMNS))
-        tr = Trace(*(a[:, k].copy() for k in range(a.shape[1])))
+        n = len(Trace.COLUMNS)
+        a = np.asarray(run.rows, dtype=np.float64).reshape(-1, n + 6)
+        tr = Trace(*(a[:, k].copy() for k in range(n)), a[:, n : n + 3].copy(), a[:, n + 3 :].copy())
     return TrialResult(
         theta_w_deg=theta_w_deg,
         theta_l_deg=theta_l_deg,
@@ -768,4 +776,6 @@ def _trace_row(world: World, t_s: float, wing_cmd_deg: float, leg_cmd_deg: float
         float(q[:n_wing].mean()),
         leg_cmd_deg,
         float(q[n_wing:].mean()),
+        *world.angular_velocity_in_body().tolist(),
+        *world.com_velocity_m_s().tolist(),
     ]

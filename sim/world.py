@@ -549,6 +549,23 @@ class World:
         u = np.array([m[6], m[7], m[8]])  # in the base's inertial frame
         return u if self._inertial_rot is None else self._inertial_rot @ u
 
+    def angular_velocity_in_body(self) -> NDArray[np.float64]:
+        """The base link's angular velocity expressed in the base link's frame (the body frame), rad/s."""
+        _, q = self.base_pose()
+        m = np.array(pb.getMatrixFromQuaternion(q, physicsClientId=self.cid)).reshape(3, 3)
+        w = m.T @ np.asarray(self.base_velocity()[1], dtype=np.float64)  # in the base's inertial frame
+        return w if self._inertial_rot is None else self._inertial_rot @ w
+
+    def com_velocity_m_s(self) -> NDArray[np.float64]:
+        """Velocity of the robot's mass-weighted CoM in the world frame, m/s (every link's CoM velocity)."""
+        v = [self.base_velocity()[0]]
+        if self.n_joints:
+            states = pb.getLinkStates(
+                self.body, list(range(self.n_joints)), computeLinkVelocity=1, physicsClientId=self.cid
+            )
+            v += [s[6] for s in states]
+        return self.link_mass_kg @ np.asarray(v, dtype=np.float64) / self.mass_kg
+
     def joint_positions_rad(self) -> NDArray[np.float64]:
         """Positions of the driven joints, rad."""
         return np.array([s[0] for s in pb.getJointStates(self.body, self.driven, physicsClientId=self.cid)])

@@ -10,7 +10,7 @@ from pathlib import Path
 import click
 
 from geometry.errors import UsageError
-from landscape.cli.options import leg_period_option, robot_option, wing_period_option
+from landscape.cli.options import leg_period_option, no_progress_option, robot_option, wing_period_option
 from sim.protocol import PAPER_LEG_PERIOD_S
 
 TRIALS_ROBOT = robot_option(
@@ -71,6 +71,17 @@ OUT_OPT = click.option(
 )
 
 
+def physical_dir_option(help_text: str):
+    """``--physical DIR``: the lab's data-robot folder (an existing directory)."""
+    return click.option(
+        "--physical",
+        "physical_dir",
+        type=click.Path(exists=True, file_okay=False, path_type=Path),
+        default=None,
+        help=help_text,
+    )
+
+
 @click.group("analyze")
 def analyze():
     """The source paper's analyses from a trial database (CSV + PNG/SVG)."""
@@ -111,9 +122,66 @@ def phase_map_cmd(db, out, leg_period):
 @analyze.command("prediction")
 @DB_OPT
 @OUT_OPT
-def prediction_cmd(db, out):
-    """Phase-based prediction of the first righting attempt against simulation (Fig. 8)."""
-    _echo_section(_sections().section_prediction(_sections().load_rows(db), _out(out), db))
+@click.option(
+    "--json",
+    "as_json",
+    is_flag=True,
+    help="Print one JSON object per predictor (name, trials, correct, accuracy, "
+    "ci95, held_out) and nothing else.",
+)
+@click.option(
+    "--states",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="File of the study trials' opening states, appended as they are rerun (resumable) [default: DB.opening-"
+    "states.jsonl beside the database].",
+)
+@TRIALS_ROBOT
+@no_progress_option
+def prediction_cmd(db, out, as_json, states, robot, no_progress):
+    """Prediction of the first righting attempt against simulation (Fig. 8): the paper's phase map and a predictor
+    that also knows the state each attempt starts from, both scored on held-out trials with 95 % intervals
+    (reruns the study's trials with a trace once, resumably)."""
+    s = _sections()
+    rows = s.load_rows(db)
+    kw = dict(states_path=states, robot=_robot_file(robot), progress=not no_progress)
+    if as_json:
+        res = s.prediction_scores(rows, db, **kw)
+        click.echo(json.dumps([x.as_json() for x in res.scores], indent=1))
+        return
+    _echo_section(s.section_prediction(rows, _out(out), db, **kw))
+
+
+@analyze.command("energy")
+@DB_OPT
+@OUT_OPT
+@click.option(
+    "--sample",
+    type=int,
+    default=None,
+    help="Multi-attempt trials to rerun with a trace, a count from 1 to those stored [default: 8, or all if fewer].",
+)
+@physical_dir_option(
+    "The lab's data-robot folder: put the robot's recorded attempts beside the simulated ones (model set "
+    "physical-head) [default: simulated only]."
+)
+@TRIALS_ROBOT
+@no_progress_option
+def energy_cmd(db, out, sample, physical_dir, robot, no_progress):
+    """Kinetic energy against the barrier, attempt by attempt: reruns stored multi-attempt trials with a trace
+    (checking each against its stored outcome), writes energy.csv (one row per attempt) and energy.png."""
+    s = _sections()
+    _echo_section(
+        s.section_energy(
+            s.load_rows(db),
+            _out(out),
+            db,
+            sample=sample,
+            robot=_robot_file(robot),
+            physical_dir=physical_dir,
+            progress=not no_progress,
+        )
+    )
 
 
 @analyze.command("evolution")
@@ -221,14 +289,10 @@ def barrier_cmd(db, out, step, phase, robot):
     show_default=True,
     help="Open the page in headless Chromium: no console errors, every image loaded, a screenshot.",
 )
-@click.option(
-    "--physical",
-    "physical_dir",
-    type=click.Path(exists=True, file_okay=False, path_type=Path),
-    default=None,
-    help="The lab's data-robot folder (e.g. ../shared/ref/physical_robot): add a section with the physical "
+@physical_dir_option(
+    "The lab's data-robot folder (e.g. ../shared/ref/physical_robot): add a section with the physical "
     "robot's recorded attempts at each wing angle over the landscape at its measured wing plateau, and its "
-    "trials' outcomes per setting [default: no physical section].",
+    "trials' outcomes per setting, and its attempts to the energy section [default: no physical section]."
 )
 @click.option(
     "--validation",

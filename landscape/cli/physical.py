@@ -66,6 +66,54 @@ def table_cmd(data, out):
     click.echo(f"wrote {write_rows_csv(cells, Path(out) / 'cells.csv')}")
 
 
+@physical.command("energy")
+@DATA_OPT
+@robot_option(
+    extra_help="The model the recordings are posed on (the lab's is ../shared/ref/lab_robot/lab_robot.urdf)."
+)
+@click.option(
+    "--model",
+    "model_set",
+    type=str,
+    default="physical-head",
+    show_default=True,
+    help="Model parameter set that poses the robot (its wing and leg timing, its geometry): a shipped name or a "
+    ".toml file.",
+)
+@click.option(
+    "--out",
+    type=click.Path(file_okay=False, path_type=Path),
+    default="physical-energy",
+    show_default=True,
+    help="Output directory for energy.csv and energy.png.",
+)
+@no_progress_option
+def energy_cmd(data, robot, model_set, out, no_progress):
+    """Kinetic energy against the barrier in every recorded attempt: energy.csv (one row per attempt), energy.png,
+    and how often the energy margin's sign matches the outcome beside the barrier alone."""
+    from landscape.analysis import energy as en
+    from landscape.cli.options import load_robot, writable_dir
+    from landscape.viz.sections import ENERGY_METHOD, energy_files, energy_paragraphs
+    from sim.model_set import load_model_set
+
+    writable_dir(out, "--out")
+    rec = en.recorded_motions(data, load_robot(robot, None), load_model_set(model_set))
+    rows, _, csv_path, png = energy_files(
+        Path(out),
+        [(rec.body, rec.motions)],
+        title=f"The robot's attempts (model {rec.model_set})",
+        progress=not no_progress,
+    )
+    click.echo(ENERGY_METHOD)
+    click.echo(
+        f"{len(rec.motions)} recorded trials; IMU mounting {rec.mount_deg:.1f} deg; model {rec.model_set}"
+    )
+    for p in energy_paragraphs(rows):
+        click.echo(p)
+    click.echo(f"wrote {csv_path}")
+    click.echo(f"wrote {png} and {png.with_suffix('.svg')}")
+
+
 @physical.command("kinematics")
 @DATA_OPT
 @robot_option(extra_help="The model to compare (the lab's is ../shared/ref/lab_robot/lab_robot.urdf).")

@@ -264,8 +264,18 @@ def section_phase_map(rows: list[dict], out: Path, db: Path, *, leg_period_s: fl
     )
 
 
-def section_prediction(rows: list[dict], out: Path, db: Path) -> Section:
-    """Fig. 8 analogue: phase-based prediction of the first righting attempt against simulation."""
+def section_prediction(
+    rows: list[dict],
+    out: Path,
+    db: Path,
+    *,
+    states_path: str | Path | None = None,
+    robot: str | Path | None = None,
+    progress: bool = True,
+) -> Section:
+    """Fig. 8 analogue: phase-based prediction of the first righting attempt against simulation, and beside it
+    the prediction that also knows the state each attempt starts from (:func:`prediction_scores`, both held out;
+    its opening states in ``states_path``), written to ``out/prediction_scores.csv``."""
     from landscape.viz.analysis_plots import plot_prediction
 
     title = "Phase-based prediction of multi-attempt outcomes"
@@ -360,12 +370,223 @@ def section_prediction(rows: list[dict], out: Path, db: Path) -> Section:
             f"righting attempt is predicted in {k_tr}/{n_tr} trials ({k_tr / n_tr * 100:.0f} %); predicted "
             f"and simulated probability differ by {rmse:.2f} RMS."
         )
+    tables = [Table("Accuracy per setting", csv_path)]
+    res = None
+    if clean:
+        try:
+            res = prediction_scores(rows, db, states_path=states_path, robot=robot, progress=progress)
+        except UsageError as exc:  # e.g. the trials' robot file moved: the phase map's numbers still stand
+            paras.append(f"The prediction that knows each attempt's state needs the trials rerun: {exc}")
+    if res is not None:
+        paras.append(
+            f"Held out, θw {res.setting[0]:g}°, θl {res.setting[1]:g}°, {res.reruns} trials over {res.pairs} (Tw, Tl) "
+            "settings: "
+            + "; ".join(
+                f"{x.name} {x.correct}/{x.trials} = {x.accuracy * 100:.1f} % (95 % [{x.ci95[0] * 100:.1f}, "
+                f"{x.ci95[1] * 100:.1f}] %)"
+                for x in res.scores
+            )
+            + f". The state predictor (landscape.analysis.prediction) is fitted on the other settings' trials for "
+            f"each setting it predicts; it reads each attempt's opening state from the trials rerun with a trace "
+            f"({res.reproduced} of {res.reruns} reproduce their stored outcome)."
+        )
+        tables.append(
+            Table(
+                "Both predictors, held out (Wilson 95 %)",
+                _write_csv(
+                    out / "prediction_scores.csv",
+                    [{**x.as_json(), "ci95": f"{x.ci95[0]:.4f}-{x.ci95[1]:.4f}"} for x in res.scores],
+                ),
+            )
+        )
+        _write_csv(out / "prediction_state_trials.csv", res.per_trial)
     return Section(
         "prediction",
         title,
         tuple(paras),
         (Figure(png, "Prediction accuracy and predicted vs simulated probability", png.with_suffix(".svg")),),
-        (Table("Accuracy per setting", csv_path),),
+        tuple(tables),
+    )
+
+
+@dataclass(frozen=True)
+class PredictionScores:
+    """Both predictors scored on the prediction study (:func:`prediction_scores`).
+
+    Attributes
+    ----------
+    scores : list of PredictorScore
+        The phase map's, then the state predictor's.
+    setting : (float, float)
+        The study's (theta_w, theta_l), degrees.
+    pairs : int
+        Its (Tw, Tl) settings.
+    reruns, reproduced, new_runs : int
+        Trials rerun with a trace (from the states file or now), how many reproduce their stored outcome, and
+        how many were run now.
+    states_path : Path
+        The file of opening states (resumable: trials already in it are not run again).
+    per_trial : list of dict
+        Per trial: its setting, stored first righting attempt and each predictor's.
+    """
+
+    scores: list
+    setting: tuple[float, float]
+    pairs: int
+    reruns: int
+    reproduced: int
+    new_runs: int
+    states_path: Path
+    per_trial: list
+
+
+def _study_trials(rows: list[dict], maps: dict) -> tuple[tuple[float, float] | None, list[dict]]:
+    """The prediction study: the noise-free multi-attempt trials of the mapped (theta_w, theta_l) with the most
+    (Tw, Tl) settings that have a phase map, one trial per (Tw, Tl, phi_1) (without noise, seeds repeat it)."""
+    cands: dict[tuple[float, float], set] = {}
+    for r in rows:
+        if r["status"] != "ok" or r["attempts"] != 0 or r["cv"] != 0.0:
+            continue
+        pm = maps.get((r["theta_w_deg"], r["leg_period_s"]))
+        if pm is not None and np.isclose(pm.theta_l_deg, r["theta_l_deg"], rtol=0.0, atol=1e-9).any():
+            cands.setdefault((r["theta_w_deg"], r["theta_l_deg"]), set()).add(
+                (r["wing_period_s"], r["leg_period_s"])
+            )
+    if not cands:
+        return None, []
+    study = max(cands, key=lambda k: (len(cands[k]), k))
+    seen, out = set(), []
+    for r in sorted(rows, key=lambda r: (r["trial"], r["seed"])):
+        if r["status"] != "ok" or r["attempts"] != 0 or r["cv"] != 0.0:
+            continue
+        if (r["theta_w_deg"], r["theta_l_deg"]) != study or (
+            r["wing_period_s"],
+            r["leg_period_s"],
+        ) not in cands[study]:
+            continue
+        key = (r["wing_period_s"], r["leg_period_s"], r["phase"], r["duration_s"], r["dt_s"])
+        if key not in seen:
+            seen.add(key)
+            out.append(r)
+    return study, out
+
+
+def _read_states(path: Path) -> dict[str, dict]:
+    import json
+
+    done = {}
+    if path.is_file():
+        for line in path.read_text().splitlines():
+            try:
+                d = json.loads(line)
+            except json.JSONDecodeError:
+                continue  # a line cut short by an interruption: that trial is run again
+            if isinstance(d, dict) and "key" in d and "states" in d:
+                done[d["key"]] = d
+    return done
+
+
+def prediction_scores(
+    rows: list[dict],
+    db: Path,
+    *,
+    states_path: str | Path | None = None,
+    robot: str | Path | None = None,
+    progress: bool = True,
+) -> PredictionScores:
+    """The paper's phase-map prediction and the state predictor (:mod:`landscape.analysis.prediction`) on the
+    prediction study's trials, both held out, with Wilson 95 % intervals.
+
+    The state predictor needs each trial's opening states: every study trial is rerun with a trace (as stored:
+    :func:`rerun_trial`, checked against its stored outcome) and its states appended to ``states_path``
+    (default: beside the database, ``DB.opening-states.jsonl``); trials already there are not run again, so an
+    interrupted run resumes.
+
+    Raises
+    ------
+    UsageError
+        If the database holds no study (noise-free multi-attempt trials with a single-attempt phase map).
+    """
+    import json
+    import sys
+
+    from tqdm import tqdm
+
+    from landscape.analysis import prediction as pr
+    from landscape.analysis.energy import body_model
+    from sim.model_set import load_model_set
+
+    maps = an.phase_maps(rows)
+    study, trials = _study_trials(rows, maps)
+    if study is None:
+        raise UsageError(
+            "no noise-free multi-attempt trials with a matching single-attempt phase map; run "
+            f"`{PHASE_MAP_TL_SWEEP.format(db=db)}`, its Tl 0.8 s column and `{PREDICTION_SWEEP.format(db=db)}`"
+        )
+    base = {
+        (p.wing_period_s, p.leg_period_s, p.phase): p for p in an.predict_trials(trials, maps) if p.cv == 0.0
+    }
+    path = Path(states_path) if states_path is not None else Path(f"{db}.opening-states.jsonl")
+    done = _read_states(path)
+    todo = [r for r in trials if pr.trial_key(r) not in done]
+    if todo:
+        rb = _robot_of(todo, robot)
+        inertia = {}
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with open(path, "a") as f:
+            for r in tqdm(
+                todo, desc="opening states", unit="trial", file=sys.stderr, disable=None if progress else True
+            ):
+                res = rerun_trial(r, robot_urdf=rb.source)
+                name = r.get("model_set") or "paper"
+                if name not in inertia:
+                    inertia[name] = body_model(rb, load_model_set(name)).pose(0.0, 0.0).inertia_kg_m2
+                key = pr.trial_key(r)
+                states = pr.opening_states(res, key, inertia_kg_m2=inertia[name])
+                d = {"key": key, "reproduced": _reproduces(r, res), "states": [st.as_dict() for st in states]}
+                f.write(json.dumps(d) + "\n")
+                f.flush()
+                done[key] = d
+    per, base_ok, pairs = [], [], []
+    for r in trials:
+        d = done[pr.trial_key(r)]
+        states = [
+            pr.OpeningState(**{**st, "wing_period_s": r["wing_period_s"], "leg_period_s": r["leg_period_s"]})
+            for st in d["states"]
+        ]
+        pairs.append((r, states))
+    map_pms = {tl: m for (w, tl), m in maps.items() if w == study[0]}
+    map_attempts = pr.map_states(rows, *study)
+    state_pred = pr.held_out_state_predictions(pairs, map_pms, map_attempts, study[1])
+    state_ok = []
+    for r, predicted in state_pred:
+        stored = r["attempt"] if r["success"] else None
+        b = base[(r["wing_period_s"], r["leg_period_s"], r["phase"])]
+        base_ok.append(b.correct)
+        state_ok.append(predicted == stored)
+        per.append(
+            {
+                "wing_period_s": r["wing_period_s"],
+                "leg_period_s": r["leg_period_s"],
+                "phase": r["phase"],
+                "simulated_attempt": stored,
+                "phase_map_attempt": b.predicted_attempt,
+                "state_attempt": predicted,
+            }
+        )
+    reproduced = sum(bool(done[pr.trial_key(r)]["reproduced"]) for r in trials)
+    return PredictionScores(
+        [
+            pr.score("phase map", base_ok, held_out=True),
+            pr.score("state", state_ok, held_out=True),
+        ],
+        study,
+        len({(r["wing_period_s"], r["leg_period_s"]) for r in trials}),
+        len(trials),
+        reproduced,
+        len(todo),
+        path,
+        per,
     )
 
 
@@ -871,6 +1092,203 @@ def section_trajectories(
     )
 
 
+ENERGY_TRIALS = 8
+"""How many multi-attempt trials the energy section reruns with a trace, by default."""
+
+
+def energy_reruns(
+    rows: list[dict], db, *, sample: int | None = None, robot: str | Path | None = None, progress: bool = True
+):
+    """Up to ``sample`` (default :data:`ENERGY_TRIALS`) multi-attempt trials of ``rows``, both outcomes
+    alternately in trial order, rerun with a trace (:func:`rerun_trial`) and checked against their stored
+    outcome.
+
+    Returns
+    -------
+    groups : list of (BodyModel, list of Motion)
+        The reruns' motions, one group per model set, each with the robot as its set poses it.
+    records : list of dict
+        Per rerun: trial, seed, stored and rerun outcome and time to right, ``reproduced``.
+
+    Raises
+    ------
+    UsageError
+        If ``rows`` is empty or holds no multi-attempt trial, or ``sample`` is below 1 or above their number.
+    """
+    import sys
+
+    from tqdm import tqdm
+
+    from landscape.analysis import energy as en
+    from sim.model_set import load_model_set
+
+    if not rows:
+        raise UsageError(f"'{db}' holds no trials; run `{PAPER_SWEEP.format(db=db)}` first")
+    multi = [r for r in rows if r["status"] == "ok" and r["attempts"] == 0]
+    if not multi:
+        raise UsageError(
+            f"'{db}' holds no multi-attempt trials (attempts without limit), whose attempts the energy budget "
+            f"measures; run `{PAPER_SWEEP.format(db=db)}`"
+        )
+    if sample is not None and not 1 <= sample <= len(multi):
+        raise UsageError(
+            f"a sample of {sample} trials is not within the {len(multi)} multi-attempt trials of '{db}'; ask for "
+            f"1 to {len(multi)}"
+        )
+    chosen = _both_outcomes_first(multi, min(ENERGY_TRIALS if sample is None else sample, len(multi)))
+    rb = _robot_of(chosen, robot)
+    by_set: dict[str, list] = {}
+    records = []
+    for r in tqdm(chosen, desc="reruns", unit="trial", file=sys.stderr, disable=None if progress else True):
+        res = rerun_trial(r, robot_urdf=rb.source)
+        by_set.setdefault(r.get("model_set") or "paper", []).append(
+            en.simulated_motion(res, trial=f"seed {r['seed']}")
+        )
+        records.append(
+            {
+                "trial": r["trial"],
+                "seed": r["seed"],
+                "model_set": r.get("model_set") or "paper",
+                "stored_success": int(bool(r["success"])),
+                "rerun_success": int(res.success),
+                "stored_time_to_right_s": r["time_to_right_s"],
+                "rerun_time_to_right_s": res.time_to_right_s,
+                "reproduced": int(_reproduces(r, res)),
+            }
+        )
+    groups = [(en.body_model(rb, load_model_set(name)), motions) for name, motions in by_set.items()]
+    return groups, records
+
+
+def energy_files(out: Path, groups, *, title: str, progress: bool = True):
+    """The energy budget of each (BodyModel, motions) group (:func:`landscape.analysis.energy.energy_budget`,
+    one barrier table per group), written as ``out/energy.csv`` (one row per attempt) and ``out/energy.png``
+    (and .svg). Returns the attempt rows, the traces (as (motion, trace) pairs), the CSV and the PNG."""
+    import sys
+
+    from tqdm import tqdm
+
+    from landscape.analysis import energy as en
+    from landscape.viz.energy_plots import plot_energy_attempts
+
+    rows, traces = [], []
+    for body, motions in groups:
+        with tqdm(
+            desc="barrier table", unit="pose", file=sys.stderr, disable=None if progress else True
+        ) as bar:
+            _, ets, attempt_rows = en.energy_budget(motions, body, progress=bar.update)
+        rows += attempt_rows
+        traces += list(zip(motions, ets, strict=True))
+    csv_path = _write_csv(out / "energy.csv", [r.row() for r in rows])
+    png = plot_energy_attempts(rows, out / "energy.png", title=title)
+    return rows, traces, csv_path, png
+
+
+def energy_paragraphs(rows) -> list[str]:
+    """One sentence per source: attempts, righted, and how often the margin's sign and the barrier alone match
+    the outcome (Wilson 95 % intervals)."""
+    from landscape.analysis import energy as en
+
+    out = []
+    for source in en.SOURCES:
+        g = [r for r in rows if r.source == source]
+        if not g:
+            continue
+        agree = en.sign_agreement(g)
+        ratio = [r.ke_peak_mj / r.barrier_mj for r in g if math.isfinite(r.barrier_mj) and r.barrier_mj > 0]
+        out.append(
+            f"{source.capitalize()}: {len(g)} attempts of {len({r.trial for r in g})} trials, "
+            f"{sum(r.success for r in g)} righted; peak kinetic energy in the barrier's direction over the barrier "
+            f"median {np.median(ratio):.2g} (largest {max(ratio):.2g}). "
+            + "; ".join(
+                f"{a.name} matches the outcome in {a.correct}/{a.attempts} ({a.accuracy * 100:.0f} %, 95 % "
+                f"[{a.ci_low * 100:.0f}, {a.ci_high * 100:.0f}] %)"
+                for a in agree
+            )
+            + " (the barrier threshold is the best one on these same attempts)."
+        )
+    return out
+
+
+ENERGY_METHOD = (
+    "Per attempt, from the opening until the wings start closing or the body turns upright: kinetic energy of "
+    "rotation about the CoM with the posed robot's inertia, split into body-axis shares (roll, pitch, yaw) that sum "
+    "to it, plus the CoM's translation; the minimal righting barrier at the pose held (a barrier map over the poses "
+    "visited, exact method, interpolated); the height above the basin's minimum. The margin is the largest value "
+    "of kinetic energy in the barrier's direction plus height minus barrier; a positive margin says the attempt had "
+    "the energy to cross. Simulated velocities come from the engine; recorded ones from the gyro (body frame: the "
+    "IMU's mounting measured from the two rests), the CoM taken as rolling about the lowest hull point."
+)
+
+
+def section_energy(
+    rows: list[dict],
+    out: Path,
+    db: Path,
+    *,
+    robot: str | Path | None = None,
+    physical_dir: str | Path | None = None,
+    sample: int | None = None,
+    physical_set: str | None = None,
+    progress: bool = True,
+) -> Section:
+    """The energy budget of up to ``sample`` (default :data:`ENERGY_TRIALS`) rerun multi-attempt trials
+    (:func:`energy_reruns`) and, with ``physical_dir``, of the robot's recorded trials (model set
+    ``physical_set``, default :data:`landscape.analysis.energy.DEFAULT_PHYSICAL_SET`, on the lab robot of
+    ``robot`` or the trials'), on one figure: ``out/energy.csv``, ``out/energy.png``, ``out/energy_reruns.csv``.
+    A database without multi-attempt trials leaves the section missing (with the sweep to run)."""
+    from landscape.analysis import energy as en
+    from sim.model_set import load_model_set
+
+    title = "Energy budget of the attempts"
+    try:
+        groups, records = energy_reruns(rows, db, sample=sample, robot=robot, progress=progress)
+    except UsageError as exc:
+        if sample is not None or physical_dir is None:
+            return Section("energy", title, missing=str(exc))
+        groups, records = [], []
+    paras = [ENERGY_METHOD]
+    tables = []
+    if records:
+        same = sum(x["reproduced"] for x in records)
+        paras.append(
+            f"{len(records)} multi-attempt trials rerun with a trace (seeds "
+            f"{', '.join(str(x['seed']) for x in records)}): {same} of {len(records)} reproduce their stored outcome "
+            f"(success and time to right within {RERUN_TTR_TOL_S * 1e6:g} µs)."
+        )
+        tables.append(
+            Table("Reruns against the stored outcomes", _write_csv(out / "energy_reruns.csv", records))
+        )
+    if physical_dir is not None:
+        ms = load_model_set(physical_set or en.DEFAULT_PHYSICAL_SET)
+        rec = en.recorded_motions(physical_dir, _robot_of(rows, robot), ms)
+        groups = [*groups, (rec.body, rec.motions)]
+        paras.append(
+            f"Recorded: {len(rec.motions)} trials of the robot, posed by model set {rec.model_set}, IMU mounting "
+            f"{rec.mount_deg:.1f}°."
+        )
+    attempt_rows, _, csv_path, png = energy_files(
+        out,
+        groups,
+        title="Peak kinetic energy in the barrier's direction against the barrier",
+        progress=progress,
+    )
+    paras += energy_paragraphs(attempt_rows)
+    return Section(
+        "energy",
+        title,
+        tuple(paras),
+        (
+            Figure(
+                png,
+                "Peak kinetic energy in the barrier's direction against the barrier",
+                png.with_suffix(".svg"),
+            ),
+        ),
+        (Table("One row per attempt", csv_path), *tables),
+    )
+
+
 def section_physical(
     rows: list[dict],
     out: Path,
@@ -1194,9 +1612,12 @@ SECTIONS = {
     "phase evolution": section_evolution,
     "barrier vs outcome": section_barrier,
     "trajectories": section_trajectories,
+    "energy": section_energy,
 }
 #: sections that take the trials' robot (``robot=``)
-_ROBOT_SECTIONS = {"barrier vs outcome", "trajectories"}
+_ROBOT_SECTIONS = {"barrier vs outcome", "trajectories", "energy"}
+#: sections that also take the physical data directory (``physical_dir=``)
+_PHYSICAL_SECTIONS = {"energy"}
 
 
 def build_report(
@@ -1227,7 +1648,10 @@ def build_report(
     sections = []
     for name, fn in SECTIONS.items():
         t0 = time.perf_counter()
-        sections.append(fn(rows, out, db, robot=robot) if name in _ROBOT_SECTIONS else fn(rows, out, db))
+        kw = {"robot": robot} if name in _ROBOT_SECTIONS else {}
+        if name in _PHYSICAL_SECTIONS:
+            kw["physical_dir"] = physical_dir
+        sections.append(fn(rows, out, db, **kw))
         timings[name] = time.perf_counter() - t0
     if physical_dir is not None:
         t0 = time.perf_counter()

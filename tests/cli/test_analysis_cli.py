@@ -42,7 +42,7 @@ def test_report_builds_every_analysis_from_a_real_database(capsys, db, tmp_path)
     out = tmp_path / "report"
     code, stdout, err = run(capsys, "report", "--db", db, "--out", out)
     assert code == 0, err
-    assert "6/6 analyses" in stdout
+    assert "7/7 analyses" in stdout
     html = (out / "index.html").read_text()
     for title in (
         "Self-righting probability",
@@ -51,6 +51,7 @@ def test_report_builds_every_analysis_from_a_real_database(capsys, db, tmp_path)
         "Phase evolution",
         "Barrier against outcome",
         "Trajectories of simulated trials",
+        "Energy budget of the attempts",
     ):
         assert title in html
     assert "Not enough data" not in html
@@ -67,6 +68,9 @@ def test_report_builds_every_analysis_from_a_real_database(capsys, db, tmp_path)
     reruns = _csv(out / "trajectories.csv")
     assert len(reruns) == 3 and all(r["reproduced"] == "1" for r in reruns)  # the 3 trials of one setting
     assert (out / "trajectories" / "trajectories_contour.png").stat().st_size > 1000
+    energy = _csv(out / "energy.csv")
+    assert energy and {r["source"] for r in energy} == {"simulated"}
+    assert all(r["reproduced"] == "1" for r in _csv(out / "energy_reruns.csv"))
 
 
 def test_report_says_which_command_produces_missing_trials(capsys, tmp_path):
@@ -78,6 +82,35 @@ def test_report_says_which_command_produces_missing_trials(capsys, tmp_path):
     assert "missing data for" in stdout
     html = (tmp_path / "r" / "index.html").read_text()
     assert f"landscape sweep --db {only_map}" in html  # the paper sweep, for probability and barrier
+
+
+def test_analyze_prediction_scores_both_predictors_held_out_and_resumes(capsys, db, tmp_path):
+    """--json: one object per predictor; the study's 8 trials (74/30, Tw 2 and 2.5 s, 4 phases) are rerun once
+    into the states file, and a second run reads them back instead of running them again."""
+    import json
+
+    states = tmp_path / "states.jsonl"
+    code, out, err = run(
+        capsys, "analyze", "prediction", "--db", db, "--json", "--states", states, "--no-progress"
+    )
+    assert code == 0, err
+    scores = json.loads(out)
+    assert [s["name"] for s in scores] == ["phase map", "state"]
+    for s in scores:
+        assert set(s) == {"name", "trials", "correct", "accuracy", "ci95", "held_out"}
+        assert s["trials"] == 8 and s["held_out"] is True and s["accuracy"] == s["correct"] / 8
+        assert s["ci95"][0] <= s["accuracy"] <= s["ci95"][1]
+    lines = states.read_text().splitlines()
+    assert len(lines) == 8 and all(json.loads(x)["reproduced"] for x in lines)
+    stamp = states.stat().st_mtime_ns
+    code, out2, err = run(capsys, "analyze", "prediction", "--db", db, "--json", "--states", states)
+    assert code == 0 and json.loads(out2) == scores and states.stat().st_mtime_ns == stamp
+    code, out, err = run(
+        capsys, "analyze", "prediction", "--db", db, "--out", tmp_path / "p", "--states", states
+    )
+    assert code == 0, err
+    assert "phase map " in out and "state " in out and "held out" in out.lower()
+    assert (tmp_path / "p" / "prediction_scores.csv").is_file()
 
 
 def test_analyze_commands_write_their_files_and_refuse_bad_input(capsys, db, tmp_path):

@@ -55,6 +55,13 @@ def test_report_with_physical_adds_the_attempts_and_the_cells(capsys, db, tmp_pa
         cells = list(csv.DictReader(f))
     assert len(cells) == len(ph.physical_cells(ph.physical_trials(PHYSICAL)))
     assert "physical_cells.csv" in html and str(PHYSICAL.resolve()) in html
+    with open(out / "energy.csv", newline="") as f:
+        energy = list(csv.DictReader(f))
+    assert {r["source"] for r in energy} == {
+        "simulated",
+        "recorded",
+    }  # the robot's attempts beside the sweep's
+    assert "Energy budget of the attempts" in html
 
 
 @pytest.mark.shared
