@@ -1,4 +1,4 @@
-"""benchmarks/prediction_states.py: counts the attempts after a failed one that start still, the map's misses
+"""benchmarks/studies/prediction_states.py: counts the attempts after a failed one that start still, the map's misses
 among them, and pairs of attempts that open from the same state and end differently."""
 
 import json
@@ -43,7 +43,7 @@ def test_counts_still_starts_map_misses_and_same_state_pairs(tmp_path, capsys):
     }
     states = tmp_path / "s.jsonl"
     states.write_text(json.dumps(trial) + "\n")
-    bench = load_script("benchmarks/prediction_states.py")
+    bench = load_script("benchmarks/studies/prediction_states.py")
     assert bench.main(["--db", str(db), "--states", str(states)]) == 0
     out = capsys.readouterr().out
     good5 = pm.lookup(30.0, 0.5)[0]

@@ -6,7 +6,7 @@ energy below 0.1 and 0.01 mJ), how often the single-attempt map from rest gets t
 trial that fails its first attempt, the pairs of its attempts that open at the same phase from the same state
 (roll, pitch within 0.01 deg, angular velocity within 0.001 rad/s) and end differently.
 
-Run:  PYTHONPATH=. .venv/bin/python benchmarks/prediction_states.py --db DB [--states DB.opening-states.jsonl]
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/studies/prediction_states.py --db DB [--states DB.opening-states.jsonl]
 """
 
 from __future__ import annotations
