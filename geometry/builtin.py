@@ -434,7 +434,7 @@ def _cache_root() -> Path:
 def _generator_key(p: BuiltinParameters) -> str:
     """What the generated files depend on: the parameters, this generator's source and version, and trimesh's
     version (its primitives); 16 hex digits of SHA-256."""
-    from .robot import installed_version
+    from .cache import installed_version
 
     h = hashlib.sha256(f"{GENERATOR_VERSION}\0{p!r}\0trimesh={installed_version('trimesh')}\0".encode())
     for name in ("builtin.py", "mass.py", "frames.py"):
