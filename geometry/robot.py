@@ -4,7 +4,7 @@ The body frame is the URDF's base link. A pose puts every link where the joints 
 landscape needs: the total mass, the mass-weighted CoM and the convex hull of all geometry.
 
 This module holds one concept, :class:`Robot` (its construction from files, its joints and their limits, posing,
-and its variants), which is why it runs to about 650 lines. What it is built from lives beside it: the value types
+and its variants), which is why it runs past 600 lines. What it is built from lives beside it: the value types
 in :mod:`geometry.pose` and :mod:`geometry.joint_map`, URDF to kinematics in :mod:`geometry.kinematics`, mesh
 reading in :mod:`geometry.meshes` and the per-user disk cache in :mod:`geometry.cache`. The names that lived here
 before the split (``JointMap``, ``Part``, ``Pose``, ``JointSpec``, ``joint_motion``, ``robot_cache_dir``, ...)
