@@ -28,7 +28,9 @@ _EXPORTS = {
         ("MassProperties", "mesh_mass_properties", "shell_mass_properties", "solid_mass_properties"),
         "geometry.mass",
     ),
-    **dict.fromkeys(("JointMap", "Part", "Pose", "Robot"), "geometry.robot"),
+    "JointMap": "geometry.joint_map",
+    **dict.fromkeys(("Part", "Pose"), "geometry.pose"),
+    "Robot": "geometry.robot",
     **dict.fromkeys(("load_robot", "robot_urdf_path"), "geometry.robots"),
 }
 

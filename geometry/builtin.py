@@ -5,12 +5,12 @@ Parts (all dimensions and placements in :class:`BuiltinParameters`):
 - **Shell.** Head and two wings are cut from one thin shell, the lower half of an axis-aligned ellipsoid
   ``z = zc - c sqrt(1 - ((x - cx)/a)^2 - (y/b)^2)`` (body frame, wings closed), flat at rim height where the plan
   outline reaches beyond the ellipsoid's rim. Its five parameters were fitted by
-  ``benchmarks/fit_builtin_shell.py`` to 16 landmarks of the lab robot's part hulls in ``../shared/ref`` (rms
-  height residual 2.7 mm there, 5.1 mm over all the lab's shell vertices: the lab's shell bottom is flattened,
-  lowest at ``|y| ~ 50 mm``). The plan outline (half-width at stations along x) and the pieces' extents carry over
-  the lab's: the head is a horseshoe band ``5.4 <= x <= 134.5 mm``, from an inner half-width (open middle) out to
-  ``|y| <= 71.3 mm``; each wing spans ``-125.4 <= x <= 98.2 mm, |y| >= 21.8 mm`` out to the outline. Like the
-  lab's meshes, head and wings overlap in plan where the lab's do.
+  ``benchmarks/fit_builtin_shell.py`` to 16 landmarks of the lab robot's part hulls in ``../shared/ref`` (the
+  script prints the fit's residuals; the lab's shell bottom is flattened, which no ellipsoid follows). The plan
+  outline (half-width at stations along x) and the pieces' extents carry over the lab's: the head is a horseshoe
+  band ``5.4 <= x <= 134.5 mm``, from an inner half-width (open middle) out to ``|y| <= 71.3 mm``; each wing spans
+  ``-125.4 <= x <= 98.2 mm, |y| >= 21.8 mm`` out to the outline. Like the lab's meshes, head and wings overlap in
+  plan where the lab's do.
 - **Motors.** Five solid boxes 23 x 20 x 30 mm (the lab's motor size) at the lab's places and orientations.
 - **Leg.** A rod 70 x 8 x 1.6 mm and a solid sphere of radius 14 mm on the leg joint.
 - **Joints.** The lab URDF's names, origins, axes and limits (wings [-10, 95] deg, leg [-90, 90] deg,
@@ -22,10 +22,10 @@ each, wing pitch motors 28.0 g each, wing roll motors 24.4 g each: 260 g).
 **Centres of mass and inertias.** Motors, rod and sphere are uniform solids (closed-form CoM and inertia). For
 the head and wings the landscape needs the *lab's* mass distribution to reproduce the lab's barriers, and the lab
 places those masses at the mean of its mesh vertices, not at the area centroid (a uniform shell would put each
-wing's CoM about 8 mm further outboard). So their ``<inertial>`` origins carry over the lab's CoMs (the head's
-y set to 0, its area-centroid value: the lab's -1.2 mm comes from uneven tessellation), while their inertia
-tensors are those of the uniform thin-shell pieces moved to that CoM (parallel-axis theorem): physically sized
-(1e-5 kg m^2 scale), unlike the lab URDF's placeholder tensors.
+wing's CoM further outboard). So their ``<inertial>`` origins carry over the lab's CoMs (the head's y set to 0,
+its area-centroid value: the lab's nonzero y comes from uneven tessellation), while their inertia tensors are
+those of the uniform thin-shell pieces moved to that CoM (parallel-axis theorem): physically sized (1e-5 kg m^2
+scale), unlike the lab URDF's placeholder tensors.
 
 Every mesh is written in its link's frame in metres; each convex part is its own collision element, so pybullet's
 per-element convex hulls are exact for contact with flat ground.
@@ -434,7 +434,7 @@ def _cache_root() -> Path:
 def _generator_key(p: BuiltinParameters) -> str:
     """What the generated files depend on: the parameters, this generator's source and version, and trimesh's
     version (its primitives); 16 hex digits of SHA-256."""
-    from .robot import installed_version
+    from .cache import installed_version
 
     h = hashlib.sha256(f"{GENERATOR_VERSION}\0{p!r}\0trimesh={installed_version('trimesh')}\0".encode())
     for name in ("builtin.py", "mass.py", "frames.py"):

@@ -123,8 +123,8 @@ def convex_hull(points_m: ArrayLike, *, merge_tol_m: float | None = None) -> Hul
         raise GeometryError(f"merge_tol_m must be a positive length in m; got {merge_tol_m!r}")
     # Never pass Qhull's 'Qbb' here: it rescales the last coordinate of the caller's array in place
     options = None if merge_tol_m is None else f"C-{float(merge_tol_m)!r}"
-    try:
-        qh = ConvexHull(pts, qhull_options=options)  # duplicates are fine: all but one of equal points are left inside
+    try:  # duplicates are fine: all but one of equal points are left inside
+        qh = ConvexHull(pts, qhull_options=options)
     except (QhullError, ValueError):
         # flat, collinear or too few points: keep them all (once each) and join every pair
         pts = _unique_rows(pts)

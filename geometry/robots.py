@@ -148,7 +148,9 @@ def load_robot(
     """
     import warnings
 
-    from .robot import JointMap, Robot, robot_cache_dir
+    from .cache import robot_cache_dir
+    from .joint_map import JointMap
+    from .robot import Robot
 
     if robot is not None and mesh is not None:
         raise UsageError(

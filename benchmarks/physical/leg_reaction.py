@@ -126,7 +126,7 @@ def hold_pitch_deg(recs) -> dict[float, float]:
 def free_body_table(urdf: str, model_set, hold_deg: dict[float, float]) -> str:
     """The first table: per wing command (``hold_deg``: the robot's hold pitch there), the free body's turn and
     the tilt it gives, for leg amplitudes 15, 30 and 45 deg."""
-    from geometry.robot import JointMap
+    from geometry.joint_map import JointMap
 
     wing_names = JointMap().wing
     lines = [

@@ -11,7 +11,7 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from geometry.errors import UsageError
-from geometry.robot import JointMap
+from geometry.joint_map import JointMap
 from landscape.cli.options import finite
 from landscape.params import MAX_VALUES, parse_values
 

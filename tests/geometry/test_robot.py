@@ -31,18 +31,6 @@ def test_lab_robot_limits(lab_robot):
         lab_robot.pose(np.nan, 0)
 
 
-def test_unknown_joint(lab_robot):
-    with pytest.raises(UnknownJointError, match="'nope' is not in"):
-        Robot.from_urdf(lab_robot.source, joint_map=JointMap(wing=("nope",)))
-
-
-def test_joint_map_parse():
-    jm = JointMap.parse("wing=a, b;leg=c")
-    assert jm.wing == ("a", "b") and jm.leg == ("c",)
-    with pytest.raises(GeometryError, match="not 'wing=NAME"):
-        JointMap.parse("arm=x")
-
-
 def test_missing_files(tmp_path):
     with pytest.raises(RobotDescriptionError, match="not found"):
         Robot.from_urdf(tmp_path / "none.urdf")
@@ -126,20 +114,3 @@ def test_pose_joints_sets_each_joint_on_its_own():
         rb.pose_joints({"nosuchjoint": 1.0})
     with pytest.raises(JointLimitError, match="outside joint"):
         rb.pose_joints({wing[0]: float("nan")})
-
-
-def test_a_poses_inertia_is_its_parts_by_the_parallel_axis_theorem():
-    """Pose.inertia_kg_m2 against the parts' own tensors, turned into the body frame and moved to the CoM here."""
-    from geometry.robots import load_robot
-
-    pose = load_robot("builtin").pose(74.0, 30.0)
-    expected = np.zeros((3, 3))
-    for part in pose.parts:
-        tf = pose.link_transforms[part.link]
-        rot = tf[:3, :3]
-        r = rot @ part.mass.com_m + tf[:3, 3] - pose.com_m
-        expected += rot @ part.mass.inertia_kg_m2 @ rot.T + part.mass.mass_kg * (
-            r @ r * np.eye(3) - np.outer(r, r)
-        )
-    assert np.allclose(pose.inertia_kg_m2, expected, rtol=1e-12, atol=1e-15)
-    assert (np.linalg.eigvalsh(pose.inertia_kg_m2) > 0).all()

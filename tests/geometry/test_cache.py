@@ -1,6 +1,5 @@
-"""The robot's own forward kinematics (equal to yourdfpy's) and the on-disk robot cache (issue #12): a cached
-robot poses exactly as a freshly read one, loads without trimesh or yourdfpy, and is used only when its
-description hash and contents check out."""
+"""The per-user disk cache of parsed robots: a cached robot poses exactly as a freshly read one, loads without
+trimesh or yourdfpy, and is used only when its description hash, contents and code key check out."""
 
 import os
 import shutil
@@ -11,77 +10,18 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import geometry.cache
 from geometry import Robot
 from geometry.builtin import builtin_urdf_path
-from geometry.robot import _cache_path
+from geometry.cache import _cache_path, installed_version
+from tests.conftest import HAVE_LAB, LAB_URDF
 
 ROOT = Path(__file__).resolve().parents[2]
-LAB_URDFS = (
-    ROOT.parent / "shared/ref/lab_robot/lab_robot.urdf",
-    Path("/work/shared/ref/lab_robot/lab_robot.urdf"),
-)
 ANGLES = [(0.0, 0.0), (74.0, 30.0), (-10.0, -90.0), (95.0, 90.0), (33.3, -12.5)]
+URDFS = [builtin_urdf_path(), *([LAB_URDF] if HAVE_LAB else [])]
 
 
-def _urdfs(tmp_path_factory=None):
-    out = [builtin_urdf_path()]
-    lab = next((p for p in LAB_URDFS if p.is_file()), None)
-    return out + ([lab] if lab is not None else [])
-
-
-def _yourdfpy_transforms(robot, values):
-    urdf = robot.urdf
-    cfg = np.array([values.get(n, 0.0) for n in urdf.actuated_joint_names])
-    urdf.update_cfg(cfg)
-    return {p.link: np.asarray(urdf.get_transform(p.link, urdf.base_link)) for p in robot.parts}
-
-
-@pytest.mark.parametrize("path", _urdfs(), ids=lambda p: p.stem)
-def test_link_transforms_equal_yourdfpy(path):
-    robot = Robot.from_urdf(path)
-    for tw, tl in ANGLES:
-        values = robot.joint_values_rad(tw, tl)
-        ours = robot.link_transforms(values)
-        theirs = _yourdfpy_transforms(robot, values)
-        for link, T in theirs.items():
-            np.testing.assert_array_equal(ours[link], T)  # the same arithmetic: equal to the bit
-
-
-MIMIC_URDF = """<robot name="m">
-  <link name="base"><inertial><mass value="1"/><origin xyz="0 0 0"/></inertial>
-    <collision><geometry><box size="0.2 0.1 0.05"/></geometry></collision></link>
-  <link name="a"><inertial><mass value="0.5"/><origin xyz="0.05 0 0"/></inertial>
-    <collision><origin xyz="0.05 0 0"/><geometry><box size="0.1 0.02 0.02"/></geometry></collision></link>
-  <link name="b"><inertial><mass value="0.5"/><origin xyz="0.05 0 0"/></inertial>
-    <collision><origin xyz="0.05 0 0"/><geometry><box size="0.1 0.02 0.02"/></geometry></collision></link>
-  <link name="c"><collision><geometry><sphere radius="0.01"/></geometry></collision></link>
-  <joint name="wing" type="revolute"><parent link="base"/><child link="a"/>
-    <origin xyz="0.1 0 0" rpy="0.1 0.2 0.3"/><axis xyz="0 2 1"/><limit lower="-1" upper="2" effort="1" velocity="1"/></joint>
-  <joint name="leg" type="continuous"><parent link="base"/><child link="b"/>
-    <origin xyz="-0.1 0 0"/><axis xyz="0 0 1"/></joint>
-  <joint name="follow" type="revolute"><parent link="a"/><child link="c"/>
-    <origin xyz="0.1 0 0"/><axis xyz="1 0 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/>
-    <mimic joint="wing" multiplier="-0.5" offset="0.25"/></joint>
-</robot>
-"""
-
-
-def test_mimic_and_unnormalised_axes_equal_yourdfpy(tmp_path):
-    path = tmp_path / "m.urdf"
-    path.write_text(MIMIC_URDF)
-    from geometry.robot import JointMap
-
-    robot = Robot.from_urdf(path, joint_map=JointMap(wing=("wing",), leg=("leg",)))
-    for tw, tl in [(0.0, 0.0), (50.0, -30.0), (-40.0, 170.0)]:
-        values = robot.joint_values_rad(tw, tl)
-        ours = robot.link_transforms(values)
-        for link, T in _yourdfpy_transforms(robot, values).items():
-            np.testing.assert_array_equal(ours[link], T)
-    assert robot.joint_limits_deg("leg") == (-np.inf, np.inf)
-    assert robot.joint_limits_deg("wing") == pytest.approx((np.rad2deg(-1), np.rad2deg(2)))
-
-
-@pytest.mark.parametrize("path", _urdfs(), ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", URDFS, ids=lambda p: p.stem)
 def test_cached_robot_poses_as_the_fresh_one(path, tmp_path):
     fresh = Robot.from_urdf(path)
     first = Robot.from_urdf(path, cache_dir=tmp_path)
@@ -152,20 +92,16 @@ def test_repeated_load_imports_neither_trimesh_nor_yourdfpy(tmp_path):
 
 def test_cache_of_other_code_is_not_used(tmp_path, monkeypatch):
     """A cache written by another version of the reader (or of trimesh, scipy) is a miss, never read."""
-    import geometry.robot as gr
-
     path = builtin_urdf_path()
     Robot.from_urdf(path, cache_dir=tmp_path)
     assert Robot.from_urdf(path, cache_dir=tmp_path)._urdf is None
-    monkeypatch.setattr(gr, "_code_key", lambda: "0123456789ab")
+    monkeypatch.setattr(geometry.cache, "_code_key", lambda: "0123456789ab")
     assert Robot.from_urdf(path, cache_dir=tmp_path)._urdf is not None
 
 
 def test_installed_version_reads_dist_info():
     import numpy
     import scipy
-
-    from geometry.robot import installed_version
 
     assert installed_version("numpy") == numpy.__version__
     assert installed_version("scipy") == scipy.__version__
