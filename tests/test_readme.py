@@ -214,10 +214,48 @@ def _db(cmd: str) -> str | None:
     return args[args.index("--db") + 1] if "--db" in args[:-1] else None
 
 
+def _page_scripts(page: Path) -> list[tuple[str, str]]:
+    """The scripts a page writes and runs: a ```python block followed by a block whose first line is
+    `$ python NAME.py` (NAME.py is that block), in page order."""
+    scripts, last_python, info, lines = [], None, None, []
+    for line in page.read_text(encoding="utf-8").splitlines():
+        if line.startswith("```"):
+            if info is None:
+                info, lines = line[3:].strip(), []
+                continue
+            if info == "python":
+                last_python = "\n".join(lines) + "\n"
+            elif info == "" and lines and last_python is not None:
+                m = re.fullmatch(r"\$ python (\S+\.py)", lines[0].strip())
+                if m:
+                    scripts.append((m.group(1), last_python))
+            info = None
+        elif info is not None:
+            lines.append(line)
+    return scripts
+
+
 @pytest.fixture(scope="module")
 def page_dirs(tmp_path_factory):
-    """One scratch directory per page: a page's commands run in order there, so a report finds its sweep."""
-    return {page: tmp_path_factory.mktemp(page.stem) for page in PAGES}
+    """One scratch directory per page: a page's commands run in order there, so a report finds its sweep; the
+    scripts the page writes and runs (:func:`_page_scripts`) run there first."""
+    import subprocess
+    import sys
+
+    dirs = {}
+    for page in PAGES:
+        cwd = dirs[page] = tmp_path_factory.mktemp(page.stem)
+        for name, code in _page_scripts(page):
+            (cwd / name).write_text(code, encoding="utf-8")
+            r = subprocess.run([sys.executable, name], capture_output=True, text=True, cwd=cwd, timeout=300)
+            assert r.returncode == 0, f"{_page_id(page)}: `python {name}` failed:\n{r.stdout}{r.stderr}"
+    return dirs
+
+
+def test_a_page_script_runs_before_the_page_commands(tmp_path):
+    """The legless-body page writes its URDF with a script; the harness finds it."""
+    scripts = _page_scripts(DOCS / "howto" / "legless_body.md")
+    assert [name for name, _ in scripts] == ["make_flapper.py"] and "flapper.urdf" in scripts[0][1]
 
 
 @pytest.mark.parametrize(
