@@ -97,7 +97,7 @@ class _SectorGrid:
     """A pose's pitch-roll grid for the sector searches: the landscape's energies where it was computed,
     else each cell's energy computed on first use, exactly as :func:`~landscape.energy.energy_landscape`
     computes it (the same hill climb, times m g), so that a barrier map's poses need no whole grid: a sector
-    flood reaches a few percent to a tenth of the torus."""
+    flood computes only the cells it reaches."""
 
     def __init__(self, pose: Pose, step_deg: float, g_m_s2: float, ls: Landscape | None = None) -> None:
         angles = torus_angles_deg(step_deg)

@@ -46,11 +46,10 @@ neighbour's plane, so the facets and edges the method sees are convex by more th
 noise below it (a CAD export's finely triangulated flat faces, single-precision coordinates, a unit
 conversion) leaves no sliver facets or kinked edges that would create or hide a saddle. The merged hull lies
 within about the tolerance of the input's, so an energy is exact to about ``2 m g LENGTH_RTOL`` times the
-diameter (for the 0.3 m robot, a few microjoules) and a saddle's direction to about the tolerance over the
-CoM's distance to the hull; ``benchmarks/accuracy.py --cad`` checks this on CAD-like families. A body with
-features smaller than that tolerance is treated as the body without them. Faces closer than that to
-coplanar are merged; a CoM that projects within that distance of a face's boundary
-is *above the edge or vertex*: the face is not a minimum (the body tips over, as a marginal equilibrium would
+diameter and a saddle's direction to about the tolerance over the CoM's distance to the hull;
+``benchmarks/accuracy.py --cad`` checks this on CAD-like families. A body with features smaller than that
+tolerance is treated as the body without them. Faces closer than that to coplanar are merged; a CoM that
+projects within that distance of a face's boundary is *above the edge or vertex*: the face is not a minimum (the body tips over, as a marginal equilibrium would
 under any disturbance); a start exactly on a saddle rolls to the lower of the two faces (ties: the lower face
 index) and a start exactly on a vertex maximum to the lowest face at that vertex.
 
