@@ -16,9 +16,9 @@ from .barriers._flood_kernels import _pop, _push
 
 @numba.njit(cache=True)
 def _lazy_at(energy, known, vert, d, ptr, idx, cos_a, sin_a, scale, i, j, v):
-    """Energy of torus cell (i, j), computed on first use as ``_energy_kernels.support_grid`` computes it (hill climbing
-    on the hull graph warm-started at vertex ``v``, times ``scale`` = m g) and kept in ``energy``/``known``;
-    ``vert`` keeps the vertex that attains it (the warm start of its neighbours)."""
+    """Energy of torus cell (i, j), computed on first use as ``_energy_kernels.support_grid`` computes it
+    (hill climbing on the hull graph warm-started at vertex ``v``, times ``scale`` = m g) and kept in
+    ``energy``/``known``; ``vert`` keeps the vertex that attains it (the warm start of its neighbours)."""
     n = energy.shape[0]
     c = i * n + j
     if not known[i, j]:
@@ -55,8 +55,9 @@ def lazy_descend(energy, known, vert, d, ptr, idx, cos_a, sin_a, scale, i, j):
 def lazy_sector_flood(
     energy, known, vert, d, ptr, idx, cos_a, sin_a, scale, i0, j0, dist_p, dist_r, pitch_sector, connectivity
 ):
-    """``barriers._flood_kernels.flood`` from cell (i0, j0) to the upright set (``cos p cos r < 0``) with the path kept in a sector,
-    on a grid whose energies are computed on first use (:func:`_lazy_at`): only the cells the flood reaches.
+    """``barriers._flood_kernels.flood`` from cell (i0, j0) to the upright set (``cos p cos r < 0``) with the
+    path kept in a sector, on a grid whose energies are computed on first use (:func:`_lazy_at`): only the cells
+    the flood reaches.
 
     ``dist_p[i]``, ``dist_r[j]``: |wrapped pitch and roll difference| of row i and column j from the start,
     degrees. The sector keeps cells with ``dist_r <= dist_p`` (``pitch_sector``) or ``dist_p <= dist_r``, and

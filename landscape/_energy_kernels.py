@@ -1,9 +1,10 @@
 """Compiled kernels of :mod:`landscape.energy`: the support function by a walk on the hull's vertex graph.
 
 Private: inputs are trusted (C-contiguous float64, radians) and nothing is validated here; the public wrappers
-convert and check. The walk (``_climb``) also gives the energy of a cell in :mod:`landscape._computation_kernels`,
-and ``support_points`` the energy over up-directions in :mod:`landscape.barriers.sphere`. numba's cache does not
-see an edit to a function in another file: after changing ``_climb``, clear the cache (its place: :mod:`landscape`).
+convert and check. The walk (``_climb``) also gives the energy of a cell in
+:mod:`landscape._computation_kernels`, and ``support_points`` the energy over up-directions in
+:mod:`landscape.barriers.sphere`. numba's cache does not see an edit to a function in another file: after
+changing ``_climb``, clear the cache (its place: :mod:`landscape`).
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
-"""Compiled kernels of :mod:`landscape.barriers.exact`: the face-edge graph of the hull (coplanar facets merged,
-arcs, their geometry, face margins and where each face tips), rolling down inside vertex cells, the bottleneck
-search on the face graph, and the continuous torus path through its points.
+"""Compiled kernels of :mod:`landscape.barriers.exact`: the face-edge graph of the hull (coplanar facets
+merged, arcs, their geometry, face margins and where each face tips), rolling down inside vertex cells, the
+bottleneck search on the face graph, and the continuous torus path through its points.
 
 Private: inputs are trusted (C-contiguous float64, radians unless a docstring says degrees) and nothing is
 validated here; the public wrappers convert and check. Each kernel does its NumPy or Python reference's

@@ -3,8 +3,8 @@ pitch-roll torus, and of :mod:`landscape.barriers.sphere`, on any graph in CSR f
 
 Private: inputs are trusted (C-contiguous float64, radians) and nothing is validated here; the public wrappers
 convert and check. The heap also serves the flood of :mod:`landscape._computation_kernels` and the bottleneck
-search of :mod:`landscape.barriers._exact_kernels`. numba's cache does not see an edit to a function in another
-file: after changing the heap, clear the cache (its place: :mod:`landscape`).
+search of :mod:`landscape.barriers._exact_kernels`. numba's cache does not see an edit to a function in
+another file: after changing the heap, clear the cache (its place: :mod:`landscape`).
 """
 
 from __future__ import annotations

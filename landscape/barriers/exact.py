@@ -49,9 +49,10 @@ within about the tolerance of the input's, so an energy is exact to about ``2 m 
 diameter and a saddle's direction to about the tolerance over the CoM's distance to the hull;
 ``benchmarks/accuracy.py --cad`` checks this on CAD-like families. A body with features smaller than that
 tolerance is treated as the body without them. Faces closer than that to coplanar are merged; a CoM that
-projects within that distance of a face's boundary is *above the edge or vertex*: the face is not a minimum (the body tips over, as a marginal equilibrium would
-under any disturbance); a start exactly on a saddle rolls to the lower of the two faces (ties: the lower face
-index) and a start exactly on a vertex maximum to the lowest face at that vertex.
+projects within that distance of a face's boundary is *above the edge or vertex*: the face is not a minimum
+(the body tips over, as a marginal equilibrium would under any disturbance); a start exactly on a saddle rolls
+to the lower of the two faces (ties: the lower face index) and a start exactly on a vertex maximum to the lowest
+face at that vertex.
 
 Equal saddles (the tie rule): an exit's saddle is the pass by which its path leaves the start's basin (the
 nodes the search reaches below the barrier level minus the tolerance), and of several passes at the barrier

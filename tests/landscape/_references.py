@@ -5,8 +5,8 @@ the two on random and real bodies, with numba's JIT on and off:
 
 - the exact method's kernels (landscape/barriers/_exact_kernels.py): ``minimax_reference``,
   ``torus_path_reference``, ``merge_coplanar_reference``, ``arcs_reference``, ``arc_geometry_reference``,
-  ``face_margins_reference``, ``face_exits_reference``, ``cell_step_reference``, and the one-arc-at-a-time forms
-  of its batched path pieces, ``arc_points_reference`` and ``piece_reference``;
+  ``face_margins_reference``, ``face_exits_reference``, ``cell_step_reference``, and the one-arc-at-a-time
+  forms of its batched path pieces, ``arc_points_reference`` and ``piece_reference``;
 - the rolling kernels (landscape/_minima_kernels.py): ``rest_reference``, ``still_rests_reference``,
   ``first_touch_reference``, ``convex_polygon_reference``, ``polygon_margin_reference`` and the whole
   continuation, ``follow_minimum_reference``;

@@ -1,6 +1,6 @@
 """The exact method's compiled kernels (landscape/barriers/_exact_kernels.py) against their NumPy/Python
-references (tests/landscape/_references.py): the same numbers, bit for bit, on random inputs and on the built-in
-robot, with numba's JIT on and off."""
+references (tests/landscape/_references.py): the same numbers, bit for bit, on random inputs and on the
+built-in robot, with numba's JIT on and off."""
 
 import os
 import subprocess

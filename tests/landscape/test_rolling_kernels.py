@@ -1,6 +1,6 @@
 """The compiled rolling kernels (landscape/_minima_kernels.py) against their NumPy reference
-(tests/landscape/_references.py): the same faces and up-directions, move by move, on random bodies and along the
-robots' paths, with numba's JIT on and off."""
+(tests/landscape/_references.py): the same faces and up-directions, move by move, on random bodies and along
+the robots' paths, with numba's JIT on and off."""
 
 import os
 import subprocess
