@@ -12,7 +12,7 @@ strictly inside, and rolls again only where that fails.
 
 The rolling and the whole continuation run in compiled kernels (``landscape/_minima_kernels.py``: ``rest``,
 ``still_rests``, ``follow_path``, the points posed per step from each part's link-frame hull vertices), matched
-move by move against their NumPy reference in tests/landscape/test_rolling_kernels.py.
+move by move against their NumPy reference in tests/landscape/test_minima_kernels.py.
 """
 
 from __future__ import annotations

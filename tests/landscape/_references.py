@@ -6,7 +6,8 @@ the two on random and real bodies, with numba's JIT on and off:
 - the exact method's kernels (landscape/barriers/_exact_kernels.py): ``minimax_reference``,
   ``torus_path_reference``, ``merge_coplanar_reference``, ``arcs_reference``, ``arc_geometry_reference``,
   ``face_margins_reference``, ``face_exits_reference``, ``cell_step_reference``, and the one-arc-at-a-time
-  forms of its batched path pieces, ``arc_points_reference`` and ``piece_reference``;
+  forms of its batched path pieces, ``arc_points_reference`` and ``piece_reference`` (and ``minimax_kernel``,
+  the compiled search called as the exact method calls it);
 - the rolling kernels (landscape/_minima_kernels.py): ``rest_reference``, ``still_rests_reference``,
   ``first_touch_reference``, ``convex_polygon_reference``, ``polygon_margin_reference`` and the whole
   continuation, ``follow_minimum_reference``;
@@ -17,6 +18,10 @@ the two on random and real bodies, with numba's JIT on and off:
 from __future__ import annotations
 
 import heapq
+import os
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
@@ -26,9 +31,10 @@ from scipy.sparse.csgraph import connected_components
 from geometry import Pose, Robot
 from geometry.frames import canonical_pitch_roll_deg, up_vector
 from landscape import minima
-from landscape.barriers import exact
+from landscape.barriers import _exact_kernels, exact
 from landscape.energy import height_at
 
+REPO = Path(__file__).resolve().parents[2]
 PATTERN_STEPS_DEG = (2.0, 1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125)  # the former search's steps
 _DIRS = np.array([(1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (1, -1), (-1, 1), (-1, -1)], dtype=np.float64)
 
@@ -77,6 +83,22 @@ def minimax_reference(n: int, eu, ev, ew, sources: list[int], goal: NDArray[np.b
                 parent[y] = edge[q]
                 heapq.heappush(heap, (nl, y))
     return np.array(level), np.array(parent, dtype=np.int64), first
+
+
+def minimax_kernel(n: int, eu, ev, ew, sources: list[int], goal, stop: bool):
+    """The compiled search ``_exact_kernels.minimax_graph`` on the graph of edges (eu, ev) weighted ew, called as
+    the exact method calls it: what :func:`minimax_reference` is compared with."""
+    ptr, other, edge, weight = exact._adjacency(n, eu, ev, ew)
+    level, parent, first = _exact_kernels.minimax_graph(
+        ptr,
+        other,
+        edge,
+        weight,
+        np.asarray(sources, dtype=np.int64),
+        np.ascontiguousarray(goal, dtype=np.bool_),
+        bool(stop),
+    )
+    return level, parent, int(first)
 
 
 def torus_path_reference(us: NDArray[np.float64], start_deg: tuple[float, float]) -> NDArray[np.float64]:
@@ -498,3 +520,20 @@ def former_metastable_orientation(
     if not robot.has_joints:
         return pattern_descent(robot.pose(), 0.0, 0.0)
     return follow_minimum_grid(robot, minima.opening_path(theta_w_deg, theta_l_deg))[-1]
+
+
+def run_without_jit(code: str, *, timeout_s: float = 300.0) -> str:
+    """Run Python ``code`` in a fresh interpreter with numba's JIT off (``NUMBA_DISABLE_JIT=1``, so the kernels
+    run as the Python they are written in) and the repository on its path; its standard output, stripped.
+
+    Raises
+    ------
+    AssertionError
+        With the interpreter's standard error, if the code fails.
+    """
+    env = dict(os.environ, NUMBA_DISABLE_JIT="1", PYTHONPATH=str(REPO))
+    res = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=timeout_s
+    )
+    assert res.returncode == 0, res.stderr
+    return res.stdout.strip()

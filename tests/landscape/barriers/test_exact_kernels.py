@@ -2,11 +2,6 @@
 references (tests/landscape/_references.py): the same numbers, bit for bit, on random inputs and on the
 built-in robot, with numba's JIT on and off."""
 
-import os
-import subprocess
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 import trimesh
@@ -15,10 +10,8 @@ from geometry import Pose, Robot
 from geometry.frames import up_vector
 from geometry.hull import convex_hull
 from geometry.robots import load_robot
-from landscape.barriers import _exact_kernels, exact
+from landscape.barriers import exact
 from tests.landscape import _references as ref
-
-ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
@@ -35,21 +28,6 @@ def _random_graph(rng, n: int, m: int, ties: bool):
     return eu.astype(np.int64), ev.astype(np.int64), ew
 
 
-def _minimax(n: int, eu, ev, ew, sources: list[int], goal, stop: bool):
-    """The compiled bottleneck search on the graph of edges (eu, ev) weighted ew, as the exact method runs it."""
-    ptr, other, edge, weight = exact._adjacency(n, eu, ev, ew)
-    level, parent, first = _exact_kernels.minimax_graph(
-        ptr,
-        other,
-        edge,
-        weight,
-        np.asarray(sources, dtype=np.int64),
-        np.ascontiguousarray(goal, dtype=np.bool_),
-        bool(stop),
-    )
-    return level, parent, int(first)
-
-
 @pytest.mark.parametrize("seed", range(12))
 @pytest.mark.parametrize("stop", [True, False])
 def test_minimax_kernel_equals_python_search(seed, stop):
@@ -58,7 +36,7 @@ def test_minimax_kernel_equals_python_search(seed, stop):
     eu, ev, ew = _random_graph(rng, n, int(rng.integers(1, 4 * n)), ties=seed % 2 == 0)
     goal = rng.random(n) < 0.15
     sources = sorted(set(rng.integers(0, n, int(rng.integers(1, 3))).tolist()))
-    got = _minimax(n, eu, ev, ew, sources, goal, stop)
+    got = ref.minimax_kernel(n, eu, ev, ew, sources, goal, stop)
     want = ref.minimax_reference(n, eu, ev, ew, sources, goal, stop)
     np.testing.assert_array_equal(got[0], want[0])
     np.testing.assert_array_equal(got[1], want[1])
@@ -73,7 +51,7 @@ def test_minimax_kernel_on_a_robot_face_graph(builtin_landscapes):
         f0 = int(ex.critical.minima_face[0])
         goal[f0] = False
         args = (n_f, ex.arc_faces[:, 0], ex.arc_faces[:, 1], ex.arc_max_m, [f0], goal, False)
-        got, want = _minimax(*args), ref.minimax_reference(*args)
+        got, want = ref.minimax_kernel(*args), ref.minimax_reference(*args)
         for a, b in zip(got, want, strict=True):
             np.testing.assert_array_equal(a, b)
 
@@ -82,7 +60,7 @@ def test_minimax_hand_graph():
     """A path 0 -1.0- 1 -3.0- 2 and a detour 0 -2.0- 3 -2.0- 2: the bottleneck to 2 is 2.0, via 3."""
     eu, ev, ew = np.array([0, 1, 0, 3]), np.array([1, 2, 3, 2]), np.array([1.0, 3.0, 2.0, 2.0])
     goal = np.array([False, False, True, False])
-    level, parent, first = _minimax(4, eu, ev, ew, [0], goal, True)
+    level, parent, first = ref.minimax_kernel(4, eu, ev, ew, [0], goal, True)
     assert first == 2 and level[2] == 2.0 and parent[2] == 3 and parent[3] == 2
 
 
@@ -276,7 +254,6 @@ def test_exact_kernels_match_references_without_jit():
         "from geometry.hull import convex_hull\n"
         "from landscape.barriers import exact\n"
         "from tests.landscape import _references as ref\n"
-        "from tests.landscape.test_exact_kernels import _minimax\n"
         "rng = np.random.default_rng(4)\n"
         "box = trimesh.creation.box(extents=(4.0, 2.0, 1.0))\n"
         "blob = trimesh.convex.convex_hull(rng.normal(size=(40, 3)) * [0.1, 0.06, 0.03])\n"
@@ -309,11 +286,8 @@ def test_exact_kernels_match_references_without_jit():
         "    goal = np.zeros(n_f, dtype=bool)\n"
         "    goal[ex.critical.minima_face[1:]] = True\n"
         "    graph = (n_f, ex.arc_faces[:, 0], ex.arc_faces[:, 1], ex.arc_max_m, [int(ex.critical.minima_face[0])])\n"
-        "    got, want = _minimax(*graph, goal, False), ref.minimax_reference(*graph, goal, False)\n"
+        "    got, want = ref.minimax_kernel(*graph, goal, False), ref.minimax_reference(*graph, goal, False)\n"
         "    assert np.array_equal(got[0], want[0]) and np.array_equal(got[1], want[1]) and got[2] == want[2]\n"
         "print('ok')\n"
     )
-    env = dict(os.environ, NUMBA_DISABLE_JIT="1", PYTHONPATH=str(ROOT))
-    res = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300)
-    assert res.returncode == 0, res.stderr
-    assert res.stdout.strip() == "ok"
+    assert ref.run_without_jit(code) == "ok"
