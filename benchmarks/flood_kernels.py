@@ -1,9 +1,9 @@
 """Should the grid search keep its own torus flood, or run on the graph flood with the torus as a CSR graph?
 
-Times ``landscape._kernels.flood`` (neighbours computed on the torus) against ``flood_graph`` (neighbours read
-from a CSR adjacency listing the same 8 or 4 neighbours in the same order, so every tie breaks alike) on the
-built-in robot's landscape at theta_w 74 deg, for the righting search, best of N, and checks that both return the
-same levels, cells and search tree.
+Times ``landscape.barriers._flood_kernels.flood`` (neighbours computed on the torus) against ``flood_graph``
+(neighbours read from a CSR adjacency listing the same 8 or 4 neighbours in the same order, so every tie breaks
+alike) on the built-in robot's landscape at theta_w 74 deg, for the righting search, best of N, and checks that
+both return the same levels, cells and search tree.
 
     .venv/bin/python benchmarks/flood_kernels.py [--repeat 5]
 """
@@ -17,7 +17,7 @@ from functools import partial
 import numpy as np
 
 from geometry.robots import load_robot
-from landscape import _kernels
+from landscape.barriers import _flood_kernels
 from landscape.energy import energy_landscape
 from landscape.minima import grid_minimum
 
@@ -70,12 +70,12 @@ def main() -> None:
         p, r = np.meshgrid(np.deg2rad(ls.angles_deg), np.deg2rad(ls.angles_deg), indexing="ij")
         target = np.ascontiguousarray((np.cos(p) * np.cos(r) < 0).ravel().astype(np.int8))  # upright: u_z < 0
         none = np.zeros(n * n, dtype=np.bool_)
-        is_min = _kernels.local_minima(e, 1e-12)
+        is_min = _flood_kernels.local_minima(e, 1e-12)
         for conn in (8, 4):
             t_csr, (ptr, idx) = best(partial(torus_csr, n, conn), 1)
-            torus = partial(_kernels.flood, e, s, target, none, is_min, none, 1e-12, conn, False)
+            torus = partial(_flood_kernels.flood, e, s, target, none, is_min, none, 1e-12, conn, False)
             graph = partial(
-                _kernels.flood_graph, e.ravel(), ptr, idx, s, target, none, is_min, none, 1e-12, False
+                _flood_kernels.flood_graph, e.ravel(), ptr, idx, s, target, none, is_min, none, 1e-12, False
             )
             torus(), graph()  # compile or load from the cache outside the timing
             t_a, a = best(torus, args.repeat)

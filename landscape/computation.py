@@ -12,7 +12,7 @@ from geometry import Pose, Robot
 from geometry.errors import UsageError
 from geometry.frames import canonical_pitch_roll_deg, cos_sin
 
-from . import _kernels
+from . import _computation_kernels
 from .barriers import DEFAULT_METHOD, Barrier, Exit
 from .barriers import method as barrier_method
 from .barriers.grid import _exit as _grid_exit
@@ -21,7 +21,6 @@ from .energy import G_M_S2, Landscape, _support_inputs, energy_landscape
 from .grid import cells_per_turn, nearest_cell, torus_angles_deg, wrap_deg
 from .minima import (
     Minimum,
-    _follow_minimum_grid,
     follow_minimum,
     grid_minimum,
     local_descent,
@@ -98,7 +97,7 @@ class _SectorGrid:
     """A pose's pitch-roll grid for the sector searches: the landscape's energies where it was computed,
     else each cell's energy computed on first use, exactly as :func:`~landscape.energy.energy_landscape`
     computes it (the same hill climb, times m g), so that a barrier map's poses need no whole grid: a sector
-    flood reaches a few percent to a tenth of the torus."""
+    flood computes only the cells it reaches."""
 
     def __init__(self, pose: Pose, step_deg: float, g_m_s2: float, ls: Landscape | None = None) -> None:
         angles = torus_angles_deg(step_deg)
@@ -137,7 +136,7 @@ class _SectorGrid:
     def minimum_cell(self, pitch_deg: float, roll_deg: float) -> tuple[int, int]:
         """:func:`~landscape.minima.grid_minimum` on this grid."""
         i, j = nearest_cell(pitch_deg, roll_deg, self.step_deg)
-        i, j = _kernels.lazy_descend(*self._args(), i, j)
+        i, j = _computation_kernels.lazy_descend(*self._args(), i, j)
         return int(i), int(j)
 
     def landscape(self) -> Landscape:
@@ -154,7 +153,7 @@ class _SectorGrid:
             return Exit(0.0, *canonical_pitch_roll_deg(a0[i0], a0[j0]), "roll", np.array([[a0[i0], a0[j0]]]))
         dist_p = np.ascontiguousarray(np.abs(wrap_deg(a0 - a0[i0])))
         dist_r = np.ascontiguousarray(np.abs(wrap_deg(a0 - a0[j0])))
-        level, c, parent = _kernels.lazy_sector_flood(
+        level, c, parent = _computation_kernels.lazy_sector_flood(
             *self._args(), i0, j0, dist_p, dist_r, kind == "pitch", connectivity
         )
         return _grid_exit(self.landscape(), level, int(c), parent, float(self.energy[i0, j0]), kind)
@@ -501,16 +500,14 @@ def compute(
 
 
 def sweep_starts(
-    robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float], *, baseline: bool = False
+    robot: Robot, theta_w_deg: list[float], theta_l_deg: list[float]
 ) -> dict[tuple[float, float], tuple[float, float]]:
     """Metastable orientations over a theta_w x theta_l grid by one shared continuation.
 
     theta_w rises from 0 through every requested value (1 deg steps or finer) in one continuation (one kernel
     call per sign of theta_w), and at each requested theta_w a branch raises theta_l from 0. Equivalent to
     :func:`metastable_orientation` per pair, far cheaper.
-    ``baseline=True`` uses the former per-step grid pattern search (benchmarks/start_state.py).
     """
-    follow = _follow_minimum_grid if baseline else follow_minimum
     out: dict[tuple[float, float], tuple[float, float]] = {}
     ws = sorted(set(float(w) for w in theta_w_deg))
     ls = sorted(set(float(x) for x in theta_l_deg))
@@ -523,7 +520,7 @@ def sweep_starts(
             path += [(x, 0.0) for x in ramp_deg(at, w)]
             reach.append(len(path) - 1)
             at = w
-        walk = follow(robot, path)
+        walk = follow_minimum(robot, path)
         for w, k in zip(sign_ws, reach, strict=True):
             p, r = walk[k]
             for tl in ls:
@@ -531,7 +528,7 @@ def sweep_starts(
                     out[(w, tl)] = (p, r)
                     continue
                 lpath = [(w, x) for x in ramp_deg(0.0, tl)]
-                out[(w, tl)] = follow(robot, lpath, pitch_deg=p, roll_deg=r)[-1]
+                out[(w, tl)] = follow_minimum(robot, lpath, pitch_deg=p, roll_deg=r)[-1]
     return out
 
 

@@ -17,7 +17,7 @@ from geometry import Pose
 from geometry.errors import UsageError
 from geometry.frames import cos_sin, up_vector
 
-from . import _kernels
+from . import _energy_kernels
 from .grid import cells_per_turn, torus_angles_deg
 
 G_M_S2 = 9.81
@@ -101,7 +101,7 @@ def energy_landscape(pose: Pose, *, step_deg: float = 1.0, g_m_s2: float = G_M_S
     angles = torus_angles_deg(step_deg)
     c, s = cos_sin(np.deg2rad(angles))
     d, ptr, idx = _support_inputs(pose)
-    h = _kernels.support_grid(d, ptr, idx, c, s, c, s)
+    h = _energy_kernels.support_grid(d, ptr, idx, c, s, c, s)
     return Landscape(float(step_deg), angles, pose.mass_kg * g_m_s2 * h, pose.mass_kg, g_m_s2)
 
 
@@ -114,7 +114,7 @@ def height_at(pose: Pose, pitch_deg: ArrayLike, roll_deg: ArrayLike) -> NDArray[
     u = up_vector(np.deg2rad(p), np.deg2rad(r))
     if "hull" in pose.__dict__:  # hull already built: walk it
         d, ptr, idx = _support_inputs(pose)
-        return _kernels.support_points(d, ptr, idx, np.ascontiguousarray(u.reshape(-1, 3))).reshape(
+        return _energy_kernels.support_points(d, ptr, idx, np.ascontiguousarray(u.reshape(-1, 3))).reshape(
             u.shape[:-1]
         )
     d = pose.com_m[None, :] - pose.hull_points_m  # few orientations: every part-hull vertex is cheaper

@@ -30,7 +30,14 @@ def test_import_contracts_catch_an_upward_import(tmp_path):
     for sub in ("barriers", "analysis", "viz", "cli", "service"):
         (pkg / "landscape" / sub).mkdir()
         (pkg / "landscape" / sub / "__init__.py").write_text("")
-    for name in ("_kernels", "grid", "minima", "computation"):
+    for name in (
+        "_energy_kernels",
+        "_minima_kernels",
+        "_computation_kernels",
+        "grid",
+        "minima",
+        "computation",
+    ):
         (pkg / "landscape" / f"{name}.py").write_text("")
     cfg = (ROOT / "pyproject.toml").read_text()
     (pkg / "pyproject.toml").write_text(cfg[cfg.index("[tool.importlinter]") :])

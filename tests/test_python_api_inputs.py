@@ -100,7 +100,7 @@ def test_kernels_are_cached_per_user_not_beside_the_sources(tmp_path, numba_firs
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
     env["LANDSCAPE_CACHE"] = str(tmp_path)
     code = ("import numba; " if numba_first else "") + (
-        "import landscape._kernels, numba.core.config as c; print(c.CACHE_DIR)"
+        "import landscape._energy_kernels, numba.core.config as c; print(c.CACHE_DIR)"
     )
     done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, cwd=tmp_path)
     assert done.returncode == 0, done.stderr

@@ -25,8 +25,8 @@ import numpy as np
 from geometry.errors import UsageError
 from geometry.frames import up_vector
 from geometry.robots import load_robot
-from landscape import _kernels
 from landscape.analysis.opening import support_links
+from landscape.barriers import _flood_kernels
 from landscape.computation import compute, posed, start_orientation
 from landscape.energy import G_M_S2, energy_landscape, height_at
 from landscape.minima import local_descent
@@ -39,7 +39,7 @@ def local_minima(pose) -> list[tuple[float, float]]:
     """Every local minimum of the 1-degree landscape (no lower 8-neighbour), refined by descent, without
     repeats: (pitch, roll) in degrees."""
     ls = energy_landscape(pose, step_deg=1.0)
-    low = _kernels.local_minima(ls.energy_j, 0.0).reshape(ls.energy_j.shape)
+    low = _flood_kernels.local_minima(ls.energy_j, 0.0).reshape(ls.energy_j.shape)
     out: list[tuple[float, float]] = []
     for i, j in np.argwhere(low):
         p, r = local_descent(pose, float(ls.angles_deg[i]), float(ls.angles_deg[j]))

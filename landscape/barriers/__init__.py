@@ -1,6 +1,7 @@
 """Barrier methods behind one registry: one module per method in this package.
 
-A method is a module ``landscape/barriers/<name>.py`` that defines::
+A method is a public module ``landscape/barriers/<name>.py`` that defines (private ones, a method's compiled
+kernels among them, start with ``_``)::
 
     SECTORS: bool   # True if the method finds the pitch-wise and roll-wise exits itself
     def solve(pose, landscape, start_deg, *, step_deg, connectivity, g_m_s2) -> tuple[Minimum, Barrier]

@@ -46,13 +46,13 @@ neighbour's plane, so the facets and edges the method sees are convex by more th
 noise below it (a CAD export's finely triangulated flat faces, single-precision coordinates, a unit
 conversion) leaves no sliver facets or kinked edges that would create or hide a saddle. The merged hull lies
 within about the tolerance of the input's, so an energy is exact to about ``2 m g LENGTH_RTOL`` times the
-diameter (for the 0.3 m robot, a few microjoules) and a saddle's direction to about the tolerance over the
-CoM's distance to the hull; ``benchmarks/accuracy.py --cad`` checks this on CAD-like families. A body with
-features smaller than that tolerance is treated as the body without them. Faces closer than that to
-coplanar are merged; a CoM that projects within that distance of a face's boundary
-is *above the edge or vertex*: the face is not a minimum (the body tips over, as a marginal equilibrium would
-under any disturbance); a start exactly on a saddle rolls to the lower of the two faces (ties: the lower face
-index) and a start exactly on a vertex maximum to the lowest face at that vertex.
+diameter and a saddle's direction to about the tolerance over the CoM's distance to the hull;
+``benchmarks/accuracy.py --cad`` checks this on CAD-like families. A body with features smaller than that
+tolerance is treated as the body without them. Faces closer than that to coplanar are merged; a CoM that
+projects within that distance of a face's boundary is *above the edge or vertex*: the face is not a minimum
+(the body tips over, as a marginal equilibrium would under any disturbance); a start exactly on a saddle rolls
+to the lower of the two faces (ties: the lower face index) and a start exactly on a vertex maximum to the lowest
+face at that vertex.
 
 Equal saddles (the tie rule): an exit's saddle is the pass by which its path leaves the start's basin (the
 nodes the search reaches below the barrier level minus the tolerance), and of several passes at the barrier
@@ -64,21 +64,18 @@ basin and another. The rule is on geometry alone, not on Qhull's face numbering 
 
 from __future__ import annotations
 
-import heapq
 import logging
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 from geometry import Pose
 from geometry.errors import UsageError
 from geometry.frames import canonical_pitch_roll_deg, pitch_roll_from_up, up_vector
 from geometry.hull import Hull, convex_hull
-from landscape import _kernels
+from landscape.barriers import _exact_kernels
 from landscape.barriers._base import Barrier, Exit
 from landscape.energy import G_M_S2
 from landscape.grid import wrap_deg
@@ -252,27 +249,10 @@ def _faces(hull: Hull, tol_m: float):
     tri = np.ascontiguousarray(hull.simplices, dtype=np.int64)
     eq = np.ascontiguousarray(hull.equations, dtype=np.float64)
     nb = np.ascontiguousarray(hull.neighbors, dtype=np.int64)
-    tri_face = _kernels.merge_coplanar(
+    tri_face = _exact_kernels.merge_coplanar(
         np.ascontiguousarray(hull.vertices_m, dtype=np.float64), tri, eq, nb, float(tol_m), ANGLE_TOL_RAD
     )
     return eq, tri, nb, tri_face
-
-
-def _merge_coplanar_reference(pts, tri, eq, nb, tol_m: float):
-    """The face of each triangle, as ``_kernels.merge_coplanar`` finds it, with NumPy and scipy (the reference
-    the compiled one is tested against)."""
-    n_t = len(tri)
-    # a triangle joins its neighbour's face when the normals agree and its far vertex lies on that plane
-    i = np.repeat(np.arange(n_t), 3)
-    j = nb.ravel()
-    far = tri[j, :]  # vertices of the neighbour; the one not shared is the far vertex
-    shared = (far[:, :, None] == tri[i][:, None, :]).any(axis=2)
-    far_v = far[np.arange(len(j)), np.argmin(shared, axis=1)]
-    dist = np.abs(np.einsum("ij,ij->i", eq[i, :3], pts[far_v]) + eq[i, 3])
-    close = (dist <= tol_m) & (np.linalg.norm(eq[i, :3] - eq[j, :3], axis=1) <= ANGLE_TOL_RAD)
-    adj = coo_matrix((np.ones(int(close.sum())), (i[close], j[close])), shape=(n_t, n_t))
-    _, tri_face = connected_components(adj, directed=False)
-    return tri_face.astype(np.int64)
 
 
 def _csr(n: int, rows: NDArray[np.int64], cols: NDArray[np.int64]):
@@ -352,8 +332,8 @@ def _merged_faces(hull: Hull, com: NDArray[np.float64], tol_m: float):
 def _arcs(pts: NDArray[np.float64], tri, nb, tri_face, n_f: int):
     """Boundary edges between different faces (each once), grouped by face pair into arcs; each arc's full
     segment of collinear sub-edges (its extreme vertices), and the (vertex pair -> arc) lookup.
-    Compiled (``_kernels.arcs``); :func:`_arcs_reference` is the NumPy reference."""
-    arc_faces, arc_a, arc_b, keys, arc_of = _kernels.arcs(
+    Compiled (``_exact_kernels.arcs``); the tests hold its reference twin."""
+    arc_faces, arc_a, arc_b, keys, arc_of = _exact_kernels.arcs(
         np.ascontiguousarray(pts, dtype=np.float64),
         np.ascontiguousarray(tri, dtype=np.int64),
         np.ascontiguousarray(nb, dtype=np.int64),
@@ -363,78 +343,11 @@ def _arcs(pts: NDArray[np.float64], tri, nb, tri_face, n_f: int):
     return arc_faces, arc_a, arc_b, (keys, arc_of)
 
 
-def _arcs_reference(pts: NDArray[np.float64], tri, nb, tri_face, n_f: int):
-    """:func:`_arcs` in NumPy (the reference the compiled one is tested against)."""
-    k_v = len(pts)
-    t_i = np.repeat(np.arange(len(tri)), 3)
-    t_j = nb.ravel()
-    opp = np.tile(np.arange(3), len(tri))
-    e_v = np.stack([tri[t_i, (opp + 1) % 3], tri[t_i, (opp + 2) % 3]], axis=1)
-    fa, fb = tri_face[t_i], tri_face[t_j]
-    keep = fa < fb
-    e_v, fa, fb = e_v[keep], fa[keep], fb[keep]
-    pair = fa * n_f + fb
-    uniq, inv = np.unique(pair, return_inverse=True)
-    n_a = len(uniq)
-    arc_faces = np.stack([uniq // n_f, uniq % n_f], axis=1).astype(np.int64)
-    # the full segment of collinear sub-edges: the extreme vertices along the first sub-edge's direction
-    first = np.zeros(n_a, dtype=np.int64)
-    first[inv[::-1]] = np.arange(len(inv))[::-1]
-    dirs = pts[e_v[first, 1]] - pts[e_v[first, 0]]
-    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
-    proj = np.einsum("ik,ijk->ij", dirs[inv], pts[e_v])  # (E, 2) positions along the edge line, m
-    lo_val = np.full(n_a, np.inf)
-    hi_val = np.full(n_a, -np.inf)
-    np.minimum.at(lo_val, inv, proj.min(axis=1))
-    np.maximum.at(hi_val, inv, proj.max(axis=1))
-    arc_a = np.zeros(n_a, dtype=np.int64)
-    arc_b = np.zeros(n_a, dtype=np.int64)
-    flat_v = e_v.ravel()
-    flat_p = proj.ravel()
-    flat_i = np.repeat(inv, 2)
-    is_lo = flat_p == lo_val[flat_i]
-    is_hi = flat_p == hi_val[flat_i]
-    arc_a[flat_i[is_lo]] = flat_v[is_lo]
-    arc_b[flat_i[is_hi]] = flat_v[is_hi]
-    pa = np.concatenate([e_v[:, 0], arc_a])
-    pb = np.concatenate([e_v[:, 1], arc_b])
-    keys = np.minimum(pa, pb) * k_v + np.maximum(pa, pb)
-    keys, first_k = np.unique(keys, return_index=True)
-    pair_arc = (keys, np.concatenate([inv, np.arange(n_a)])[first_k].astype(np.int64))
-    return arc_faces, arc_a, arc_b, pair_arc
-
-
 def _arc_geometry(pts, com, face_up, face_h, arc_faces, arc_a, arc_b):
     """Each arc between two face normals: its angle, tangent, the CoM height along it (amplitude and phase of a
     sinusoid), where it peaks, and the peak's height and up-direction.
-    Compiled (``_kernels.arc_geometry``); :func:`_arc_geometry_reference` is the NumPy reference."""
-    return _kernels.arc_geometry(pts, com, face_up, face_h, arc_faces, arc_a, arc_b)
-
-
-def _arc_geometry_reference(pts, com, face_up, face_h, arc_faces, arc_a, arc_b):
-    """:func:`_arc_geometry` in NumPy (the reference the compiled one is tested against)."""
-    u0 = face_up[arc_faces[:, 0]]
-    u1 = face_up[arc_faces[:, 1]]
-    cos_t = np.clip(np.einsum("ij,ij->i", u0, u1), -1.0, 1.0)
-    theta = np.arccos(cos_t)
-    t = u1 - cos_t[:, None] * u0
-    tn = np.linalg.norm(t, axis=1)
-    t = np.where(tn[:, None] > 0, t / np.where(tn > 0, tn, 1.0)[:, None], 0.0)
-    seg = pts[arc_b] - pts[arc_a]
-    seg_len = np.linalg.norm(seg, axis=1)
-    e = seg / seg_len[:, None]
-    da = com[None, :] - pts[arc_a]
-    foot = np.einsum("ij,ij->i", da, e)
-    w = da - foot[:, None] * e
-    amp_a = np.einsum("ij,ij->i", w, u0)
-    amp_b = np.einsum("ij,ij->i", w, t)
-    peak_s = np.arctan2(amp_b, amp_a)
-    on_arc = (peak_s > 0) & (peak_s < theta)
-    h_ends = np.maximum(face_h[arc_faces[:, 0]], face_h[arc_faces[:, 1]])
-    arc_max = np.where(on_arc, np.maximum(np.hypot(amp_a, amp_b), h_ends), h_ends)
-    end_up = np.where((face_h[arc_faces[:, 0]] >= face_h[arc_faces[:, 1]])[:, None], u0, u1)
-    peak_up = np.where(on_arc[:, None], np.cos(peak_s)[:, None] * u0 + np.sin(peak_s)[:, None] * t, end_up)
-    return theta, t, seg_len, foot, w, peak_s, arc_max, peak_up
+    Compiled (``_exact_kernels.arc_geometry``); the tests hold its reference twin."""
+    return _exact_kernels.arc_geometry(pts, com, face_up, face_h, arc_faces, arc_a, arc_b)
 
 
 def _half_edges(arc_faces, arc_a, arc_b, n_f: int):
@@ -572,24 +485,8 @@ def _build(hull: Hull, com: NDArray[np.float64], mass_kg: float, g_m_s2: float) 
 
 def _face_margins(pts, normal, proj, face_ptr, face_idx, half_ptr, half_a, half_b):
     """Signed distance of each face's CoM projection inside its boundary, m (min over boundary edges).
-    Compiled (``_kernels.face_margins``); :func:`_face_margins_reference` is the NumPy reference."""
-    return _kernels.face_margins(pts, normal, proj, face_ptr, face_idx, half_ptr, half_a, half_b)
-
-
-def _face_margins_reference(pts, normal, proj, face_ptr, face_idx, half_face, half_a, half_b, n_f):
-    """:func:`_face_margins` in NumPy (the reference the compiled one is tested against)."""
-    centroid = np.zeros((n_f, 3))
-    np.add.at(centroid, np.repeat(np.arange(n_f), np.diff(face_ptr)), pts[face_idx])
-    centroid /= np.diff(face_ptr)[:, None]
-    a, b = pts[half_a], pts[half_b]
-    e = (b - a) / np.linalg.norm(b - a, axis=1, keepdims=True)
-    m = np.cross(normal[half_face], e)
-    m /= np.linalg.norm(m, axis=1, keepdims=True)
-    m *= np.sign(np.einsum("ij,ij->i", centroid[half_face] - a, m))[:, None]
-    dist = np.einsum("ij,ij->i", proj[half_face] - a, m)
-    out = np.full(n_f, np.inf)
-    np.minimum.at(out, half_face, dist)
-    return out
+    Compiled (``_exact_kernels.face_margins``); the tests hold its reference twin."""
+    return _exact_kernels.face_margins(pts, normal, proj, face_ptr, face_idx, half_ptr, half_a, half_b)
 
 
 def _deg(u: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -601,10 +498,10 @@ def _deg(u: NDArray[np.float64]) -> NDArray[np.float64]:
 def _cell_step(ex: ExactLandscape, k: int, u: NDArray[np.float64]) -> NDArray[np.float64]:
     """Steepest descent inside vertex k's cell: along the great circle away from d_k to the cell's boundary.
 
-    Compiled (``_kernels.cell_step``); :func:`_cell_step_reference` is the NumPy version.
+    Compiled (``_exact_kernels.cell_step``); the tests hold its reference twin.
     """
     g = ex._g
-    out, moved = _kernels.cell_step(g.d, int(k), np.ascontiguousarray(u, dtype=np.float64))
+    out, moved = _exact_kernels.cell_step(g.d, int(k), np.ascontiguousarray(u, dtype=np.float64))
     if moved:
         return out
     faces = g.vface_idx[
@@ -612,29 +509,6 @@ def _cell_step(ex: ExactLandscape, k: int, u: NDArray[np.float64]) -> NDArray[np
     ]  # balanced on the vertex: fall onto its lowest face
     f = int(faces[np.argmin(ex.face_height_m[faces])])
     return ex.face_up[f].copy()
-
-
-def _cell_step_reference(ex: ExactLandscape, k: int, u: NDArray[np.float64]) -> NDArray[np.float64]:
-    """:func:`_cell_step` in NumPy (the reference the compiled one is tested against)."""
-    g = ex._g
-    dk = g.d[k]
-    grad = dk - (dk @ u) * u
-    n = np.linalg.norm(grad)
-    if n < 1e-15 * np.linalg.norm(dk):  # balanced on the vertex: fall onto its lowest face
-        faces = g.vface_idx[g.vface_ptr[k] : g.vface_ptr[k + 1]]
-        f = int(faces[np.argmin(ex.face_height_m[faces])])
-        return ex.face_up[f].copy()
-    t = -grad / n
-    diff = g.d - dk
-    a = diff @ u
-    b = diff @ t
-    s = np.mod(np.arctan2(b, a) - np.pi / 2, 2 * np.pi)
-    s[k] = np.inf
-    s[s < 1e-12] = np.inf
-    s_end = np.pi - np.arccos(np.clip(dk @ u / np.linalg.norm(dk), -1.0, 1.0))
-    step = min(float(s.min()), s_end)
-    out = np.cos(step) * u + np.sin(step) * t
-    return out / np.linalg.norm(out)
 
 
 def _node_face(ex: ExactLandscape, top: int, u: NDArray[np.float64]) -> int:
@@ -647,29 +521,11 @@ def _face_exits(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin
     """Where each face that is no minimum tips: over the boundary feature nearest the CoM's projection.
 
     Returns, per face, -1 (a minimum), the next face (tipping over an edge) or -2 - k (pivoting on vertex k).
-    Compiled (``_kernels.face_exits``); :func:`_face_exits_reference` is the NumPy reference.
+    Compiled (``_exact_kernels.face_exits``); the tests hold its reference twin.
     """
-    return _kernels.face_exits(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, float(tol_m))
-
-
-def _face_exits_reference(pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, tol_m):
-    """:func:`_face_exits` in NumPy (the reference the compiled one is tested against)."""
-    n_f = len(half_ptr) - 1
-    face = np.repeat(np.arange(n_f), np.diff(half_ptr))
-    a, b = pts[half_a], pts[half_b]
-    seg = b - a
-    seg_len = np.linalg.norm(seg, axis=1)
-    s = np.clip(np.einsum("ij,ij->i", proj[face] - a, seg) / seg_len**2, 0.0, 1.0)
-    dist = np.linalg.norm(a + s[:, None] * seg - proj[face], axis=1)
-    order = np.lexsort((np.arange(len(face)), dist, face))  # nearest per face, ties to the first half-edge
-    best = order[half_ptr[:-1]]
-    along = s[best] * seg_len[best]
-    arc = half_arc[best]
-    other = np.where(arc_faces[arc, 0] == np.arange(n_f), arc_faces[arc, 1], arc_faces[arc, 0])
-    out = np.where(
-        along <= tol_m, -2 - half_a[best], np.where(along >= seg_len[best] - tol_m, -2 - half_b[best], other)
+    return _exact_kernels.face_exits(
+        pts, proj, half_ptr, half_arc, half_a, half_b, arc_faces, margin, float(tol_m)
     )
-    return np.where(margin > tol_m, -1, out).astype(np.int64)
 
 
 def _descend_face(ex: ExactLandscape, f: int) -> int:
@@ -705,7 +561,7 @@ def _descend_from(ex: ExactLandscape, u: NDArray[np.float64]) -> int:
     budget = 4 * (len(ex.face_up) + len(ex.vertices_m)) + 8
     while budget > 0:
         # the steps inside single vertices' cells, compiled: u, the top vertex, the active ones (within tol)
-        u, top, a0, a1, n_act, steps = _kernels.roll_in_cells(g.d, u, float(ex.tol_m), budget)
+        u, top, a0, a1, n_act, steps = _exact_kernels.roll_in_cells(g.d, u, float(ex.tol_m), budget)
         budget -= steps + 1
         if n_act == 0:
             break
@@ -751,69 +607,6 @@ def _adjacency(n: int, eu, ev, ew):
     return ptr, other, edge.astype(np.int64), np.asarray(ew, dtype=np.float64)[edge]
 
 
-def _minimax(n: int, eu, ev, ew, sources: list[int], goal: NDArray[np.bool_], stop: bool):
-    """Bottleneck Dijkstra on an undirected graph: lowest possible maximum edge weight from the sources.
-
-    Goal nodes are settled but never expanded. Returns (level per node, parent edge per node, first goal).
-    Compiled (``_kernels.minimax_graph``); :func:`_minimax_reference` is the same search in Python.
-    """
-    ptr, other, edge, weight = _adjacency(n, eu, ev, ew)
-    level, parent, first = _kernels.minimax_graph(
-        ptr,
-        other,
-        edge,
-        weight,
-        np.asarray(sources, dtype=np.int64),
-        np.ascontiguousarray(goal, dtype=np.bool_),
-        bool(stop),
-    )
-    return level, parent, int(first)
-
-
-def _minimax_reference(n: int, eu, ev, ew, sources: list[int], goal: NDArray[np.bool_], stop: bool):
-    """:func:`_minimax` with Python's heapq (the reference the compiled search is tested against)."""
-    ptr = np.zeros(n + 1, dtype=np.int64)
-    ends = np.concatenate([eu, ev])
-    order = np.argsort(ends, kind="stable")
-    np.cumsum(np.bincount(ends, minlength=n), out=ptr[1:])
-    m = len(eu)
-    other = np.concatenate([ev, eu])[order].tolist()
-    edge = (order % m).tolist()
-    wl = np.asarray(ew)[order % m].tolist()
-    ptr_l = ptr.tolist()
-    goal_l = goal.tolist()
-    level = [np.inf] * n
-    parent = [-1] * n
-    done = [False] * n
-    heap = []
-    for s in sources:
-        level[s] = -np.inf
-        heap.append((-np.inf, s))
-    heapq.heapify(heap)
-    first = -1
-    while heap:
-        lv, x = heapq.heappop(heap)
-        if done[x]:
-            continue
-        done[x] = True
-        if goal_l[x]:
-            if first < 0:
-                first = x
-                if stop:
-                    break
-            continue
-        for q in range(ptr_l[x], ptr_l[x + 1]):
-            y = other[q]
-            if done[y]:
-                continue
-            nl = max(lv, wl[q])
-            if nl < level[y] or (nl == level[y] and parent[y] < 0 and level[y] != -np.inf):
-                level[y] = nl
-                parent[y] = edge[q]
-                heapq.heappush(heap, (nl, y))
-    return np.array(level), np.array(parent, dtype=np.int64), first
-
-
 def _chain(parent, eu, ev, x: int) -> list[tuple[int, int]]:
     """(edge, node reached) pairs from the source to x along the search tree."""
     out = []
@@ -824,17 +617,9 @@ def _chain(parent, eu, ev, x: int) -> list[tuple[int, int]]:
     return out[::-1]
 
 
-def _arc_points(ex: ExactLandscape, arc: int, s0: float, s1: float) -> NDArray[np.float64]:
-    g = ex._g
-    n = max(2, int(np.ceil(abs(s1 - s0) / np.deg2rad(PATH_STEP_DEG))) + 1)
-    s = np.linspace(s0, s1, n)
-    u0 = ex.face_up[ex.arc_faces[arc, 0]]
-    return np.cos(s)[:, None] * u0 + np.sin(s)[:, None] * g.arc_t[arc]
-
-
 def _pieces_points(ex: ExactLandscape, pieces: list[tuple]) -> NDArray[np.float64]:
-    """The points of :func:`_arc_points` along each piece, without each piece's first point, in one array
-    (the same numbers: ``np.linspace``'s arithmetic, done for all pieces at once)."""
+    """Up-directions along each piece's arc, at most ``PATH_STEP_DEG`` apart, without each piece's first point,
+    in one array (``np.linspace(s0, s1, n)``'s arithmetic, done for all pieces at once)."""
     g = ex._g
     arcs = np.array([pc[0] for pc in pieces], dtype=np.int64)
     s0 = np.array([pc[1] for pc in pieces], dtype=np.float64)
@@ -871,16 +656,8 @@ def _nearest_rep(p: float, r: float, p_ref: float, r_ref: float) -> tuple[float,
 
 def _torus_path(us: NDArray[np.float64], start_deg: tuple[float, float]) -> NDArray[np.float64]:
     """A continuous torus path through up-directions: each point's representative nearest the previous one
-    (:func:`_nearest_rep`, compiled as ``_kernels.torus_path``)."""
-    return _kernels.torus_path(np.ascontiguousarray(_deg(us)), float(start_deg[0]), float(start_deg[1]))
-
-
-def _torus_path_reference(us: NDArray[np.float64], start_deg: tuple[float, float]) -> NDArray[np.float64]:
-    """:func:`_torus_path` in Python (the reference the compiled one is tested against)."""
-    out = [start_deg]
-    for p, r in _deg(us).tolist():
-        out.append(_nearest_rep(p, r, *out[-1]))
-    return np.array(out[1:], dtype=np.float64).reshape(-1, 2)
+    (:func:`_nearest_rep`, compiled as ``_exact_kernels.torus_path``)."""
+    return _exact_kernels.torus_path(np.ascontiguousarray(_deg(us)), float(start_deg[0]), float(start_deg[1]))
 
 
 def _in_sectors(us: NDArray[np.float64], start_deg: tuple[float, float]):
@@ -959,14 +736,8 @@ def _pieces(ex: ExactLandscape, arcs, s0, s1) -> list[tuple]:
     ]
 
 
-def _piece(ex: ExactLandscape, arc: int, forward: bool) -> tuple:
-    """A whole arc, forward (face 0 -> face 1) or back."""
-    theta = float(ex._g.arc_theta[arc])
-    return _pieces(ex, arc, 0.0 if forward else theta, theta if forward else 0.0)[0]
-
-
 def _whole_pieces(ex: ExactLandscape, arcs, forward) -> list[tuple]:
-    """:func:`_piece` of each arc in one call: whole arcs, forward (face 0 -> face 1) or back."""
+    """Whole arcs as pieces (:func:`_pieces`) in one call, forward (face 0 -> face 1) or back."""
     arcs = np.asarray(arcs, dtype=np.int64)
     forward = np.asarray(forward, dtype=bool)
     if not len(arcs):
@@ -1122,7 +893,7 @@ def _pass_path(ex: ExactLandscape, n: int, eu, ev, ew, f0: int, goal, pieces_of,
     ptr, other, edge, weight = _adjacency(n, eu, ev, ew)
     sources = np.array([f0], dtype=np.int64)
     goal = np.ascontiguousarray(goal, dtype=np.bool_)
-    lev, par, first = _kernels.minimax_graph(ptr, other, edge, weight, sources, goal, True)
+    lev, par, first = _exact_kernels.minimax_graph(ptr, other, edge, weight, sources, goal, True)
     if first < 0:
         return None
     level, tol = float(lev[first]), ex.tol_m
@@ -1135,7 +906,7 @@ def _pass_path(ex: ExactLandscape, n: int, eu, ev, ew, f0: int, goal, pieces_of,
         for i in _tie_order(np.array([pc[4] for pc in pieces]), preferred):
             w = weight.copy()
             w[np.isin(edge, np.delete(passes, i))] = np.inf  # closed: never relaxed
-            lev2, par2, first2 = _kernels.minimax_graph(ptr, other, edge, w, sources, goal, True)
+            lev2, par2, first2 = _exact_kernels.minimax_graph(ptr, other, edge, w, sources, goal, True)
             if first2 >= 0 and lev2[first2] <= level + tol:
                 par, first = par2, first2
                 break

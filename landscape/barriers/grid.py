@@ -24,14 +24,14 @@ from numpy.typing import NDArray
 
 from geometry.errors import UsageError
 from geometry.frames import canonical_pitch_roll_deg, up_vector
-from landscape import _kernels
+from landscape.barriers import _flood_kernels
 from landscape.barriers._base import Barrier, Exit
 from landscape.energy import Landscape
 from landscape.grid import wrap_deg
 
 
 def _path(parent: NDArray[np.int64], cell: int, n: int, angles: NDArray[np.float64]) -> NDArray[np.float64]:
-    cells = _kernels.tree_path(parent, cell)
+    cells = _flood_kernels.tree_path(parent, cell)
     ij = np.stack([cells // n, cells % n], axis=1)
     # unwrap so the path is continuous in degrees
     step = angles[1] - angles[0]
@@ -103,14 +103,16 @@ def grid_barrier(landscape: Landscape, start: tuple[int, int], *, connectivity: 
     target = np.ascontiguousarray(upright.ravel().astype(np.int8))
     u0 = u[i0, j0]
     same = (u @ u0 > np.cos(np.deg2rad(2.5 * landscape.step_deg))).ravel()
-    is_min = _kernels.local_minima(e, tol)
+    is_min = _flood_kernels.local_minima(e, tol)
     none = np.zeros(n * n, dtype=np.bool_)
     if upright[i0, j0]:
         a0 = landscape.angles_deg
         zero = Exit(0.0, *canonical_pitch_roll_deg(a0[i0], a0[j0]), "roll", np.array([[a0[i0], a0[j0]]]))
         righting = pitch = roll = zero
     else:
-        levels, cells, parent = _kernels.flood(e, s, target, none, is_min, same, tol, connectivity, False)
+        levels, cells, parent = _flood_kernels.flood(
+            e, s, target, none, is_min, same, tol, connectivity, False
+        )
         righting = _exit(landscape, levels[0], int(cells[0]), parent, e_start, None)
         d = np.abs(wrap_deg(landscape.angles_deg - landscape.angles_deg[i0]))[:, None]
         dr = np.abs(wrap_deg(landscape.angles_deg - landscape.angles_deg[j0]))[None, :]
@@ -118,12 +120,12 @@ def grid_barrier(landscape: Landscape, start: tuple[int, int], *, connectivity: 
         for kind, outside in (("pitch", dr > d), ("roll", d > dr)):
             outside = np.ascontiguousarray(outside.ravel())
             outside[s] = False
-            levels, cells, parent = _kernels.flood(
+            levels, cells, parent = _flood_kernels.flood(
                 e, s, target, outside, is_min, same, tol, connectivity, False
             )
             out.append(_exit(landscape, levels[0], int(cells[0]), parent, e_start, kind))
         pitch, roll = out
-    levels, cells, parent = _kernels.flood(
+    levels, cells, parent = _flood_kernels.flood(
         e, s, np.zeros(n * n, dtype=np.int8), none, is_min, same, tol, connectivity, True
     )
     escape = _exit(landscape, levels[2], int(cells[2]), parent, e_start, None)

@@ -21,7 +21,8 @@ from numpy.typing import NDArray
 from geometry import Pose
 from geometry.errors import UsageError
 from geometry.frames import canonical_pitch_roll_deg, pitch_roll_from_up, up_vector
-from landscape import _kernels
+from landscape import _energy_kernels
+from landscape.barriers import _flood_kernels
 from landscape.barriers._base import Barrier, Exit
 from landscape.energy import G_M_S2
 from landscape.grid import wrap_deg
@@ -132,14 +133,14 @@ def sphere_barrier(
     energy = (
         pose.mass_kg
         * g_m_s2
-        * _kernels.support_points(d, pose.hull.neighbor_ptr, pose.hull.neighbor_idx, g.u)
+        * _energy_kernels.support_points(d, pose.hull.neighbor_ptr, pose.hull.neighbor_idx, g.u)
     )
     u0 = up_vector(np.deg2rad(start_pitch_deg), np.deg2rad(start_roll_deg))
-    s = int(_kernels.descend_graph(energy, g.ptr, g.idx, int(np.argmax(g.u @ u0))))
+    s = int(_flood_kernels.descend_graph(energy, g.ptr, g.idx, int(np.argmax(g.u @ u0))))
     e_start = float(energy[s])
     p0, r0 = canonical_pitch_roll_deg(g.pitch_deg[s], g.roll_deg[s])
     tol = 1e-9 * float(energy.max() - energy.min()) + 1e-15
-    is_min = _kernels.local_minima_graph(energy, g.ptr, g.idx, tol)
+    is_min = _flood_kernels.local_minima_graph(energy, g.ptr, g.idx, tol)
     same = g.u @ g.u[s] > np.cos(np.deg2rad(2.5 * g.spacing_deg))
     upright = (g.u[:, 2] < 0).astype(np.int8)
     none = np.zeros(len(g.u), dtype=np.bool_)
@@ -147,10 +148,10 @@ def sphere_barrier(
     if upright[s]:
         zero = Exit(0.0, p0, r0, "roll", np.array([[p0, r0]]))
         return SphereBarrier(start, Barrier(zero, None, None, None), len(g.u))
-    lv, cl, par = _kernels.flood_graph(energy, g.ptr, g.idx, s, upright, none, is_min, same, tol, False)
+    lv, cl, par = _flood_kernels.flood_graph(energy, g.ptr, g.idx, s, upright, none, is_min, same, tol, False)
     righting = _exit(g, energy, lv[0], int(cl[0]), par, e_start, p0, r0, None)
     zeros = np.zeros(len(g.u), dtype=np.int8)
-    lv, cl, par = _kernels.flood_graph(energy, g.ptr, g.idx, s, zeros, none, is_min, same, tol, True)
+    lv, cl, par = _flood_kernels.flood_graph(energy, g.ptr, g.idx, s, zeros, none, is_min, same, tol, True)
     escape = _exit(g, energy, lv[2], int(cl[2]), par, e_start, p0, r0, None)
     return SphereBarrier(start, Barrier(righting, None, None, escape), len(g.u))
 

@@ -1,5 +1,5 @@
 """Start states: exact quasi-static rolling keeps a strict minimum; the face-following continuation agrees with
-the former grid pattern search (issue #12)."""
+the former grid pattern search (tests/landscape/_references.py)."""
 
 import numpy as np
 import pytest
@@ -11,6 +11,7 @@ from landscape.barriers.exact import exact_landscape
 from landscape.computation import compute
 from landscape.energy import height_at
 from landscape.minima import local_descent, metastable_orientation, rest_face
+from tests.landscape._references import former_metastable_orientation
 
 
 def _ellipsoid(subdivisions=4, radii=(0.06, 0.04, 0.03), com=(0.004, -0.003, 0.002)):
@@ -80,7 +81,7 @@ def test_continuation_equals_former_grid_search(builtin, tw, tl):
     The former search stops within 0.03 deg of the face, so its own height is above the face's by up to
     m g R 0.03 deg; the new start is the face itself and may only be lower."""
     new = metastable_orientation(builtin, tw, tl)
-    old = metastable_orientation(builtin, tw, tl, baseline=True)
+    old = former_metastable_orientation(builtin, tw, tl)
     pose = builtin.pose(tw, tl)
     mg = pose.mass_kg * 9.81
     e_new = mg * float(height_at(pose, *new))
@@ -94,7 +95,7 @@ def test_continuation_equals_former_grid_search(builtin, tw, tl):
 
 def test_lab_continuation_equals_former(lab_robot):
     new = metastable_orientation(lab_robot, 74, 30)
-    old = metastable_orientation(lab_robot, 74, 30, baseline=True)
+    old = former_metastable_orientation(lab_robot, 74, 30)
     pose = lab_robot.pose(74, 30)
     mg = pose.mass_kg * 9.81
     assert mg * float(height_at(pose, *new)) == pytest.approx(mg * float(height_at(pose, *old)), abs=1e-6)

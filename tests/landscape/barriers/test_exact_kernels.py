@@ -1,5 +1,6 @@
-"""The exact method's compiled kernels (landscape/_kernels.py) against their NumPy/Python references in
-landscape/barriers/exact.py: the same numbers, bit for bit, on random inputs and on the built-in robot."""
+"""The exact method's compiled kernels (landscape/barriers/_exact_kernels.py) against their NumPy/Python
+references (tests/landscape/_references.py): the same numbers, bit for bit, on random inputs and on the
+built-in robot, with numba's JIT on and off."""
 
 import numpy as np
 import pytest
@@ -10,6 +11,7 @@ from geometry.frames import up_vector
 from geometry.hull import convex_hull
 from geometry.robots import load_robot
 from landscape.barriers import exact
+from tests.landscape import _references as ref
 
 
 @pytest.fixture(scope="module")
@@ -34,8 +36,8 @@ def test_minimax_kernel_equals_python_search(seed, stop):
     eu, ev, ew = _random_graph(rng, n, int(rng.integers(1, 4 * n)), ties=seed % 2 == 0)
     goal = rng.random(n) < 0.15
     sources = sorted(set(rng.integers(0, n, int(rng.integers(1, 3))).tolist()))
-    got = exact._minimax(n, eu, ev, ew, sources, goal, stop)
-    want = exact._minimax_reference(n, eu, ev, ew, sources, goal, stop)
+    got = ref.minimax_kernel(n, eu, ev, ew, sources, goal, stop)
+    want = ref.minimax_reference(n, eu, ev, ew, sources, goal, stop)
     np.testing.assert_array_equal(got[0], want[0])
     np.testing.assert_array_equal(got[1], want[1])
     assert got[2] == want[2]
@@ -49,7 +51,7 @@ def test_minimax_kernel_on_a_robot_face_graph(builtin_landscapes):
         f0 = int(ex.critical.minima_face[0])
         goal[f0] = False
         args = (n_f, ex.arc_faces[:, 0], ex.arc_faces[:, 1], ex.arc_max_m, [f0], goal, False)
-        got, want = exact._minimax(*args), exact._minimax_reference(*args)
+        got, want = ref.minimax_kernel(*args), ref.minimax_reference(*args)
         for a, b in zip(got, want, strict=True):
             np.testing.assert_array_equal(a, b)
 
@@ -58,7 +60,7 @@ def test_minimax_hand_graph():
     """A path 0 -1.0- 1 -3.0- 2 and a detour 0 -2.0- 3 -2.0- 2: the bottleneck to 2 is 2.0, via 3."""
     eu, ev, ew = np.array([0, 1, 0, 3]), np.array([1, 2, 3, 2]), np.array([1.0, 3.0, 2.0, 2.0])
     goal = np.array([False, False, True, False])
-    level, parent, first = exact._minimax(4, eu, ev, ew, [0], goal, True)
+    level, parent, first = ref.minimax_kernel(4, eu, ev, ew, [0], goal, True)
     assert first == 2 and level[2] == 2.0 and parent[2] == 3 and parent[3] == 2
 
 
@@ -69,9 +71,7 @@ def test_torus_path_kernel_equals_python(builtin_landscapes):
     poles = np.array([[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [1.0, 1e-13, 0.0]])  # pitch -90 and +90
     path = np.concatenate([u[:100], poles, u[100:], up_vector(*np.deg2rad([30.0, 170.0]))[None, :]])
     for start in ((0.0, 0.0), (-45.0, 179.0), (90.0, 12.0), (400.0, -200.0)):
-        np.testing.assert_array_equal(
-            exact._torus_path(path, start), exact._torus_path_reference(path, start)
-        )
+        np.testing.assert_array_equal(exact._torus_path(path, start), ref.torus_path_reference(path, start))
     assert exact._torus_path(path[:0], (0.0, 0.0)).shape == (0, 2)
 
 
@@ -84,12 +84,12 @@ def test_face_margins_and_exits_kernels_equal_numpy(builtin_landscapes):
         got = exact._face_margins(
             pts, normal, g.face_proj, g.face_ptr, g.face_idx, g.half_ptr, g.half_a, g.half_b
         )
-        want = exact._face_margins_reference(
+        want = ref.face_margins_reference(
             pts, normal, g.face_proj, g.face_ptr, g.face_idx, half_face, g.half_a, g.half_b, n_f
         )
         np.testing.assert_array_equal(got, want)
         args = (pts, g.face_proj, g.half_ptr, g.half_arc, g.half_a, g.half_b, ex.arc_faces, want, ex.tol_m)
-        np.testing.assert_array_equal(exact._face_exits(*args), exact._face_exits_reference(*args))
+        np.testing.assert_array_equal(exact._face_exits(*args), ref.face_exits_reference(*args))
 
 
 def test_arc_geometry_kernel_equals_numpy(builtin_landscapes, lab_or_builtin_poses):
@@ -105,7 +105,7 @@ def test_arc_geometry_kernel_equals_numpy(builtin_landscapes, lab_or_builtin_pos
     for ex in cases:
         a, b = ex.arc_vertices[:, 0], ex.arc_vertices[:, 1]
         args = (ex.vertices_m, ex.com_m, ex.face_up, ex.face_height_m, ex.arc_faces, a, b)
-        got, want = exact._arc_geometry(*args), exact._arc_geometry_reference(*args)
+        got, want = exact._arc_geometry(*args), ref.arc_geometry_reference(*args)
         on_arc += ((want[5] > 0) & (want[5] < want[0])).tolist()
         for g, w in zip(got, want, strict=True):
             np.testing.assert_allclose(g, w, rtol=1e-14, atol=1e-15)
@@ -131,7 +131,7 @@ def test_pieces_points_equal_per_arc_linspace(builtin_landscapes):
         s0 = rng.uniform(0, 1, 30) * theta
         s1 = np.where(rng.random(30) < 0.3, s0, rng.uniform(0, 1, 30) * theta)  # some empty pieces
         pieces = [(int(a), float(x), float(y), 0.0, None) for a, x, y in zip(arcs, s0, s1, strict=True)]
-        want = np.concatenate([exact._arc_points(ex, a, x, y)[1:] for a, x, y, _, _ in pieces])
+        want = np.concatenate([ref.arc_points_reference(ex, a, x, y)[1:] for a, x, y, _, _ in pieces])
         np.testing.assert_array_equal(exact._pieces_points(ex, pieces), want)
 
 
@@ -141,7 +141,7 @@ def test_whole_pieces_equal_one_by_one(builtin_landscapes):
     forward = arcs % 3 == 0
     batch = exact._whole_pieces(ex, arcs, forward)
     for got, a, f in zip(batch, arcs, forward, strict=True):
-        want = exact._piece(ex, int(a), bool(f))
+        want = ref.piece_reference(ex, int(a), bool(f))
         assert got[:4] == want[:4]
         np.testing.assert_array_equal(got[4], want[4])
 
@@ -156,12 +156,12 @@ def test_cell_step_kernel_matches_numpy(builtin_landscapes):
             u /= np.linalg.norm(u)
             k = int(np.argmax(ex._g.d @ u))
             np.testing.assert_allclose(
-                exact._cell_step(ex, k, u), exact._cell_step_reference(ex, k, u), rtol=0, atol=1e-14
+                exact._cell_step(ex, k, u), ref.cell_step_reference(ex, k, u), rtol=0, atol=1e-14
             )
         k = 0
         balanced = ex._g.d[k] / np.linalg.norm(ex._g.d[k])  # on the vertex: falls onto its lowest face
         np.testing.assert_array_equal(
-            exact._cell_step(ex, k, balanced), exact._cell_step_reference(ex, k, balanced)
+            exact._cell_step(ex, k, balanced), ref.cell_step_reference(ex, k, balanced)
         )
 
 
@@ -202,7 +202,7 @@ def test_merge_coplanar_kernel_equals_scipy_components(builtin_landscapes):
         qh = ConvexHull(hull.vertices_m)
         tol = 1e-9 * float(np.ptp(pts, axis=0).max())
         eq, tri, nb, got = exact._faces(hull, tol)
-        np.testing.assert_array_equal(got, exact._merge_coplanar_reference(hull.vertices_m, tri, eq, nb, tol))
+        np.testing.assert_array_equal(got, ref.merge_coplanar_reference(hull.vertices_m, tri, eq, nb, tol))
         assert len(tri) == len(qh.simplices)
     assert exact._faces(convex_hull(box), 1e-9)[3].max() + 1 == 6
 
@@ -220,7 +220,7 @@ def test_arcs_kernel_equals_numpy(builtin_landscapes, lab_or_builtin_poses):
         _, tri, nb, tri_face = exact._faces(hull, tol)
         n_f = int(tri_face.max()) + 1
         got = exact._arcs(pts, tri, nb, tri_face, n_f)
-        want = exact._arcs_reference(pts, tri, nb, tri_face, n_f)
+        want = ref.arcs_reference(pts, tri, nb, tri_face, n_f)
         for g, w in zip(got[:3], want[:3], strict=True):
             np.testing.assert_array_equal(g, w)
         np.testing.assert_array_equal(got[3][0], want[3][0])
@@ -243,3 +243,51 @@ def lab_or_builtin_poses():
 
     robot = Robot.from_urdf(LAB_URDF) if HAVE_LAB else load_robot(None)
     return [robot.pose(w, leg).hull.vertices_m for w, leg in ((-10.0, 0.0), (40.0, 0.0), (74.0, 30.0))]
+
+
+def test_exact_kernels_match_references_without_jit():
+    """The same comparisons with numba's JIT off, on a box with its CoM off-centre and a random blob: the
+    kernels' Python source is what the tests check."""
+    code = (
+        "import numpy as np, trimesh\n"
+        "from geometry import Robot\n"
+        "from geometry.hull import convex_hull\n"
+        "from landscape.barriers import exact\n"
+        "from tests.landscape import _references as ref\n"
+        "rng = np.random.default_rng(4)\n"
+        "box = trimesh.creation.box(extents=(4.0, 2.0, 1.0))\n"
+        "blob = trimesh.convex.convex_hull(rng.normal(size=(40, 3)) * [0.1, 0.06, 0.03])\n"
+        "for mesh, com in ((box, [1.9, 0.0, 0.0]), (blob, blob.vertices.mean(axis=0) * 0.3)):\n"
+        "    ex = exact.exact_landscape(Robot.from_trimesh(mesh, mass_kg=1.0, com=com).pose())\n"
+        "    g, pts, n_f = ex._g, ex.vertices_m, len(ex.face_up)\n"
+        "    hull = convex_hull(pts)\n"
+        "    eq, tri, nb, tri_face = exact._faces(hull, ex.tol_m)\n"
+        "    assert (tri_face == ref.merge_coplanar_reference(hull.vertices_m, tri, eq, nb, ex.tol_m)).all()\n"
+        "    m = int(tri_face.max()) + 1\n"
+        "    got, want = exact._arcs(pts, tri, nb, tri_face, m), ref.arcs_reference(pts, tri, nb, tri_face, m)\n"
+        "    assert all(np.array_equal(a, b) for a, b in zip(got[:3] + got[3], want[:3] + want[3]))\n"
+        "    a, b = ex.arc_vertices[:, 0], ex.arc_vertices[:, 1]\n"
+        "    args = (pts, ex.com_m, ex.face_up, ex.face_height_m, ex.arc_faces, a, b)\n"
+        "    for x, y in zip(exact._arc_geometry(*args), ref.arc_geometry_reference(*args)):\n"
+        "        assert np.allclose(x, y, rtol=1e-14, atol=1e-15)\n"
+        "    half_face = np.repeat(np.arange(n_f), np.diff(g.half_ptr))\n"
+        "    fm = (pts, -ex.face_up, g.face_proj, g.face_ptr, g.face_idx)\n"
+        "    margin = exact._face_margins(*fm, g.half_ptr, g.half_a, g.half_b)\n"
+        "    assert np.array_equal(margin, ref.face_margins_reference(*fm, half_face, g.half_a, g.half_b, n_f))\n"
+        "    args = (pts, g.face_proj, g.half_ptr, g.half_arc, g.half_a, g.half_b, ex.arc_faces, margin, ex.tol_m)\n"
+        "    assert np.array_equal(exact._face_exits(*args), ref.face_exits_reference(*args))\n"
+        "    for u in rng.normal(size=(20, 3)):\n"
+        "        u /= np.linalg.norm(u)\n"
+        "        k = int(np.argmax(g.d @ u))\n"
+        "        assert np.allclose(exact._cell_step(ex, k, u), ref.cell_step_reference(ex, k, u), rtol=0, atol=1e-14)\n"
+        "    us = rng.normal(size=(50, 3))\n"
+        "    us /= np.linalg.norm(us, axis=1, keepdims=True)\n"
+        "    assert np.array_equal(exact._torus_path(us, (10.0, -20.0)), ref.torus_path_reference(us, (10.0, -20.0)))\n"
+        "    goal = np.zeros(n_f, dtype=bool)\n"
+        "    goal[ex.critical.minima_face[1:]] = True\n"
+        "    graph = (n_f, ex.arc_faces[:, 0], ex.arc_faces[:, 1], ex.arc_max_m, [int(ex.critical.minima_face[0])])\n"
+        "    got, want = ref.minimax_kernel(*graph, goal, False), ref.minimax_reference(*graph, goal, False)\n"
+        "    assert np.array_equal(got[0], want[0]) and np.array_equal(got[1], want[1]) and got[2] == want[2]\n"
+        "print('ok')\n"
+    )
+    assert ref.run_without_jit(code) == "ok"
