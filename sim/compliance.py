@@ -1,6 +1,7 @@
-"""Compliant wings: the joint that carries each wing yields like a spring and damper (issue #15, section 2), or
-like a soft servo that also integrates its error; and, apart, a body that twists (:class:`BodyTorsion`), a leg
-whose swing gives (:class:`LegCompliance`) and a leg that bends out of its swing plane (:class:`LegBend`).
+"""The model set's compliant joints, each a :class:`sim.modifier.Modifier`: wings whose joints yield like a spring
+and damper or a soft servo that also integrates its error (:class:`Compliance`, ``[compliance]``); a body that
+twists (:class:`BodyTorsion`), a leg whose swing gives (:class:`LegCompliance`), a leg that bends out of its swing
+plane (:class:`LegBend`) and a head whose attachment gives (:class:`HeadCompliance`).
 
 The source paper suspected that the thin wings and their mounts deform under the body's weight and make the
 physical robot easier to right. With a :class:`Compliance`, the wing joints (the pitch and the roll servo of each
@@ -24,7 +25,10 @@ import math
 from dataclasses import dataclass
 from typing import ClassVar
 
-from geometry.errors import UsageError
+from geometry.errors import RobotDescriptionError, UsageError
+
+from . import urdf_edits
+from .modifier import ModelSetError, Modifier, check_keys, number, register
 
 MAX_OMEGA_PERIOD = 0.5
 """Largest ``sqrt(k / I) * period`` (and ``c * period / I``) allowed: the held explicit torque stays accurate."""
@@ -34,9 +38,10 @@ class ComplianceError(UsageError):
     """A compliance value out of range or a stiffness too high for the servo command period."""
 
 
+@register
 @dataclass(frozen=True)
-class Compliance:
-    """Spring and damper of every wing joint (servo and mount together).
+class Compliance(Modifier):
+    """Spring and damper of every wing joint (servo and mount together): the ``[compliance]`` table.
 
     Attributes
     ----------
@@ -56,6 +61,71 @@ class Compliance:
     wing_damping_n_m_s_rad: float = 0.0
     wing_integral_time_s: float | None = None
     wing_scale: tuple[float, ...] | None = None
+
+    TABLE: ClassVar[str] = "compliance"
+    KEYS: ClassVar[frozenset[str]] = frozenset(
+        {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad", "wing_integral_time_s", "wing_scale"}
+    )
+
+    @classmethod
+    def from_toml(cls, table: dict, where: str) -> Compliance:
+        """``wing_stiffness_n_m_rad``, optional ``wing_damping_n_m_s_rad``, ``wing_integral_time_s`` and
+        ``wing_scale`` (a list of factors > 0; the World checks their count).
+
+        Raises
+        ------
+        ModelSetError
+            If a key is unknown or missing, or a value is out of range.
+        """
+        comp = check_keys(table, cls.KEYS, {"wing_stiffness_n_m_rad"}, where)
+        scale = None
+        if "wing_scale" in comp:
+            v = comp["wing_scale"]
+            if not isinstance(v, list) or not v:
+                raise ModelSetError(
+                    f"{where}: wing_scale must be a list of numbers > 0, one per wing joint (e.g. [1, 0.5, 1, 0.5]); "
+                    f"got {v!r}"
+                )
+            scale = tuple(number({"wing_scale": x}, "wing_scale", where) for x in v)
+        try:
+            return cls(
+                number(comp, "wing_stiffness_n_m_rad", where),
+                number(comp, "wing_damping_n_m_s_rad", where, allow_zero=True)
+                if "wing_damping_n_m_s_rad" in comp
+                else 0.0,
+                number(comp, "wing_integral_time_s", where) if "wing_integral_time_s" in comp else None,
+                scale,
+            )
+        except ComplianceError as exc:
+            raise ModelSetError(f"{where}: {exc}") from None
+
+    def canonical(self) -> dict:
+        """Stiffness and damping; the integral time and the scales only when given."""
+        out: dict = {
+            "wing_stiffness_n_m_rad": self.wing_stiffness_n_m_rad,
+            "wing_damping_n_m_s_rad": self.wing_damping_n_m_s_rad,
+        }
+        if self.wing_integral_time_s is not None:
+            out["wing_integral_time_s"] = self.wing_integral_time_s
+        if self.wing_scale is not None:
+            out["wing_scale"] = list(self.wing_scale)
+        return out
+
+    def attach(self, world) -> None:
+        """Drive every wing joint through its spring, damper and integral instead of the stiff servo."""
+        n_wing = len(world.wing_joints)
+        k, c, ti = self.wing_stiffness_n_m_rad, self.wing_damping_n_m_s_rad, self.wing_integral_time_s
+        ki = k / ti if ti is not None else 0.0
+        world.add_soft_joints(range(n_wing), [(k * f, c * f, ki * f) for f in self.joint_scales(n_wing)])
+
+    def inertia_kg_m2(self, world) -> float:
+        """The smallest moment of inertia of a wing joint's child link about the joint's axis, kg m² (a lower
+        bound on what the joint moves)."""
+        return world.child_inertia_kg_m2(world.wing_joints)
+
+    def check_stability(self, world, period_s: float) -> None:
+        """:func:`check_stability` with the wings' :meth:`inertia_kg_m2`."""
+        check_stability(self, self.inertia_kg_m2(world), period_s)
 
     def __post_init__(self):
         k, c, ti = self.wing_stiffness_n_m_rad, self.wing_damping_n_m_s_rad, self.wing_integral_time_s
@@ -173,9 +243,9 @@ def _check_spring(
 
 
 @dataclass(frozen=True)
-class Spring:
-    """A passive spring and damper of a model set's table (``[TABLE] stiffness_n_m_rad, damping_n_m_s_rad``);
-    the subclasses say which joint it acts on.
+class Spring(Modifier):
+    """A spring and damper of a model set's table (``[TABLE] stiffness_n_m_rad, damping_n_m_s_rad``); the
+    subclasses say which joint it acts on.
 
     Attributes
     ----------
@@ -188,8 +258,7 @@ class Spring:
     stiffness_n_m_rad: float
     damping_n_m_s_rad: float = 0.0
 
-    TABLE: ClassVar[str] = ""
-    """The model-set table, named in every error."""
+    KEYS: ClassVar[frozenset[str]] = frozenset({"stiffness_n_m_rad", "damping_n_m_s_rad"})
     WITHOUT: ClassVar[str] = ""
     """What omitting the table gives."""
     WHOSE: ClassVar[str] = ""
@@ -207,7 +276,51 @@ class Spring:
         if c < 0:
             raise ComplianceError(f"{self.TABLE} damping_n_m_s_rad must be >= 0; got {c!r}")
 
+    @classmethod
+    def from_toml(cls, table: dict, where: str) -> Spring:
+        """``stiffness_n_m_rad`` and optional ``damping_n_m_s_rad``.
 
+        Raises
+        ------
+        ModelSetError
+            If a key is unknown or missing, or a value is out of range.
+        """
+        tab = check_keys(table, cls.KEYS, {"stiffness_n_m_rad"}, where)
+        try:
+            return cls(
+                number(tab, "stiffness_n_m_rad", where),
+                number(tab, "damping_n_m_s_rad", where, allow_zero=True)
+                if "damping_n_m_s_rad" in tab
+                else 0.0,
+            )
+        except ComplianceError as exc:
+            raise ModelSetError(f"{where}: {exc}") from None
+
+    def canonical(self) -> dict:
+        """Stiffness and damping."""
+        return {"stiffness_n_m_rad": self.stiffness_n_m_rad, "damping_n_m_s_rad": self.damping_n_m_s_rad}
+
+    def inertia_kg_m2(self, world) -> float:
+        """What the spring moves in ``world``, kg m² (nan without its joint)."""
+        raise NotImplementedError
+
+    def check_stability(self, world, period_s: float) -> None:
+        """:func:`check_spring_stability` with :meth:`inertia_kg_m2`."""
+        check_spring_stability(self, self.inertia_kg_m2(world), period_s)
+
+
+def _passive_joint(world, spring: Spring, joint: str) -> int:
+    """The index of the hinge ``spring`` drives (one its :meth:`Modifier.edit_urdf` inserted)."""
+    j = world.joint_index(joint)
+    if j is None:
+        raise ValueError(
+            f"a {type(spring).__name__} needs a model built with it (sim_model(..., modifiers=(...))); the model "
+            f"has no joint {joint!r}"
+        )
+    return j
+
+
+@register
 class BodyTorsion(Spring):
     """A body that twists about its long axis: the links that carry the wings turn against the rest of the body
     (head, leg and base) about the base frame's x axis through its origin, on a spring and damper.
@@ -215,7 +328,7 @@ class BodyTorsion(Spring):
     The robot's shell is thin. Under the body's weight the two wings carry equal and opposite moments about the
     long axis, which cancel across the body, so a torsion spring does not sag the resting pose as a spring in
     each wing joint does (docs/physical/resting-pose.md); a load that differs between the sides, such as the
-    leg's swing, twists it. :func:`sim.model.add_body_torsion` inserts the joint (``TORSION_JOINT``) and
+    leg's swing, twists it. :func:`sim.urdf_edits.add_body_torsion` inserts the joint (``TORSION_JOINT``) and
     :class:`sim.world.World` drives it with the torque ``-k q - c dq/dt``, renewed before every
     ``stepSimulation`` call (settling included).
 
@@ -230,14 +343,33 @@ class BodyTorsion(Spring):
     """
 
     TABLE, WITHOUT, WHOSE = "body_torsion", "a rigid body", "the twist's"
+    EDITS_URDF, URDF_ORDER = True, 20
+
+    def edit_urdf(self, root, robot) -> None:
+        """Insert the twist's hinge (:func:`sim.urdf_edits.add_body_torsion`)."""
+        urdf_edits.add_body_torsion(root, robot.joint_map.wing)
+
+    def attach(self, world) -> None:
+        """Drive the twist with ``-k q - c dq/dt`` before every step."""
+        world.add_spring(
+            _passive_joint(world, self, urdf_edits.TORSION_JOINT),
+            self.stiffness_n_m_rad,
+            self.damping_n_m_s_rad,
+        )
+
+    def inertia_kg_m2(self, world) -> float:
+        """Effective moment of inertia of the body's twist, kg m² (:meth:`sim.world.World.effective_inertia_kg_m2`)."""
+        j = world.joint_index(urdf_edits.TORSION_JOINT)
+        return math.nan if j is None else world.effective_inertia_kg_m2(j)
 
 
+@register
 class LegCompliance(Spring):
     """A leg whose swing gives: the leg joint is driven through a spring and damper towards its commanded profile
     (``k (target - q) + c (speed - dq/dt)``, held through the servo command period and capped at the effort
     limit, as :class:`Compliance` drives the wing joints) instead of the stiff servo.
 
-    The pendulum leg is a 4.3 g rod carrying 51.5 g at its end: a rod that bends in its swing, or a servo horn
+    A pendulum leg is a light rod carrying a mass at its end: a rod that bends in its swing, or a servo horn
     that gives, lets the mass lag its command and swing past it, ringing at ``sqrt(k / I)`` (``I``: the leg's
     moment of inertia about its joint). Without it the leg follows its profile exactly.
 
@@ -253,16 +385,27 @@ class LegCompliance(Spring):
 
     TABLE, WITHOUT, WHOSE = "leg_compliance", "a stiff leg", "the leg's"
 
+    def attach(self, world) -> None:
+        """Drive every leg joint through the spring and damper instead of the stiff servo."""
+        n_wing, n_leg = len(world.wing_joints), len(world.leg_joints)
+        world.add_soft_joints(
+            range(n_wing, n_wing + n_leg), [(self.stiffness_n_m_rad, self.damping_n_m_s_rad, 0.0)] * n_leg
+        )
 
+    def inertia_kg_m2(self, world) -> float:
+        """The smallest moment of inertia of a leg joint's child link about the joint's axis, kg m²."""
+        return world.child_inertia_kg_m2(world.leg_joints)
+
+
+@register
 class LegBend(Spring):
     """A leg that bends out of its swing plane: the leg turns against its joint about the axis across it
-    (:func:`sim.model.add_leg_bend`), on a spring and damper, so its end bobs; :class:`sim.world.World` drives the
+    (:func:`sim.urdf_edits.add_leg_bend`), on a spring and damper, so its end bobs; :class:`sim.world.World` drives the
     joint with the torque ``-k q - c dq/dt``, renewed before every ``stepSimulation`` call.
 
-    The lab robot's leg is a thin plate (1.5 mm across its swing plane's normal, 8 mm in it) carrying 51.5 g at
-    its end: stiff in its swing, soft out of it. The robot's IMU rings in pitch at about 3.9 Hz after every leg
-    step (``benchmarks/physical/imu_ringing.py``); ``k = I (2 pi f)^2`` with the leg's moment of inertia ``I`` about the
-    bending axis gives that frequency.
+    A leg that is a thin plate carrying a mass at its end is stiff in its swing and soft out of it. A body that
+    rings in pitch at ``f`` after every leg step (``benchmarks/physical/imu_ringing.py`` measures it) gives
+    ``k = I (2 pi f)^2``, with the leg's moment of inertia ``I`` about the bending axis.
 
     Examples
     --------
@@ -271,6 +414,34 @@ class LegBend(Spring):
     """
 
     TABLE, WITHOUT, WHOSE = "leg_bend", "a rigid leg", "the leg's"
+    EDITS_URDF, URDF_ORDER = True, 30
+
+    def edit_urdf(self, root, robot) -> None:
+        """Insert the bend's hinge (:func:`sim.urdf_edits.add_leg_bend`).
+
+        Raises
+        ------
+        geometry.errors.RobotDescriptionError
+            If the robot drives more than one leg joint.
+        """
+        leg = robot.joint_map.leg
+        if len(leg) != 1:
+            raise RobotDescriptionError(
+                f"[leg_bend] bends one leg; '{robot.urdf_file.path.name}' drives {len(leg)} leg joints "
+                f"({', '.join(leg)}): drop [leg_bend] or map one leg joint"
+            )
+        urdf_edits.add_leg_bend(root, leg[0])
+
+    def attach(self, world) -> None:
+        """Drive the bend with ``-k q - c dq/dt`` before every step."""
+        world.add_spring(
+            _passive_joint(world, self, urdf_edits.BEND_JOINT), self.stiffness_n_m_rad, self.damping_n_m_s_rad
+        )
+
+    def inertia_kg_m2(self, world) -> float:
+        """The leg's moment of inertia about its bending axis, kg m² (nan without the bend's joint)."""
+        j = world.joint_index(urdf_edits.BEND_JOINT)
+        return math.nan if j is None else world.child_inertia_kg_m2([j])
 
 
 def check_spring_stability(spring: Spring, inertia_kg_m2: float, period_s: float) -> None:
@@ -300,6 +471,8 @@ def check_spring_stability(spring: Spring, inertia_kg_m2: float, period_s: float
     )
 
 
+_HEAD_SLIDE = ("stiffness_n_m", "damping_n_s_m", "travel_mm")
+_HEAD_HINGE = ("stiffness_n_m_rad", "damping_n_m_s_rad", "travel_deg")
 HEAD_JOINT = "head_mount"
 """The joint that attaches the head, in the lab URDF and the built-in robot: ``[head_compliance]``'s default."""
 MAX_HEAD_TRAVEL_MM = 30.0
@@ -310,17 +483,17 @@ DEFAULT_HEAD_TRAVEL = 30.0
 """A head's stop when none is given: 30 mm for a slide, 30 degrees for a hinge."""
 
 
+@register
 @dataclass(frozen=True)
-class HeadCompliance:
-    """A head whose attachment gives (issue #15, section 2: "an optional compliant wing (and head) attachment"):
-    the fixed joint that attaches the head becomes a slide along ``axis`` (``slide``; stiffness N/m, damping
+class HeadCompliance(Modifier):
+    """A head whose attachment gives (the ``[head_compliance]`` table): the fixed joint that attaches the head becomes a slide along ``axis`` (``slide``; stiffness N/m, damping
     N·s/m, travel m) or a hinge about it (stiffness N·m/rad, damping N·m·s/rad, travel rad) through the joint's
     origin, driven by the torque (or force) ``-k q - c dq/dt`` renewed before every ``stepSimulation`` call, and
     stopped at ``±travel``.
 
     The source paper suspected that the thin head deforms under the load the ground puts on it when the wings
     hold the body up. The head carries no load on the robot's back and part of its weight in the hold, so a head
-    that gives holds the body further over only while the wings are open. :func:`sim.model.add_head_compliance`
+    that gives holds the body further over only while the wings are open. :func:`sim.urdf_edits.add_head_compliance`
     turns the joint; at zero deflection every link sits where it did. The landscape (``landscape compute``) stays
     the rigid body's, as it does for compliant wings.
 
@@ -361,6 +534,80 @@ class HeadCompliance:
     joint: str = HEAD_JOINT
 
     TABLE: ClassVar[str] = "head_compliance"
+    KEYS: ClassVar[frozenset[str]] = frozenset({"joint", "axis", *_HEAD_SLIDE, *_HEAD_HINGE})
+    EDITS_URDF: ClassVar[bool] = True
+    URDF_ORDER: ClassVar[int] = 10
+
+    @classmethod
+    def from_toml(cls, table: dict, where: str) -> HeadCompliance:
+        """A slide's keys (``stiffness_n_m``, ``damping_n_s_m``, ``travel_mm``) or a hinge's
+        (``stiffness_n_m_rad``, ``damping_n_m_s_rad``, ``travel_deg``), never both; ``axis`` and ``joint``
+        optional.
+
+        Raises
+        ------
+        ModelSetError
+            If a key is unknown or missing, the two kinds are mixed, or a value is out of range.
+        """
+        tab = check_keys(table, cls.KEYS, set(), where)
+        slide_keys, hinge_keys = set(_HEAD_SLIDE) & set(tab), set(_HEAD_HINGE) & set(tab)
+        if bool(slide_keys) == bool(hinge_keys) or (
+            "stiffness_n_m" not in tab and "stiffness_n_m_rad" not in tab
+        ):
+            raise ModelSetError(
+                f"{where}: give a slide (stiffness_n_m, optional damping_n_s_m and travel_mm) or a hinge "
+                "(stiffness_n_m_rad, optional damping_n_m_s_rad and travel_deg), not both"
+            )
+        slide = bool(slide_keys)
+        kn, cn, tn = _HEAD_SLIDE if slide else _HEAD_HINGE
+        axis = tab.get("axis", [1.0, 0.0, 0.0])
+        if not isinstance(axis, list):
+            raise ModelSetError(
+                f"{where}: axis must be a list of three numbers (x, y, z in the joint's parent frame)"
+            )
+        try:
+            return cls(
+                number(tab, kn, where),
+                number(tab, cn, where, allow_zero=True) if cn in tab else 0.0,
+                slide,
+                tuple(axis),
+                number(tab, tn, where) * (1e-3 if slide else math.pi / 180.0) if tn in tab else None,
+                tab.get("joint", HEAD_JOINT),
+            )
+        except ComplianceError as exc:
+            raise ModelSetError(f"{where}: {exc}") from None
+
+    def canonical(self) -> dict:
+        """Joint, stiffness, damping, axis and travel, under the table's names for this kind of joint."""
+        kn, cn, tn = self.keys()
+        return {
+            "joint": self.joint,
+            kn: self.stiffness,
+            cn: self.damping,
+            "axis": list(self.axis),
+            tn: self.travel_as_written(),
+        }
+
+    def edit_urdf(self, root, robot) -> None:
+        """Turn the head's fixed joint into a slide or a hinge (:func:`sim.urdf_edits.add_head_compliance`)."""
+        urdf_edits.add_head_compliance(root, self.joint, slide=self.slide, axis=self.axis, travel=self.travel)
+
+    def attach(self, world) -> None:
+        """Drive the head's joint with ``-k q - c dq/dt`` before every step."""
+        j = world.joint_index(self.joint)
+        world.add_spring(j, self.stiffness, self.damping)
+
+    def inertia(self, world) -> float:
+        """What the head's spring moves (nan without its joint): the head's mass, kg, for a slide; its moment of
+        inertia about the hinge, kg m², for a hinge."""
+        j = world.joint_index(self.joint)
+        if j is None:
+            return math.nan
+        return world.link_mass_kg_of(j) if self.slide else world.child_inertia_kg_m2([j])
+
+    def check_stability(self, world, period_s: float) -> None:
+        """:func:`check_head_stability` with :meth:`inertia`."""
+        check_head_stability(self, self.inertia(world), period_s)
 
     def keys(self) -> tuple[str, str, str]:
         """The table's names of stiffness, damping and travel for this kind of joint."""

@@ -223,10 +223,8 @@ def sweep_specs(
     from .model_set import MODELS_DIR, load_model_set
 
     ms = load_model_set(model_set)
-    # refuses a joint it lacks, the set's shifted or compliant head's included
-    model = sim_model(
-        path, joint_map=joint_map, joint_shift=ms.joint_shift_m, head_compliance=ms.head_compliance
-    )
+    # refuses a joint or part it lacks, every modifier's included
+    model = sim_model(path, joint_map=joint_map, modifiers=ms.modifiers)
     joints = "" if joint_map is None or joint_map == JointMap() else joint_map.text()
     _check_joint_ranges(grids, model.theta_limits_deg)
     ms_ref = ms.name if Path(ms.source).parent == MODELS_DIR else str(Path(ms.source).resolve())

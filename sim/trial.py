@@ -37,7 +37,9 @@ from geometry import JointMap, pitch_roll_from_up
 from geometry.errors import GeometryError, JointLimitError
 
 from .actuation import Actuation, attempt_phases, attempt_starts_s, leg_profile_deg, wing_joint_profiles_deg
-from .model import HULL_MAX_VERTICES, HULL_TOL_M, sim_model
+from .hulls import HULL_MAX_VERTICES, HULL_TOL_M
+from .model import sim_model
+from .modifier import with_modifier
 from .protocol import (
     DEFAULT_DT_S,
     DEFAULT_DURATION_S,
@@ -480,18 +482,16 @@ def run_trial(
         from .model_set import load_model_set
 
         model_set = load_model_set()
-    comp = compliance if compliance is not None else model_set.compliance
+    modifiers = model_set.modifiers
+    if compliance is not None:
+        modifiers = with_modifier(modifiers, compliance)
     model = sim_model(
         robot,
         tol_m=numerics.hull_tol_m,
         max_vertices=numerics.hull_max_vertices,
         joint_map=joint_map,
         merge_fixed=numerics.merge_fixed_links,
-        body_torsion=model_set.body_torsion is not None,
-        com_offset_m=model_set.com_offset_m,
-        leg_bend=model_set.leg_bend is not None,
-        joint_shift=model_set.joint_shift_m,
-        head_compliance=model_set.head_compliance,
+        modifiers=modifiers,
     )
     theta_w_deg, theta_l_deg, phase, cv = float(theta_w_deg), float(theta_l_deg), float(phase), float(cv)
     duration_s, dt_s = float(duration_s), float(default_dt_s(model.source) if dt_s is None else dt_s)
@@ -534,26 +534,11 @@ def run_trial(
         dt_s=dt_s,
         substeps=substeps,
         contact=contact or model_set.contact,
-        compliance=comp,
-        torsion=model_set.body_torsion,
-        leg_compliance=model_set.leg_compliance,
-        bend=model_set.leg_bend,
-        head=model_set.head_compliance,
+        modifiers=modifiers,
     )
     with world:
-        from .compliance import check_head_stability, check_spring_stability, check_stability
-
-        if comp is not None:
-            check_stability(comp, world.wing_inertia_kg_m2(), cmd.ctrl_s)
-        for spring, inertia in (
-            (model_set.body_torsion, world.torsion_inertia_kg_m2),
-            (model_set.leg_compliance, world.leg_inertia_kg_m2),
-            (model_set.leg_bend, world.bend_inertia_kg_m2),
-        ):
-            if spring is not None:
-                check_spring_stability(spring, inertia(), cmd.ctrl_s)
-        if model_set.head_compliance is not None:
-            check_head_stability(model_set.head_compliance, world.head_inertia(), cmd.ctrl_s)
+        for m in modifiers:
+            m.check_stability(world, cmd.ctrl_s)
         _settle(world, model, cmd)
         run = _run(world, cmd, trace=trace)
     started = starts[starts <= run.t_end]
