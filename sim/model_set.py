@@ -5,9 +5,9 @@ and the default contact: the default, identical to trials made before model sets
 robot's sets (``physical``: the lab's measured servo and leg profiles; ``physical-posed`` and ``physical-offset``:
 posed further over, with compliant wing joints, and the latter with its CoM off the midline; ``physical-head``:
 resting where the robot rests, its head further back; each file's header says how it was chosen). ``--model NAME``
-picks a shipped set, ``--model FILE.toml`` any other. Optional tables: ``[compliance]`` (wing joints),
-``[body_torsion]``, ``[leg_compliance]``, ``[leg_bend]``, ``[mass]`` and ``[geometry]`` (see :class:`ModelSet`).
-Layout::
+picks a shipped set, ``--model FILE.toml`` any other. Each optional table switches on one modifier
+(:mod:`sim.modifier`; :data:`OPTIONAL_TABLES`: ``[compliance]``, ``[body_torsion]``, ``[leg_compliance]``,
+``[leg_bend]``, ``[head_compliance]``, ``[mass]`` and ``[geometry]``). Layout::
 
     name = "paper"
     version = 1
@@ -70,8 +70,7 @@ PROFILES = ("idealised", "measured")
 OPTIONAL_TABLES = tuple(registered())
 """The tables a set may add to its required ``[actuation]`` and ``[contact]``: each switches one
 :class:`sim.modifier.Modifier` on."""
-_OPTIONAL_TOP = {"description", *OPTIONAL_TABLES}
-_TOP = {"name", "version", "actuation", "contact"} | _OPTIONAL_TOP
+_REQUIRED_TOP = {"name", "version", "actuation", "contact"}
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
 _MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg", "servo_sides", "wing_extra_deg"}
 MAX_WING_EXTRA_DEG = 20.0
@@ -379,7 +378,8 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     path = _resolve(name_or_file)
     data = read_toml(path)
     where = f"model set '{path}'"
-    _check_keys(data, _TOP, _TOP - _OPTIONAL_TOP, where)
+    # the tables of every registered modifier, one registered after this import too
+    _check_keys(data, _REQUIRED_TOP | {"description", *registered()}, _REQUIRED_TOP, where)
     if not isinstance(data["name"], str) or not data["name"].strip():
         raise ModelSetError(f"{where}: name must be a non-empty string; got {data['name']!r}")
     if isinstance(data["version"], bool) or not isinstance(data["version"], int) or data["version"] < 0:

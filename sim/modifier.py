@@ -11,7 +11,7 @@ a method, so no other signature names it:
    the simulation loads (:func:`sim.model.sim_model`);
 4. :meth:`Modifier.attach` tells the :class:`sim.world.World` which joints it drives and how;
 5. :meth:`Modifier.check_stability` refuses values the held explicit update cannot follow, once the world is
-   loaded (:func:`sim.trial.run_trial`).
+   loaded (:func:`sim.trial.simulate_trial`).
 
 A new element is one module: a frozen dataclass subclassing :class:`Modifier`, decorated with :func:`register`,
 and its module named in :data:`MODULES` (docs/concepts/model_sets.md shows a whole one).

@@ -165,7 +165,7 @@ TORSION_LIMIT_RAD = 0.6
 """The inserted joint's range, +- rad: a twist beyond it means a broken body, not a soft one."""
 
 
-def _base_link(root: ET._Element) -> ET._Element:
+def base_link(root: ET._Element) -> ET._Element:
     """The URDF's root link: the one no joint has as its child."""
     children = {j.find("child").get("link") for j in root.findall("joint")}
     return next(lk for lk in root.findall("link") if lk.get("name") not in children)
@@ -241,7 +241,7 @@ def add_body_torsion(root: ET._Element, wing_joints: tuple[str, ...]) -> list[st
             "[body_torsion]"
         )
     by_child = {j.find("child").get("link"): j for j in joints.values()}
-    base = _base_link(root).get("name")
+    base = base_link(root).get("name")
     rehang: list[str] = []
     for name in wing_joints:
         j = joints.get(name)
@@ -345,7 +345,7 @@ def shift_com(root: ET._Element, offset_m: ArrayLike) -> str:
     ('a', '0 0.0040000000000000001 0')
     """
     d = np.asarray(offset_m, dtype=np.float64)
-    base = _base_link(root)
+    base = base_link(root)
     total = sum(_inertial(lk)[0] for lk in root.findall("link"))
     m_base = _inertial(base)[0]
     if m_base <= 0:

@@ -1,4 +1,4 @@
-"""A body that twists (sim.compliance.BodyTorsion, sim.model.add_body_torsion): values and stability refused in
+"""A body that twists (sim.compliance.BodyTorsion, sim.urdf_edits.add_body_torsion): values and stability refused in
 one line, the model-set table, a joint that changes neither mass nor pose, and the physics: the symmetric load of
 the hold does not twist the body (no sag, unlike a spring in each wing joint), a stiff torsion acts rigid, and a
 soft one lets the leg's swing rock the body further."""

@@ -1,5 +1,5 @@
 """A model set's ``[geometry]`` joint shift: one joint's origin (and everything it carries) moved, the same in the
-landscape (geometry.Robot.with_joint_shift) and in the simulation (sim.model.shift_joint); the table refused in
+landscape (geometry.Robot.with_joint_shift) and in the simulation (sim.urdf_edits.shift_joint); the table refused in
 one line when wrong; the hash; and the lab robot's head moved back holds the body where the robot holds it."""
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""A leg that bends out of its swing plane (sim.compliance.LegBend, sim.model.add_leg_bend, a model set's
+"""A leg that bends out of its swing plane (sim.compliance.LegBend, sim.urdf_edits.add_leg_bend, a model set's
 ``[leg_bend]``): values refused in one line, the table, a joint that changes neither mass nor pose, a stiff bend
 that barely sags, and a soft one that sags by its load and rings at its frequency."""
 

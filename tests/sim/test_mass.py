@@ -1,5 +1,5 @@
 """A model set's ``[mass] com_offset_y_mm``: the whole body's CoM moved sideways, the same in the landscape
-(geometry.Robot.with_com_offset) and in the simulation (sim.model.shift_com); the table refused in one line when
+(geometry.Robot.with_com_offset) and in the simulation (sim.urdf_edits.shift_com); the table refused in one line when
 wrong; the hash; and a one-sided barrier."""
 
 import numpy as np
