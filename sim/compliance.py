@@ -309,8 +309,8 @@ class Spring(Modifier):
         check_spring_stability(self, self.inertia_kg_m2(world), period_s)
 
 
-def _passive_joint(world, spring: Spring, joint: str) -> int:
-    """The index of the hinge ``spring`` drives (one its :meth:`Modifier.edit_urdf` inserted)."""
+def _passive_joint(world, spring: Modifier, joint: str) -> int:
+    """The index of the joint ``spring`` drives (one its :meth:`Modifier.edit_urdf` inserted or turned)."""
     j = world.joint_index(joint)
     if j is None:
         raise ValueError(
@@ -594,8 +594,7 @@ class HeadCompliance(Modifier):
 
     def attach(self, world) -> None:
         """Drive the head's joint with ``-k q - c dq/dt`` before every step."""
-        j = world.joint_index(self.joint)
-        world.add_spring(j, self.stiffness, self.damping)
+        world.add_spring(_passive_joint(world, self, self.joint), self.stiffness, self.damping)
 
     def inertia(self, world) -> float:
         """What the head's spring moves (nan without its joint): the head's mass, kg, for a slide; its moment of
