@@ -29,6 +29,9 @@ Every key is required except the two soft-contact keys (omit both for rigid cont
 so a typo cannot silently leave a parameter at its default. The set's ``model_set_hash`` hashes its parsed
 content (not the file's bytes: comments and formatting do not change it), so two files with the same parameters
 are the same model.
+
+One concept, reading a set: its required tables (actuation, measured knots included, and contact) are read here
+and each optional one by its modifier (:mod:`sim.modifier`); hence over 600 lines.
 """
 
 from __future__ import annotations
@@ -42,7 +45,8 @@ from pathlib import Path
 import numpy as np
 
 from .actuation import Actuation, MeasuredActuation
-from .compliance import BodyTorsion, Compliance, HeadCompliance, LegBend, LegCompliance
+from .compliance import BodyTorsion, Compliance, LegBend, LegCompliance
+from .head_compliance import HeadCompliance
 from .joint_shift import MAX_JOINT_SHIFT_MM
 from .mass import MAX_COM_OFFSET_MM
 from .modifier import ModelSetError, Modifier, registered

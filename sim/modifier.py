@@ -25,7 +25,7 @@ from typing import ClassVar
 
 from geometry.errors import UsageError
 
-MODULES = ("sim.compliance", "sim.mass", "sim.joint_shift")
+MODULES = ("sim.compliance", "sim.head_compliance", "sim.mass", "sim.joint_shift")
 """The modules that define the registered modifiers, imported on first use of :func:`registered`."""
 
 MERGE_ORDER = 50

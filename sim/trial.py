@@ -21,6 +21,9 @@ Protocol
    its long axis: roll-over) and ``"somersault"`` otherwise (it turned about its pitch axis, over head or tail).
 
 Body pitch and roll follow ``geometry/frames.py``; the trace reports them on the ``|pitch| <= 90`` branch.
+
+One concept, one trial: its spec (:class:`Trial`), the bounds it is checked against, the run and its result;
+hence over 600 lines.
 """
 
 from __future__ import annotations

@@ -381,7 +381,7 @@ def shift_joint(root: ET._Element, joint: str, offset_m: ArrayLike) -> None:
 
 
 def add_head_compliance(root: ET._Element, joint: str, *, slide: bool, axis: ArrayLike, travel: float) -> str:
-    """Make the fixed joint that attaches the head give, in place (:class:`sim.compliance.HeadCompliance`): it
+    """Make the fixed joint that attaches the head give, in place (:class:`sim.head_compliance.HeadCompliance`): it
     becomes a slide along ``axis`` (``slide``, ``travel`` in m) or a hinge about it (``travel`` in rad), through
     its origin, stopped at ``±travel``; ``axis`` is in the joint's parent frame. At zero deflection every link sits
     where it did. Return the head's link name.

@@ -1,4 +1,4 @@
-"""A head whose attachment gives (sim.compliance.HeadCompliance, sim.urdf_edits.add_head_compliance, a model set's
+"""A head whose attachment gives (sim.head_compliance.HeadCompliance, sim.urdf_edits.add_head_compliance, a model set's
 ``[head_compliance]``): values and tables refused in one line, a joint that changes neither mass nor pose, and the
 physics on the built-in robot: the head carries nothing on the robot's back and part of the body in the hold, so
 a soft head holds the body further over only once the wings are open, by more the softer it is, and no further
@@ -13,7 +13,8 @@ import pytest
 from geometry.errors import RobotDescriptionError, UnknownJointError
 from landscape.analysis.calibration import candidate_set
 from landscape.analysis.opening import simulated_opening
-from sim.compliance import ComplianceError, HeadCompliance, check_head_stability
+from sim.compliance import ComplianceError
+from sim.head_compliance import HeadCompliance, check_head_stability
 from sim.model import sim_model
 from sim.model_set import ModelSetError, load_model_set
 from sim.trial import run_trial
