@@ -12,7 +12,7 @@ from __future__ import annotations
 import copy
 import hashlib
 import logging
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from pathlib import Path
 
@@ -79,7 +79,8 @@ class SimModel:
         ``{"theta_w": (lo, hi), "theta_l": (lo, hi)}``: the range every mapped joint allows, degrees.
     source : Path
     modifiers : tuple of sim.modifier.Modifier
-        The model set's modifiers that edited the URDF (:attr:`sim.modifier.Modifier.EDITS_URDF`), as given.
+        The model set's modifiers it was built with, as given: those that edit the URDF
+        (:attr:`sim.modifier.Modifier.EDITS_URDF`) did; the others act in the world (:class:`sim.world.World`).
     """
 
     urdf_text: str = field(repr=False)
@@ -246,7 +247,8 @@ def sim_model(
         rigid body with fewer links, so each physics step is cheaper.
     modifiers : tuple of sim.modifier.Modifier
         A model set's modifiers (``ModelSet.modifiers``); those that edit the URDF do, in their
-        :attr:`~sim.modifier.Modifier.URDF_ORDER`, and the rest are ignored here (they act in the world).
+        :attr:`~sim.modifier.Modifier.URDF_ORDER`; the rest act in the world, which takes them all from
+        ``SimModel.modifiers``.
 
     Raises
     ------
@@ -265,12 +267,15 @@ def sim_model(
     """
     path = Path(urdf) if urdf is not None else default_robot_urdf()
     description_hash = read_urdf(path).description_hash  # the cache key: any edited file is rebuilt
-    return _build(
+    model = _build(
         str(path.resolve()),
         description_hash,
         float(tol_m),
         int(max_vertices),
         joint_map,
         bool(merge_fixed),
-        tuple(m for m in modifiers if m.EDITS_URDF),
+        tuple(
+            m for m in modifiers if m.EDITS_URDF
+        ),  # the others leave the URDF, so they share its cache entry
     )
+    return model if model.modifiers == tuple(modifiers) else replace(model, modifiers=tuple(modifiers))

@@ -207,8 +207,9 @@ class World:
         self.model = model
         self.modifiers = tuple(model.modifiers if modifiers is None else modifiers)
         built = {m for m in self.modifiers if m.EDITS_URDF}
-        if built != set(model.modifiers):
-            have = ", ".join(sorted(m.TABLE for m in model.modifiers)) or "none"
+        edited = {m for m in model.modifiers if m.EDITS_URDF}
+        if built != edited:
+            have = ", ".join(sorted(m.TABLE for m in edited)) or "none"
             want = ", ".join(sorted(m.TABLE for m in built)) or "none"
             raise ValueError(
                 f"the World's modifiers that edit the URDF ({want}) must be those the model was built with "

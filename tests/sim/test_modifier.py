@@ -94,3 +94,19 @@ def test_a_table_has_one_modifier(monkeypatch):
 
     with pytest.raises(ValueError, match=r"the table \[mass\] is already ComOffset's"):
         modifier.register(Other)
+
+
+def test_a_model_keeps_every_modifier_and_the_world_attaches_them():
+    from sim.compliance import Compliance, LegBend
+
+    wings, bend = Compliance(1.0), LegBend(0.135)
+    plain, soft, bent = sim_model(), sim_model(modifiers=(wings,)), sim_model(modifiers=(wings, bend))
+    assert soft.modifiers == (wings,) and soft.model_hash == plain.model_hash  # the wings leave the URDF
+    assert bent.model_hash != plain.model_hash
+    with World(bent, dt_s=5e-4) as w:
+        assert w.modifiers == (wings, bend)
+        assert wings.inertia_kg_m2(w) > 0 and bend.inertia_kg_m2(w) > 0
+    with pytest.raises(
+        ValueError, match=r"URDF \(none\) must be those the model was built with \(leg_bend\)"
+    ):
+        World(bent, dt_s=5e-4, modifiers=(wings,))
