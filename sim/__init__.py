@@ -16,7 +16,11 @@ _EXPORTS = {
     ),
     **dict.fromkeys(("SimModel", "default_robot_urdf", "sim_model"), "sim.model"),
     **dict.fromkeys(("DEFAULT_DT_S", "OTHER_ROBOT_DT_S"), "sim.protocol"),
-    **dict.fromkeys(("Trace", "TrialInputError", "TrialResult", "run_trial"), "sim.trial"),
+    **dict.fromkeys(
+        ("Numerics", "Trace", "Trial", "TrialInputError", "TrialResult", "run_trial", "simulate_trial"),
+        "sim.trial",
+    ),
+    **dict.fromkeys(("Modifier", "ModelSetError", "register"), "sim.modifier"),
     **dict.fromkeys(("Contact", "SimulationDiverged"), "sim.world"),
     **dict.fromkeys(("TrialSpec", "run_sweep", "sweep_specs"), "sim.sweep"),
     **dict.fromkeys(("TrialStore", "StoreError"), "sim.store"),

@@ -1,6 +1,7 @@
-"""Compliant wings: the joint that carries each wing yields like a spring and damper (issue #15, section 2), or
-like a soft servo that also integrates its error; and, apart, a body that twists (:class:`BodyTorsion`), a leg
-whose swing gives (:class:`LegCompliance`) and a leg that bends out of its swing plane (:class:`LegBend`).
+"""The model set's compliant joints, each a :class:`sim.modifier.Modifier`: wings whose joints yield like a spring
+and damper or a soft servo that also integrates its error (:class:`Compliance`, ``[compliance]``); a body that
+twists (:class:`BodyTorsion`), a leg whose swing gives (:class:`LegCompliance`), a leg that bends out of its swing
+plane (:class:`LegBend`); a head whose attachment gives is :mod:`sim.head_compliance`.
 
 The source paper suspected that the thin wings and their mounts deform under the body's weight and make the
 physical robot easier to right. With a :class:`Compliance`, the wing joints (the pitch and the roll servo of each
@@ -24,7 +25,10 @@ import math
 from dataclasses import dataclass
 from typing import ClassVar
 
-from geometry.errors import UsageError
+from geometry.errors import RobotDescriptionError, UsageError
+
+from . import urdf_edits
+from .modifier import ModelSetError, Modifier, check_keys, number, register
 
 MAX_OMEGA_PERIOD = 0.5
 """Largest ``sqrt(k / I) * period`` (and ``c * period / I``) allowed: the held explicit torque stays accurate."""
@@ -34,9 +38,10 @@ class ComplianceError(UsageError):
     """A compliance value out of range or a stiffness too high for the servo command period."""
 
 
+@register
 @dataclass(frozen=True)
-class Compliance:
-    """Spring and damper of every wing joint (servo and mount together).
+class Compliance(Modifier):
+    """Spring and damper of every wing joint (servo and mount together): the ``[compliance]`` table.
 
     Attributes
     ----------
@@ -56,6 +61,71 @@ class Compliance:
     wing_damping_n_m_s_rad: float = 0.0
     wing_integral_time_s: float | None = None
     wing_scale: tuple[float, ...] | None = None
+
+    TABLE: ClassVar[str] = "compliance"
+    KEYS: ClassVar[frozenset[str]] = frozenset(
+        {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad", "wing_integral_time_s", "wing_scale"}
+    )
+
+    @classmethod
+    def from_toml(cls, table: dict, where: str) -> Compliance:
+        """``wing_stiffness_n_m_rad``, optional ``wing_damping_n_m_s_rad``, ``wing_integral_time_s`` and
+        ``wing_scale`` (a list of factors > 0; the World checks their count).
+
+        Raises
+        ------
+        ModelSetError
+            If a key is unknown or missing, or a value is out of range.
+        """
+        comp = check_keys(table, cls.KEYS, {"wing_stiffness_n_m_rad"}, where)
+        scale = None
+        if "wing_scale" in comp:
+            v = comp["wing_scale"]
+            if not isinstance(v, list) or not v:
+                raise ModelSetError(
+                    f"{where}: wing_scale must be a list of numbers > 0, one per wing joint (e.g. [1, 0.5, 1, 0.5]); "
+                    f"got {v!r}"
+                )
+            scale = tuple(number({"wing_scale": x}, "wing_scale", where) for x in v)
+        try:
+            return cls(
+                number(comp, "wing_stiffness_n_m_rad", where),
+                number(comp, "wing_damping_n_m_s_rad", where, allow_zero=True)
+                if "wing_damping_n_m_s_rad" in comp
+                else 0.0,
+                number(comp, "wing_integral_time_s", where) if "wing_integral_time_s" in comp else None,
+                scale,
+            )
+        except ComplianceError as exc:
+            raise ModelSetError(f"{where}: {exc}") from None
+
+    def canonical(self) -> dict:
+        """Stiffness and damping; the integral time and the scales only when given."""
+        out: dict = {
+            "wing_stiffness_n_m_rad": self.wing_stiffness_n_m_rad,
+            "wing_damping_n_m_s_rad": self.wing_damping_n_m_s_rad,
+        }
+        if self.wing_integral_time_s is not None:
+            out["wing_integral_time_s"] = self.wing_integral_time_s
+        if self.wing_scale is not None:
+            out["wing_scale"] = list(self.wing_scale)
+        return out
+
+    def attach(self, world) -> None:
+        """Drive every wing joint through its spring, damper and integral instead of the stiff servo."""
+        n_wing = len(world.wing_joints)
+        k, c, ti = self.wing_stiffness_n_m_rad, self.wing_damping_n_m_s_rad, self.wing_integral_time_s
+        ki = k / ti if ti is not None else 0.0
+        world.add_soft_joints(range(n_wing), [(k * f, c * f, ki * f) for f in self.joint_scales(n_wing)])
+
+    def inertia_kg_m2(self, world) -> float:
+        """The smallest moment of inertia of a wing joint's child link about the joint's axis, kg m² (a lower
+        bound on what the joint moves)."""
+        return world.child_inertia_kg_m2(world.wing_joints)
+
+    def check_stability(self, world, period_s: float) -> None:
+        """:func:`check_stability` with the wings' :meth:`inertia_kg_m2`."""
+        check_stability(self, self.inertia_kg_m2(world), period_s)
 
     def __post_init__(self):
         k, c, ti = self.wing_stiffness_n_m_rad, self.wing_damping_n_m_s_rad, self.wing_integral_time_s
@@ -128,7 +198,7 @@ def check_stability(comp: Compliance, inertia_kg_m2: float, period_s: float) -> 
     sim.compliance.ComplianceError: wing_stiffness_n_m_rad 1000 is too stiff for the 1 ms servo period: sqrt(k/I)*period = 4.61 > 0.5 with the wing's I = 4.7e-05 kg m^2; give k <= 11.8 N m/rad
     """
     top = max(comp.wing_scale) if comp.wing_scale is not None else 1.0  # the stiffest joint decides
-    _check_spring(
+    check_spring(
         ("wing_stiffness_n_m_rad", comp.wing_stiffness_n_m_rad * top),
         ("wing_damping_n_m_s_rad", comp.wing_damping_n_m_s_rad * top),
         "the wing's",
@@ -143,7 +213,7 @@ def check_stability(comp: Compliance, inertia_kg_m2: float, period_s: float) -> 
         )
 
 
-def _check_spring(
+def check_spring(
     stiffness,
     damping,
     whose: str,
@@ -173,9 +243,9 @@ def _check_spring(
 
 
 @dataclass(frozen=True)
-class Spring:
-    """A passive spring and damper of a model set's table (``[TABLE] stiffness_n_m_rad, damping_n_m_s_rad``);
-    the subclasses say which joint it acts on.
+class Spring(Modifier):
+    """A spring and damper of a model set's table (``[TABLE] stiffness_n_m_rad, damping_n_m_s_rad``); the
+    subclasses say which joint it acts on.
 
     Attributes
     ----------
@@ -188,8 +258,7 @@ class Spring:
     stiffness_n_m_rad: float
     damping_n_m_s_rad: float = 0.0
 
-    TABLE: ClassVar[str] = ""
-    """The model-set table, named in every error."""
+    KEYS: ClassVar[frozenset[str]] = frozenset({"stiffness_n_m_rad", "damping_n_m_s_rad"})
     WITHOUT: ClassVar[str] = ""
     """What omitting the table gives."""
     WHOSE: ClassVar[str] = ""
@@ -207,7 +276,51 @@ class Spring:
         if c < 0:
             raise ComplianceError(f"{self.TABLE} damping_n_m_s_rad must be >= 0; got {c!r}")
 
+    @classmethod
+    def from_toml(cls, table: dict, where: str) -> Spring:
+        """``stiffness_n_m_rad`` and optional ``damping_n_m_s_rad``.
 
+        Raises
+        ------
+        ModelSetError
+            If a key is unknown or missing, or a value is out of range.
+        """
+        tab = check_keys(table, cls.KEYS, {"stiffness_n_m_rad"}, where)
+        try:
+            return cls(
+                number(tab, "stiffness_n_m_rad", where),
+                number(tab, "damping_n_m_s_rad", where, allow_zero=True)
+                if "damping_n_m_s_rad" in tab
+                else 0.0,
+            )
+        except ComplianceError as exc:
+            raise ModelSetError(f"{where}: {exc}") from None
+
+    def canonical(self) -> dict:
+        """Stiffness and damping."""
+        return {"stiffness_n_m_rad": self.stiffness_n_m_rad, "damping_n_m_s_rad": self.damping_n_m_s_rad}
+
+    def inertia_kg_m2(self, world) -> float:
+        """What the spring moves in ``world``, kg m² (nan without its joint)."""
+        raise NotImplementedError
+
+    def check_stability(self, world, period_s: float) -> None:
+        """:func:`check_spring_stability` with :meth:`inertia_kg_m2`."""
+        check_spring_stability(self, self.inertia_kg_m2(world), period_s)
+
+
+def passive_joint(world, spring: Modifier, joint: str) -> int:
+    """The index of the joint ``spring`` drives (one its :meth:`Modifier.edit_urdf` inserted or turned)."""
+    j = world.joint_index(joint)
+    if j is None:
+        raise ValueError(
+            f"a {type(spring).__name__} needs a model built with it (sim_model(..., modifiers=(...))); the model "
+            f"has no joint {joint!r}"
+        )
+    return j
+
+
+@register
 class BodyTorsion(Spring):
     """A body that twists about its long axis: the links that carry the wings turn against the rest of the body
     (head, leg and base) about the base frame's x axis through its origin, on a spring and damper.
@@ -215,7 +328,7 @@ class BodyTorsion(Spring):
     The robot's shell is thin. Under the body's weight the two wings carry equal and opposite moments about the
     long axis, which cancel across the body, so a torsion spring does not sag the resting pose as a spring in
     each wing joint does (docs/physical/resting-pose.md); a load that differs between the sides, such as the
-    leg's swing, twists it. :func:`sim.model.add_body_torsion` inserts the joint (``TORSION_JOINT``) and
+    leg's swing, twists it. :func:`sim.urdf_edits.add_body_torsion` inserts the joint (``TORSION_JOINT``) and
     :class:`sim.world.World` drives it with the torque ``-k q - c dq/dt``, renewed before every
     ``stepSimulation`` call (settling included).
 
@@ -230,14 +343,33 @@ class BodyTorsion(Spring):
     """
 
     TABLE, WITHOUT, WHOSE = "body_torsion", "a rigid body", "the twist's"
+    EDITS_URDF, URDF_ORDER = True, 20
+
+    def edit_urdf(self, root, robot) -> None:
+        """Insert the twist's hinge (:func:`sim.urdf_edits.add_body_torsion`)."""
+        urdf_edits.add_body_torsion(root, robot.joint_map.wing)
+
+    def attach(self, world) -> None:
+        """Drive the twist with ``-k q - c dq/dt`` before every step."""
+        world.add_spring(
+            passive_joint(world, self, urdf_edits.TORSION_JOINT),
+            self.stiffness_n_m_rad,
+            self.damping_n_m_s_rad,
+        )
+
+    def inertia_kg_m2(self, world) -> float:
+        """Effective moment of inertia of the body's twist, kg m² (:meth:`sim.world.World.effective_inertia_kg_m2`)."""
+        j = world.joint_index(urdf_edits.TORSION_JOINT)
+        return math.nan if j is None else world.effective_inertia_kg_m2(j)
 
 
+@register
 class LegCompliance(Spring):
     """A leg whose swing gives: the leg joint is driven through a spring and damper towards its commanded profile
     (``k (target - q) + c (speed - dq/dt)``, held through the servo command period and capped at the effort
     limit, as :class:`Compliance` drives the wing joints) instead of the stiff servo.
 
-    The pendulum leg is a 4.3 g rod carrying 51.5 g at its end: a rod that bends in its swing, or a servo horn
+    A pendulum leg is a light rod carrying a mass at its end: a rod that bends in its swing, or a servo horn
     that gives, lets the mass lag its command and swing past it, ringing at ``sqrt(k / I)`` (``I``: the leg's
     moment of inertia about its joint). Without it the leg follows its profile exactly.
 
@@ -253,16 +385,27 @@ class LegCompliance(Spring):
 
     TABLE, WITHOUT, WHOSE = "leg_compliance", "a stiff leg", "the leg's"
 
+    def attach(self, world) -> None:
+        """Drive every leg joint through the spring and damper instead of the stiff servo."""
+        n_wing, n_leg = len(world.wing_joints), len(world.leg_joints)
+        world.add_soft_joints(
+            range(n_wing, n_wing + n_leg), [(self.stiffness_n_m_rad, self.damping_n_m_s_rad, 0.0)] * n_leg
+        )
 
+    def inertia_kg_m2(self, world) -> float:
+        """The smallest moment of inertia of a leg joint's child link about the joint's axis, kg m²."""
+        return world.child_inertia_kg_m2(world.leg_joints)
+
+
+@register
 class LegBend(Spring):
     """A leg that bends out of its swing plane: the leg turns against its joint about the axis across it
-    (:func:`sim.model.add_leg_bend`), on a spring and damper, so its end bobs; :class:`sim.world.World` drives the
+    (:func:`sim.urdf_edits.add_leg_bend`), on a spring and damper, so its end bobs; :class:`sim.world.World` drives the
     joint with the torque ``-k q - c dq/dt``, renewed before every ``stepSimulation`` call.
 
-    The lab robot's leg is a thin plate (1.5 mm across its swing plane's normal, 8 mm in it) carrying 51.5 g at
-    its end: stiff in its swing, soft out of it. The robot's IMU rings in pitch at about 3.9 Hz after every leg
-    step (``benchmarks/physical/imu_ringing.py``); ``k = I (2 pi f)^2`` with the leg's moment of inertia ``I`` about the
-    bending axis gives that frequency.
+    A leg that is a thin plate carrying a mass at its end is stiff in its swing and soft out of it. A body that
+    rings in pitch at ``f`` after every leg step (``benchmarks/physical/imu_ringing.py`` measures it) gives
+    ``k = I (2 pi f)^2``, with the leg's moment of inertia ``I`` about the bending axis.
 
     Examples
     --------
@@ -271,12 +414,39 @@ class LegBend(Spring):
     """
 
     TABLE, WITHOUT, WHOSE = "leg_bend", "a rigid leg", "the leg's"
+    EDITS_URDF, URDF_ORDER = True, 30
+
+    def edit_urdf(self, root, robot) -> None:
+        """Insert the bend's hinge (:func:`sim.urdf_edits.add_leg_bend`).
+
+        Raises
+        ------
+        geometry.errors.RobotDescriptionError
+            If the robot drives more than one leg joint.
+        """
+        leg = robot.joint_map.leg
+        if len(leg) != 1:
+            raise RobotDescriptionError(
+                f"[leg_bend] bends one leg; '{robot.urdf_file.path.name}' drives {len(leg)} leg joints "
+                f"({', '.join(leg)}): drop [leg_bend] or map one leg joint"
+            )
+        urdf_edits.add_leg_bend(root, leg[0])
+
+    def attach(self, world) -> None:
+        """Drive the bend with ``-k q - c dq/dt`` before every step."""
+        world.add_spring(
+            passive_joint(world, self, urdf_edits.BEND_JOINT), self.stiffness_n_m_rad, self.damping_n_m_s_rad
+        )
+
+    def inertia_kg_m2(self, world) -> float:
+        """The leg's moment of inertia about its bending axis, kg m² (nan without the bend's joint)."""
+        j = world.joint_index(urdf_edits.BEND_JOINT)
+        return math.nan if j is None else world.child_inertia_kg_m2([j])
 
 
 def check_spring_stability(spring: Spring, inertia_kg_m2: float, period_s: float) -> None:
     """Refuse a spring or damper the explicit update renewed every ``period_s`` cannot follow (``inertia_kg_m2``:
-    what it moves, e.g. :meth:`sim.world.World.torsion_inertia_kg_m2`, ``leg_inertia_kg_m2`` or
-    ``bend_inertia_kg_m2``).
+    what it moves: the spring's :meth:`Spring.inertia_kg_m2` in a world).
 
     Raises
     ------
@@ -291,143 +461,10 @@ def check_spring_stability(spring: Spring, inertia_kg_m2: float, period_s: float
     ...
     sim.compliance.ComplianceError: body_torsion stiffness_n_m_rad 100 is too stiff for the 1 ms servo period: sqrt(k/I)*period = 1.83 > 0.5 with the twist's I = 3e-05 kg m^2; give k <= 7.5 N m/rad
     """
-    _check_spring(
+    check_spring(
         (f"{spring.TABLE} stiffness_n_m_rad", spring.stiffness_n_m_rad),
         (f"{spring.TABLE} damping_n_m_s_rad", spring.damping_n_m_s_rad),
         spring.WHOSE,
         inertia_kg_m2,
         period_s,
-    )
-
-
-HEAD_JOINT = "head_mount"
-"""The joint that attaches the head, in the lab URDF and the built-in robot: ``[head_compliance]``'s default."""
-MAX_HEAD_TRAVEL_MM = 30.0
-"""Largest ``travel_mm`` of a sliding head, mm (as ``[geometry] shift_mm``): a head that gives, not a new robot."""
-MAX_HEAD_TRAVEL_DEG = 45.0
-"""Largest ``travel_deg`` of a hinged head, degrees."""
-DEFAULT_HEAD_TRAVEL = 30.0
-"""A head's stop when none is given: 30 mm for a slide, 30 degrees for a hinge."""
-
-
-@dataclass(frozen=True)
-class HeadCompliance:
-    """A head whose attachment gives (issue #15, section 2: "an optional compliant wing (and head) attachment"):
-    the fixed joint that attaches the head becomes a slide along ``axis`` (``slide``; stiffness N/m, damping
-    N·s/m, travel m) or a hinge about it (stiffness N·m/rad, damping N·m·s/rad, travel rad) through the joint's
-    origin, driven by the torque (or force) ``-k q - c dq/dt`` renewed before every ``stepSimulation`` call, and
-    stopped at ``±travel``.
-
-    The source paper suspected that the thin head deforms under the load the ground puts on it when the wings
-    hold the body up. The head carries no load on the robot's back and part of its weight in the hold, so a head
-    that gives holds the body further over only while the wings are open. :func:`sim.model.add_head_compliance`
-    turns the joint; at zero deflection every link sits where it did. The landscape (``landscape compute``) stays
-    the rigid body's, as it does for compliant wings.
-
-    Attributes
-    ----------
-    stiffness : float
-        N/m for a slide, N·m/rad for a hinge (> 0).
-    damping : float
-        N·s/m for a slide, N·m·s/rad for a hinge (>= 0).
-    slide : bool
-        A slide (True) or a hinge (False).
-    axis : tuple of 3 floats
-        Direction of the slide or the hinge's axis in the joint's parent frame (the body frame for the head:
-        x towards the head, z out of the belly); normalised.
-    travel : float or None
-        The stop either way, m for a slide, rad for a hinge (> 0); None: ``DEFAULT_HEAD_TRAVEL`` mm or degrees.
-    joint : str
-        The fixed joint that attaches the head.
-
-    Examples
-    --------
-    >>> HeadCompliance(25.0, 0.3, travel=0.017).keys()
-    ('stiffness_n_m', 'damping_n_s_m', 'travel_mm')
-    >>> h = HeadCompliance(0.5, slide=False, axis=(0.0, 2.0, 0.0))
-    >>> h.axis, round(h.travel_as_written(), 9)
-    ((0.0, 1.0, 0.0), 30.0)
-    >>> HeadCompliance(25.0, travel=0.05)
-    Traceback (most recent call last):
-    ...
-    sim.compliance.ComplianceError: head_compliance travel_mm must be > 0 and at most 30 mm; got 50
-    """
-
-    stiffness: float
-    damping: float = 0.0
-    slide: bool = True
-    axis: tuple[float, float, float] = (1.0, 0.0, 0.0)
-    travel: float | None = None
-    joint: str = HEAD_JOINT
-
-    TABLE: ClassVar[str] = "head_compliance"
-
-    def keys(self) -> tuple[str, str, str]:
-        """The table's names of stiffness, damping and travel for this kind of joint."""
-        if self.slide:
-            return ("stiffness_n_m", "damping_n_s_m", "travel_mm")
-        return ("stiffness_n_m_rad", "damping_n_m_s_rad", "travel_deg")
-
-    def travel_as_written(self) -> float:
-        """The travel in the table's unit (mm or degrees)."""
-        return self.travel * 1e3 if self.slide else math.degrees(self.travel)
-
-    def __post_init__(self):
-        if self.travel is None:
-            d = DEFAULT_HEAD_TRAVEL
-            object.__setattr__(self, "travel", d * 1e-3 if self.slide else math.radians(d))
-        kn, cn, tn = self.keys()
-        for name, v in ((kn, self.stiffness), (cn, self.damping), (tn, self.travel)):
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise ComplianceError(f"{self.TABLE} {name} must be a finite number; got {v!r}")
-        if self.stiffness <= 0:
-            raise ComplianceError(
-                f"{self.TABLE} {kn} must be > 0 (omit [{self.TABLE}] for a rigid head); got {self.stiffness!r}"
-            )
-        if self.damping < 0:
-            raise ComplianceError(f"{self.TABLE} {cn} must be >= 0; got {self.damping!r}")
-        top = MAX_HEAD_TRAVEL_MM if self.slide else MAX_HEAD_TRAVEL_DEG
-        written = self.travel_as_written()
-        if not 0 < written <= top + 1e-9:
-            unit = "mm" if self.slide else "deg"
-            raise ComplianceError(
-                f"{self.TABLE} {tn} must be > 0 and at most {top:g} {unit}; got {written:g}"
-            )
-        a = self.axis
-        ok = isinstance(a, tuple) and len(a) == 3
-        ok = ok and all(
-            not isinstance(x, bool) and isinstance(x, (int, float)) and math.isfinite(x) for x in a
-        )
-        norm = math.sqrt(sum(x * x for x in a)) if ok else 0.0
-        if not ok or norm < 1e-9:
-            raise ComplianceError(
-                f"{self.TABLE} axis must be three finite numbers, not all zero (x, y, z in the joint's parent "
-                f"frame); got {a!r}"
-            )
-        object.__setattr__(self, "axis", tuple(float(x) / norm for x in a))
-        if not isinstance(self.joint, str) or not self.joint:
-            raise ComplianceError(f"{self.TABLE} joint must be a joint's name; got {self.joint!r}")
-
-
-def check_head_stability(head: HeadCompliance, inertia: float, period_s: float) -> None:
-    """Refuse a head spring or damper the explicit update renewed every ``period_s`` cannot follow
-    (``inertia``: the head's mass, kg, for a slide; its moment of inertia about the hinge, kg m², for a hinge).
-
-    Examples
-    --------
-    >>> check_head_stability(HeadCompliance(25.0, 0.3), 0.0134, 1e-3)
-    >>> check_head_stability(HeadCompliance(5000.0), 0.0134, 1e-3)
-    Traceback (most recent call last):
-    ...
-    sim.compliance.ComplianceError: head_compliance stiffness_n_m 5000 is too stiff for the 1 ms servo period: sqrt(k/m)*period = 0.611 > 0.5 with the head's m = 0.013 kg; give k <= 3.35e+03 N/m
-    """
-    kn, cn, _ = head.keys()
-    units = ("m", "kg", "N/m", "N s/m") if head.slide else ("I", "kg m^2", "N m/rad", "N m s/rad")
-    _check_spring(
-        (f"{head.TABLE} {kn}", head.stiffness),
-        (f"{head.TABLE} {cn}", head.damping),
-        "the head's",
-        inertia,
-        period_s,
-        units=units,
     )

@@ -5,9 +5,9 @@ and the default contact: the default, identical to trials made before model sets
 robot's sets (``physical``: the lab's measured servo and leg profiles; ``physical-posed`` and ``physical-offset``:
 posed further over, with compliant wing joints, and the latter with its CoM off the midline; ``physical-head``:
 resting where the robot rests, its head further back; each file's header says how it was chosen). ``--model NAME``
-picks a shipped set, ``--model FILE.toml`` any other. Optional tables: ``[compliance]`` (wing joints),
-``[body_torsion]``, ``[leg_compliance]``, ``[leg_bend]``, ``[mass]`` and ``[geometry]`` (see :class:`ModelSet`).
-Layout::
+picks a shipped set, ``--model FILE.toml`` any other. Each optional table switches on one modifier
+(:mod:`sim.modifier`; :data:`OPTIONAL_TABLES`: ``[compliance]``, ``[body_torsion]``, ``[leg_compliance]``,
+``[leg_bend]``, ``[head_compliance]``, ``[mass]`` and ``[geometry]``). Layout::
 
     name = "paper"
     version = 1
@@ -29,6 +29,9 @@ Every key is required except the two soft-contact keys (omit both for rigid cont
 so a typo cannot silently leave a parameter at its default. The set's ``model_set_hash`` hashes its parsed
 content (not the file's bytes: comments and formatting do not change it), so two files with the same parameters
 are the same model.
+
+One concept, reading a set: its required tables (actuation, measured knots included, and contact) are read here
+and each optional one by its modifier (:mod:`sim.modifier`); hence over 600 lines.
 """
 
 from __future__ import annotations
@@ -41,48 +44,37 @@ from pathlib import Path
 
 import numpy as np
 
-from geometry.errors import UsageError
-
 from .actuation import Actuation, MeasuredActuation
-from .compliance import (
-    HEAD_JOINT,
-    BodyTorsion,
-    Compliance,
-    ComplianceError,
-    HeadCompliance,
-    LegBend,
-    LegCompliance,
-)
+from .compliance import BodyTorsion, Compliance, LegBend, LegCompliance
+from .head_compliance import HeadCompliance
+from .joint_shift import MAX_JOINT_SHIFT_MM
+from .mass import MAX_COM_OFFSET_MM
+from .modifier import ModelSetError, Modifier, registered
+from .modifier import check_keys as _check_keys
+from .modifier import number as _number
 from .world import MAX_ROLLING_FRICTION, Contact
+
+__all__ = [
+    "MAX_COM_OFFSET_MM",
+    "MAX_JOINT_SHIFT_MM",
+    "MODELS_DIR",
+    "ModelSet",
+    "ModelSetError",
+    "OPTIONAL_KEYS",
+    "OPTIONAL_TABLES",
+    "load_model_set",
+    "read_toml",
+    "shipped_model_sets",
+    "wing_extra_knots_deg",
+]
 
 MODELS_DIR = Path(__file__).resolve().parent / "models"
 DEFAULT_MODEL_SET = "paper"
 PROFILES = ("idealised", "measured")
-OPTIONAL_TABLES = (
-    "compliance",
-    "body_torsion",
-    "leg_compliance",
-    "leg_bend",
-    "head_compliance",
-    "mass",
-    "geometry",
-)
-"""The tables a set may add to its required ``[actuation]`` and ``[contact]``: each switches one model element on."""
-_OPTIONAL_TOP = {"description", *OPTIONAL_TABLES}
-_TOP = {"name", "version", "actuation", "contact"} | _OPTIONAL_TOP
-_MASS = {"com_offset_y_mm"}
-MAX_COM_OFFSET_MM = 10.0
-"""Largest ``[mass] com_offset_y_mm`` (either way), mm: a correction for mass the description misplaces, not a
-new robot."""
-_GEOMETRY = {"shift_joint", "shift_mm"}
-MAX_JOINT_SHIFT_MM = 30.0
-"""Largest ``[geometry] shift_mm`` component (either way), mm: a correction for a part the description places
-where the real one does not touch the ground, not a new robot."""
-_SPRING = {"stiffness_n_m_rad", "damping_n_m_s_rad"}
-_HEAD_SLIDE = ("stiffness_n_m", "damping_n_s_m", "travel_mm")
-_HEAD_HINGE = ("stiffness_n_m_rad", "damping_n_m_s_rad", "travel_deg")
-_HEAD = {"joint", "axis", *_HEAD_SLIDE, *_HEAD_HINGE}
-_COMPLIANCE = {"wing_stiffness_n_m_rad", "wing_damping_n_m_s_rad", "wing_integral_time_s", "wing_scale"}
+OPTIONAL_TABLES = tuple(registered())
+"""The tables a set may add to its required ``[actuation]`` and ``[contact]``: each switches one
+:class:`sim.modifier.Modifier` on."""
+_REQUIRED_TOP = {"name", "version", "actuation", "contact"}
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
 _MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg", "servo_sides", "wing_extra_deg"}
 MAX_WING_EXTRA_DEG = 20.0
@@ -91,7 +83,7 @@ new wing command."""
 SERVO_SIDES = ("as-labelled", "mirrored")
 """How a measured set's servos (the lab's LP, RP, LR, RR) drive the robot's wing joints (the joint map's left
 pitch, right pitch, left roll, right roll): as labelled, or mirrored (the lab's left servos drive the model's
-right joints; the side the robot rolls over to favours mirrored, docs/physical/side.md)."""
+right joints; docs/physical/side.md)."""
 _SERVOS = ("LP", "RP", "LR", "RR")
 MIRRORED = (1, 0, 3, 2)
 """Mirrored sides: the servo (index into LP, RP, LR, RR) that drives each of the joint map's wing joints."""
@@ -101,28 +93,13 @@ OPTIONAL_KEYS = frozenset(
         "contact.spinning_friction",
         "contact.wing_stiffness_n_m",
         "contact.wing_damping_n_s_m",
-        "compliance.wing_stiffness_n_m_rad",
-        "compliance.wing_damping_n_m_s_rad",
-        "compliance.wing_integral_time_s",
-        "compliance.wing_scale",
-        "body_torsion.stiffness_n_m_rad",
-        "body_torsion.damping_n_m_s_rad",
         "actuation.wing_extra_deg",
-        "mass.com_offset_y_mm",
-        "geometry.shift_joint",
-        "geometry.shift_mm",
-        "leg_compliance.stiffness_n_m_rad",
-        "leg_compliance.damping_n_m_s_rad",
-        "leg_bend.stiffness_n_m_rad",
-        "leg_bend.damping_n_m_s_rad",
-        *(f"head_compliance.{k}" for k in sorted(_HEAD)),
+        *(f"{table}.{key}" for table, cls in registered().items() for key in cls.KEYS),
     }
 )
 """Dotted keys a set may omit (and a calibration candidate may add): rolling and spinning friction and the wings'
-own soft contact (both of its keys); the ``[compliance]``, ``[body_torsion]``, ``[leg_compliance]``, ``[leg_bend]``
-and ``[head_compliance]`` tables' (their stiffness is required once the table is there); the wing pose correction;
-the ``[mass]`` table's CoM offset; and the ``[geometry]`` table's joint shift (both of its keys once the table is
-there)."""
+own soft contact (both of its keys); the wing pose correction; and every key of every modifier's table
+(:data:`OPTIONAL_TABLES`; what each requires once its table is there is the modifier's own rule)."""
 _CONTACT = {
     "lateral_friction",
     "restitution",
@@ -134,10 +111,6 @@ _CONTACT = {
     "wing_stiffness_n_m",
     "wing_damping_n_s_m",
 }
-
-
-class ModelSetError(UsageError):
-    """A model set that cannot be found or read, or holds a bad value."""
 
 
 @dataclass(frozen=True)
@@ -160,36 +133,9 @@ class ModelSet:
         16 hex digits of the SHA-256 of the parsed content.
     measured : MeasuredActuation or None
         The per-joint knots of a ``profile = "measured"`` set.
-    compliance : Compliance or None
-        Compliant wing roots, from an optional ``[compliance]`` table (``wing_stiffness_n_m_rad``, optional
-        ``wing_damping_n_m_s_rad`` and ``wing_integral_time_s``; :mod:`sim.compliance`); None: rigid wings.
-    body_torsion : BodyTorsion or None
-        A body that twists about its long axis between the wing mounts and the rest, from an optional
-        ``[body_torsion]`` table (``stiffness_n_m_rad``, optional ``damping_n_m_s_rad``;
-        :class:`sim.compliance.BodyTorsion`); None: a rigid body.
-    leg_compliance : LegCompliance or None
-        A leg whose swing gives, from an optional ``[leg_compliance]`` table (``stiffness_n_m_rad``, optional
-        ``damping_n_m_s_rad``; :class:`sim.compliance.LegCompliance`); None: the leg follows its profile.
-    leg_bend : LegBend or None
-        A leg that bends out of its swing plane, from an optional ``[leg_bend]`` table (``stiffness_n_m_rad``,
-        optional ``damping_n_m_s_rad``; :class:`sim.compliance.LegBend`); None: a rigid leg.
-    head_compliance : HeadCompliance or None
-        A head whose attachment gives, from an optional ``[head_compliance]`` table: a slide (``stiffness_n_m``,
-        optional ``damping_n_s_m`` and ``travel_mm``) or a hinge (``stiffness_n_m_rad``, optional
-        ``damping_n_m_s_rad`` and ``travel_deg``) along or about ``axis`` (default ``[1, 0, 0]``, the body's long
-        axis) at ``joint`` (default ``"head_mount"``; :class:`sim.compliance.HeadCompliance`). Simulation only:
-        the landscapes stay the rigid body's. None: a rigid head.
-    com_offset_y_mm : float
-        The whole body's CoM moved along the body's y axis (mm; y = z x x, towards the lab's left wing), from an
-        optional ``[mass]`` table: mass the robot's description lacks or misplaces (cables, glue, a tether).
-        It applies to the simulation (:func:`sim.model.shift_com`) and to every landscape the set poses
-        (:meth:`robot_for`); 0: the description's CoM.
-    joint_shift_mm : (str, (float, float, float)) or None
-        One joint's origin moved (mm, in its parent link's frame), from an optional ``[geometry]`` table
-        (``shift_joint``, ``shift_mm``): a part the description places where the real one does not touch the
-        ground, with everything it carries (e.g. ``physical-head``: the lab robot's head 18 mm further back). It
-        applies to the simulation (:func:`sim.model.shift_joint`) and to every landscape the set poses
-        (:meth:`robot_for`); None: the description's geometry.
+    modifiers : tuple of sim.modifier.Modifier
+        What the set adds to the rigid robot, one per optional table it has, in :data:`OPTIONAL_TABLES` order
+        (:mod:`sim.modifier`). The properties below read them by table.
     """
 
     name: str
@@ -204,13 +150,48 @@ class ModelSet:
     contact: Contact
     model_set_hash: str
     measured: MeasuredActuation | None = None
-    compliance: Compliance | None = None
-    body_torsion: BodyTorsion | None = None
-    com_offset_y_mm: float = 0.0
-    leg_compliance: LegCompliance | None = None
-    leg_bend: LegBend | None = None
-    joint_shift_mm: tuple[str, tuple[float, float, float]] | None = None
-    head_compliance: HeadCompliance | None = None
+    modifiers: tuple[Modifier, ...] = ()
+
+    def modifier(self, table: str) -> Modifier | None:
+        """The set's modifier of ``table`` (``"compliance"``, ``"mass"``, ...), or None without that table."""
+        return next((m for m in self.modifiers if m.TABLE == table), None)
+
+    @property
+    def compliance(self) -> Compliance | None:
+        """Compliant wing joints (``[compliance]``); None: rigid wings."""
+        return self.modifier("compliance")
+
+    @property
+    def body_torsion(self) -> BodyTorsion | None:
+        """A body that twists about its long axis (``[body_torsion]``); None: a rigid body."""
+        return self.modifier("body_torsion")
+
+    @property
+    def leg_compliance(self) -> LegCompliance | None:
+        """A leg whose swing gives (``[leg_compliance]``); None: the leg follows its profile."""
+        return self.modifier("leg_compliance")
+
+    @property
+    def leg_bend(self) -> LegBend | None:
+        """A leg that bends out of its swing plane (``[leg_bend]``); None: a rigid leg."""
+        return self.modifier("leg_bend")
+
+    @property
+    def head_compliance(self) -> HeadCompliance | None:
+        """A head whose attachment gives (``[head_compliance]``; simulation only); None: a rigid head."""
+        return self.modifier("head_compliance")
+
+    @property
+    def com_offset_y_mm(self) -> float:
+        """The whole body's CoM moved along the body's y axis (``[mass]``), mm; 0: the description's CoM."""
+        m = self.modifier("mass")
+        return 0.0 if m is None else m.com_offset_y_mm
+
+    @property
+    def joint_shift_mm(self) -> tuple[str, tuple[float, float, float]] | None:
+        """One joint's origin moved (``[geometry]``): (joint, mm in its parent frame), or None."""
+        m = self.modifier("geometry")
+        return None if m is None else (m.joint, m.shift_mm)
 
     @property
     def com_offset_m(self) -> tuple[float, float, float]:
@@ -220,24 +201,22 @@ class ModelSet:
     @property
     def joint_shift_m(self) -> tuple[str, tuple[float, float, float]] | None:
         """The set's joint shift as (joint, parent-frame vector in m), or None."""
-        if self.joint_shift_mm is None:
-            return None
-        name, mm = self.joint_shift_mm
-        return name, (mm[0] * 1e-3, mm[1] * 1e-3, mm[2] * 1e-3)
+        m = self.modifier("geometry")
+        return None if m is None else m.shift_m
 
     def robot_for(self, robot):
-        """``robot`` as this set models it: one joint shifted by :attr:`joint_shift_m`
-        (:meth:`geometry.Robot.with_joint_shift`) and its CoM moved by :attr:`com_offset_m`
-        (:meth:`geometry.Robot.with_com_offset`), or ``robot`` itself when the set moves nothing.
+        """``robot`` as this set models it: each modifier's :meth:`~sim.modifier.Modifier.edit_robot` in turn
+        (one joint shifted by :attr:`joint_shift_m`, then its CoM moved by :attr:`com_offset_m`), or ``robot``
+        itself when the set moves nothing.
 
         Raises
         ------
         geometry.errors.UnknownJointError
             If the set shifts a joint the robot lacks.
         """
-        if self.joint_shift_m is not None:
-            robot = robot.with_joint_shift(*self.joint_shift_m)
-        return robot.with_com_offset(self.com_offset_m) if self.com_offset_y_mm else robot
+        for m in sorted(self.modifiers, key=lambda m: m.URDF_ORDER):
+            robot = m.edit_robot(robot)
+        return robot
 
     def wing_joints_deg(self, joint_names, theta_w_deg: float) -> dict[str, float] | None:
         """The wing joints' angles (degrees) this set holds at the wing command ``theta_w_deg``: each servo at
@@ -319,15 +298,6 @@ class ModelSet:
         >>> s["label"], s["elements"], s["com_offset_y_mm"]
         ('physical-offset v1 (19529bcb520bfde4)', ['compliance', 'mass'], -1.5)
         """
-        present = {
-            "compliance": self.compliance,
-            "body_torsion": self.body_torsion,
-            "leg_compliance": self.leg_compliance,
-            "leg_bend": self.leg_bend,
-            "head_compliance": self.head_compliance,
-            "mass": self.com_offset_y_mm or None,
-            "geometry": self.joint_shift_mm,
-        }
         return {
             "name": self.name,
             "version": self.version,
@@ -344,7 +314,7 @@ class ModelSet:
             "joint_shift": None
             if self.joint_shift_mm is None
             else {"joint": self.joint_shift_mm[0], "shift_mm": list(self.joint_shift_mm[1])},
-            "elements": [k for k, v in present.items() if v is not None],
+            "elements": [m.TABLE for m in self.modifiers if m.active],
         }
 
 
@@ -376,39 +346,6 @@ def _resolve(name_or_file: str | Path) -> Path:
     )
 
 
-def _number(section: dict, key: str, where: str, *, positive: bool = True, allow_zero: bool = False) -> float:
-    v = section.get(key)
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-        raise ModelSetError(f"{where}: {key} must be a finite number; got {v!r}")
-    if positive and not (v > 0 or (allow_zero and v == 0)):
-        raise ModelSetError(f"{where}: {key} must be {'>= 0' if allow_zero else '> 0'}; got {v!r}")
-    return float(v)
-
-
-def _wing_scale(comp: dict, where: str) -> tuple[float, ...] | None:
-    """``[compliance] wing_scale``: a list of factors > 0 (one per wing joint; the World checks the count)."""
-    if "wing_scale" not in comp:
-        return None
-    v = comp["wing_scale"]
-    if not isinstance(v, list) or not v:
-        raise ModelSetError(
-            f"{where}: wing_scale must be a list of numbers > 0, one per wing joint (e.g. [1, 0.5, 1, 0.5]); got {v!r}"
-        )
-    return tuple(_number({"wing_scale": x}, "wing_scale", where) for x in v)
-
-
-def _check_keys(section, allowed: set[str], required: set[str], where: str) -> dict:
-    if not isinstance(section, dict):
-        raise ModelSetError(f"{where} must be a table; got {section!r}")
-    unknown = sorted(set(section) - allowed)
-    if unknown:
-        raise ModelSetError(f"{where}: unknown key {unknown[0]!r}; allowed: {', '.join(sorted(allowed))}")
-    missing = sorted(required - set(section))
-    if missing:
-        raise ModelSetError(f"{where}: missing key {missing[0]!r}")
-    return section
-
-
 def read_toml(path: str | Path) -> dict:
     """The TOML file's tables (``tomllib``; ``tomli`` on Python 3.10).
 
@@ -428,84 +365,6 @@ def read_toml(path: str | Path) -> dict:
         raise ModelSetError(f"model set '{path}' is not valid TOML: {exc}") from None
 
 
-def _spring_table(data: dict, table: str, cls, where: str, canonical: dict):
-    """The optional ``[table]`` of ``stiffness_n_m_rad`` and optional ``damping_n_m_s_rad`` as ``cls`` (a spring of
-    :mod:`sim.compliance`), added to ``canonical``; None without the table.
-
-    Raises
-    ------
-    ModelSetError
-        If a key is unknown or missing, or a value is out of range.
-    """
-    if table not in data:
-        return None
-    w = f"{where} [{table}]"
-    tab = _check_keys(data[table], _SPRING, {"stiffness_n_m_rad"}, w)
-    try:
-        spring = cls(
-            _number(tab, "stiffness_n_m_rad", w),
-            _number(tab, "damping_n_m_s_rad", w, allow_zero=True) if "damping_n_m_s_rad" in tab else 0.0,
-        )
-    except ComplianceError as exc:
-        raise ModelSetError(f"{w}: {exc}") from None
-    canonical[table] = {
-        "stiffness_n_m_rad": spring.stiffness_n_m_rad,
-        "damping_n_m_s_rad": spring.damping_n_m_s_rad,
-    }
-    return spring
-
-
-def _head_table(data: dict, where: str, canonical: dict) -> HeadCompliance | None:
-    """The optional ``[head_compliance]`` as a :class:`sim.compliance.HeadCompliance`, added to ``canonical``;
-    None without the table. A slide's keys (``stiffness_n_m``, ``damping_n_s_m``, ``travel_mm``) or a hinge's
-    (``stiffness_n_m_rad``, ``damping_n_m_s_rad``, ``travel_deg``), never both; ``axis`` and ``joint`` optional.
-
-    Raises
-    ------
-    ModelSetError
-        If a key is unknown or missing, the two kinds are mixed, or a value is out of range.
-    """
-    if "head_compliance" not in data:
-        return None
-    w = f"{where} [head_compliance]"
-    tab = _check_keys(data["head_compliance"], _HEAD, set(), w)
-    slide_keys, hinge_keys = set(_HEAD_SLIDE) & set(tab), set(_HEAD_HINGE) & set(tab)
-    if bool(slide_keys) == bool(hinge_keys) or (
-        "stiffness_n_m" not in tab and "stiffness_n_m_rad" not in tab
-    ):
-        raise ModelSetError(
-            f"{w}: give a slide (stiffness_n_m, optional damping_n_s_m and travel_mm) or a hinge "
-            "(stiffness_n_m_rad, optional damping_n_m_s_rad and travel_deg), not both"
-        )
-    slide = bool(slide_keys)
-    kn, cn, tn = _HEAD_SLIDE if slide else _HEAD_HINGE
-    axis = tab.get("axis", [1.0, 0.0, 0.0])
-    joint = tab.get("joint", HEAD_JOINT)
-    if not isinstance(axis, list):
-        raise ModelSetError(
-            f"{w}: axis must be a list of three numbers (x, y, z in the joint's parent frame)"
-        )
-    try:
-        head = HeadCompliance(
-            _number(tab, kn, w),
-            _number(tab, cn, w, allow_zero=True) if cn in tab else 0.0,
-            slide,
-            tuple(axis),
-            _number(tab, tn, w) * (1e-3 if slide else math.pi / 180.0) if tn in tab else None,
-            joint,
-        )
-    except ComplianceError as exc:
-        raise ModelSetError(f"{w}: {exc}") from None
-    canonical["head_compliance"] = {
-        "joint": head.joint,
-        kn: head.stiffness,
-        cn: head.damping,
-        "axis": list(head.axis),
-        tn: head.travel_as_written(),
-    }
-    return head
-
-
 def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     """Read a model set by shipped name or TOML file.
 
@@ -523,7 +382,8 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     path = _resolve(name_or_file)
     data = read_toml(path)
     where = f"model set '{path}'"
-    _check_keys(data, _TOP, _TOP - _OPTIONAL_TOP, where)
+    # the tables of every registered modifier, one registered after this import too
+    _check_keys(data, _REQUIRED_TOP | {"description", *registered()}, _REQUIRED_TOP, where)
     if not isinstance(data["name"], str) or not data["name"].strip():
         raise ModelSetError(f"{where}: name must be a non-empty string; got {data['name']!r}")
     if isinstance(data["version"], bool) or not isinstance(data["version"], int) or data["version"] < 0:
@@ -642,49 +502,13 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         "actuation": act_canon,
         "contact": con_canon,
     }
-    compliance = None
-    if "compliance" in data:
-        wc = f"{where} [compliance]"
-        comp = _check_keys(data["compliance"], _COMPLIANCE, {"wing_stiffness_n_m_rad"}, wc)
-        try:
-            compliance = Compliance(
-                _number(comp, "wing_stiffness_n_m_rad", wc),
-                _number(comp, "wing_damping_n_m_s_rad", wc, allow_zero=True)
-                if "wing_damping_n_m_s_rad" in comp
-                else 0.0,
-                _number(comp, "wing_integral_time_s", wc) if "wing_integral_time_s" in comp else None,
-                _wing_scale(comp, wc),
-            )
-        except ComplianceError as exc:
-            raise ModelSetError(f"{wc}: {exc}") from None
-        canonical["compliance"] = {
-            "wing_stiffness_n_m_rad": compliance.wing_stiffness_n_m_rad,
-            "wing_damping_n_m_s_rad": compliance.wing_damping_n_m_s_rad,
-        }
-        if compliance.wing_integral_time_s is not None:  # sets without it keep their hashes
-            canonical["compliance"]["wing_integral_time_s"] = compliance.wing_integral_time_s
-        if compliance.wing_scale is not None:  # sets without it keep their hashes
-            canonical["compliance"]["wing_scale"] = list(compliance.wing_scale)
-    # the spring tables enter the hash only when present, so the sets of before keep their hashes
-    torsion = _spring_table(data, "body_torsion", BodyTorsion, where, canonical)
-    leg = _spring_table(data, "leg_compliance", LegCompliance, where, canonical)
-    bend = _spring_table(data, "leg_bend", LegBend, where, canonical)
-    head = _head_table(data, where, canonical)
-    com_offset_y_mm = 0.0
-    if "mass" in data:  # enters the hash only when present, so the sets of before keep their hashes
-        wm = f"{where} [mass]"
-        mass = _check_keys(data["mass"], _MASS, _MASS, wm)
-        com_offset_y_mm = _number(mass, "com_offset_y_mm", wm, positive=False)
-        if abs(com_offset_y_mm) > MAX_COM_OFFSET_MM:
-            raise ModelSetError(
-                f"{wm}: com_offset_y_mm must be in [-{MAX_COM_OFFSET_MM:g}, {MAX_COM_OFFSET_MM:g}] mm; "
-                f"got {com_offset_y_mm!r}"
-            )
-        canonical["mass"] = {"com_offset_y_mm": com_offset_y_mm}
-    joint_shift_mm = None
-    if "geometry" in data:  # enters the hash only when present, so the sets of before keep their hashes
-        joint_shift_mm = _joint_shift(data["geometry"], f"{where} [geometry]")
-        canonical["geometry"] = {"shift_joint": joint_shift_mm[0], "shift_mm": list(joint_shift_mm[1])}
+    # each table enters the hash only when present, so the sets of before keep their hashes
+    modifiers = []
+    for table, cls in registered().items():
+        if table in data:
+            m = cls.from_toml(data[table], f"{where} [{table}]")
+            canonical[table] = m.canonical()
+            modifiers.append(m)
     digest = hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()[:16]
     ms = ModelSet(
         data["name"],
@@ -695,13 +519,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         contact=contact,
         model_set_hash=digest,
         measured=measured,
-        compliance=compliance,
-        body_torsion=torsion,
-        com_offset_y_mm=com_offset_y_mm,
-        leg_compliance=leg,
-        leg_bend=bend,
-        joint_shift_mm=joint_shift_mm,
-        head_compliance=head,
+        modifiers=tuple(modifiers),
         **timing,
     )
     try:
@@ -712,23 +530,6 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     except ValueError as exc:
         raise ModelSetError(f"{wa}: {exc}") from None
     return ms
-
-
-def _joint_shift(table, where: str) -> tuple[str, tuple[float, float, float]]:
-    """``[geometry]``: ``shift_joint`` (a joint's name) and ``shift_mm`` (three numbers, each within
-    ``MAX_JOINT_SHIFT_MM``)."""
-    geo = _check_keys(table, _GEOMETRY, _GEOMETRY, where)
-    name, v = geo["shift_joint"], geo["shift_mm"]
-    if not isinstance(name, str) or not name:
-        raise ModelSetError(f"{where}: shift_joint must be a joint's name; got {name!r}")
-    ok = isinstance(v, list) and len(v) == 3
-    ok = ok and all(not isinstance(x, bool) and isinstance(x, (int, float)) and math.isfinite(x) for x in v)
-    if not ok or max(abs(x) for x in v) > MAX_JOINT_SHIFT_MM:
-        raise ModelSetError(
-            f"{where}: shift_mm must be three numbers (x, y, z in the joint's parent frame, mm), each within "
-            f"±{MAX_JOINT_SHIFT_MM:g}; got {v!r}"
-        )
-    return name, (float(v[0]), float(v[1]), float(v[2]))
 
 
 def _knot_table(table, n_cmd: int, where: str, *, closed_ends: bool, period_s: float | None = None):

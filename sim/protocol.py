@@ -24,8 +24,8 @@ DEFAULT_DT_S = 5e-4
 first second and the same outcomes as dt = 5e-5 with 50 solver iterations (``benchmarks/sim_convergence.py``;
 see docs/sim.md)."""
 OTHER_ROBOT_DT_S = 2e-4
-"""Default time step of any other robot, s: the lab URDF needs it (at 5e-4 it is 0.75 deg off in the first
-second); run the convergence benchmark on a new robot before trusting a larger one."""
+"""Default time step of any other robot, s: the lab URDF passes the convergence criterion at it, not at
+``DEFAULT_DT_S`` (docs/sim.md); run the convergence benchmark on a new robot before trusting a larger one."""
 
 # Bounds: a request past them is refused up front with its cost (``sim.trial.check_trial_cost``).
 MAX_DURATION_S = 600.0

@@ -44,7 +44,14 @@ from .protocol import (
     PAPER_WING_PERIOD_S,
 )
 from .store import KEY_COLUMNS, RESULT_COLUMNS, TrialStore
-from .trial import DEFAULT_DURATION_S, TrialInputError, check_trial_cost, default_dt_s, run_trial
+from .trial import (
+    DEFAULT_DURATION_S,
+    Trial,
+    TrialInputError,
+    check_trial_cost,
+    default_dt_s,
+    simulate_trial,
+)
 from .world import SimulationDiverged
 
 log = logging.getLogger(__name__)
@@ -223,10 +230,8 @@ def sweep_specs(
     from .model_set import MODELS_DIR, load_model_set
 
     ms = load_model_set(model_set)
-    # refuses a joint it lacks, the set's shifted or compliant head's included
-    model = sim_model(
-        path, joint_map=joint_map, joint_shift=ms.joint_shift_m, head_compliance=ms.head_compliance
-    )
+    # refuses a joint or part it lacks, every modifier's included
+    model = sim_model(path, joint_map=joint_map, modifiers=ms.modifiers)
     joints = "" if joint_map is None or joint_map == JointMap() else joint_map.text()
     _check_joint_ranges(grids, model.theta_limits_deg)
     ms_ref = ms.name if Path(ms.source).parent == MODELS_DIR else str(Path(ms.source).resolve())
@@ -293,20 +298,20 @@ def run_spec(spec: TrialSpec) -> dict:
             wing_period_s=spec.wing_period_s,
             leg_period_s=spec.leg_period_s,
         )
-        r = run_trial(
+        trial = Trial(
             spec.theta_w_deg,
             spec.theta_l_deg,
-            phase=spec.phase,
-            cv=spec.cv,
+            spec.phase,
+            spec.cv,
             rng=spec.seed,
             duration_s=spec.duration_s,
             dt_s=spec.dt_s,
             robot=spec.robot,
             joint_map=spec.joint_map(),
-            actuation=act,
             attempts=spec.attempts or None,
-            model_set=ms,
+            actuation=act,
         )
+        r = simulate_trial(trial, model_set=ms)
     except SimulationDiverged as exc:
         row.update(status="diverged", error=str(exc))
         return row

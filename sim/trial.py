@@ -21,6 +21,9 @@ Protocol
    its long axis: roll-over) and ``"somersault"`` otherwise (it turned about its pitch axis, over head or tail).
 
 Body pitch and roll follow ``geometry/frames.py``; the trace reports them on the ``|pitch| <= 90`` branch.
+
+One concept, one trial: its spec (:class:`Trial`), the bounds it is checked against, the run and its result;
+hence over 600 lines.
 """
 
 from __future__ import annotations
@@ -37,7 +40,9 @@ from geometry import JointMap, pitch_roll_from_up
 from geometry.errors import GeometryError, JointLimitError
 
 from .actuation import Actuation, attempt_phases, attempt_starts_s, leg_profile_deg, wing_joint_profiles_deg
-from .model import HULL_MAX_VERTICES, HULL_TOL_M, sim_model
+from .hulls import HULL_MAX_VERTICES, HULL_TOL_M
+from .model import sim_model
+from .modifier import with_modifier
 from .protocol import (
     DEFAULT_DT_S,
     DEFAULT_DURATION_S,
@@ -69,6 +74,8 @@ _BYTES_PER_CONTROL_PERIOD_JOINT = 160
 __all__ = [
     "DEFAULT_DT_S",
     "Numerics",
+    "Trial",
+    "simulate_trial",
     "OTHER_ROBOT_DT_S",
     "default_dt_s",
     "SimulationDiverged",
@@ -388,7 +395,7 @@ class Numerics:
     Attributes
     ----------
     hull_tol_m, hull_max_vertices
-        Collision hull simplification (:func:`sim.model.sim_model`); ``hull_tol_m=0`` keeps full hulls.
+        Collision hull simplification (:func:`sim.model.sim_model`, :mod:`sim.hulls`); ``hull_tol_m=0`` keeps full hulls.
     control_period_s : float or None
         Servo command period, s (rounded to a whole number of steps); None commands every physics step (the
         configuration before the speed-up, kept for the benchmarks).
@@ -396,8 +403,8 @@ class Numerics:
         Let pybullet sub-step through a control period in one call (default) rather than one call per step;
         the physics is identical (tested), only faster.
     merge_fixed_links : bool
-        Merge links on fixed joints into their parents (:func:`sim.model.merge_fixed_links`). Off by default:
-        about 15 % faster, but it fails the convergence criterion at the default dt (docs/sim.md).
+        Merge links on fixed joints into their parents (:func:`sim.urdf_edits.merge_fixed_links`). Off by
+        default: faster, but it fails the convergence criterion at the default dt (docs/sim.md).
     """
 
     hull_tol_m: float = HULL_TOL_M
@@ -405,6 +412,52 @@ class Numerics:
     control_period_s: float | None = CONTROL_PERIOD_S
     engine_substeps: bool = True
     merge_fixed_links: bool = False
+
+
+@dataclass(frozen=True)
+class Trial:
+    """What one trial does (the experiment, apart from the model set and the numerics).
+
+    Attributes
+    ----------
+    theta_w_deg, theta_l_deg : float
+        Wing opening angle and leg oscillation amplitude, degrees.
+    phase : float
+        phi_1 = Delta t_1 / Tl in [0, 1): when the wings first open, as a fraction of the leg period.
+    cv : float
+        Coefficient of variation Cv = sigma / Tl (>= 0) of the closed-hold noise (see :mod:`sim.actuation`).
+    rng : numpy.random.Generator, int or None
+        Seed or generator of the noise; the seed used is kept in the result.
+    duration_s : float
+        Trial length, s.
+    dt_s : float or None
+        Time step, s; None: :func:`default_dt_s` of the robot.
+    robot : path, optional
+        URDF file (default :func:`sim.model.default_robot_urdf`).
+    joint_map : JointMap, optional
+    attempts : int, optional
+        Make at most this many wing openings; the wings then stay closed, and the trial ends one wing period
+        ``Tw`` after the last opening (or at ``duration_s`` if earlier). ``attempts=1`` is a single-attempt
+        trial (the phase map). None: attempts until ``duration_s``.
+    trace : bool
+        Record a :class:`Trace`.
+    actuation : Actuation, optional
+        Profile timing instead of the model set's; its theta fields are replaced by ``theta_w_deg`` and
+        ``theta_l_deg``.
+    """
+
+    theta_w_deg: float
+    theta_l_deg: float
+    phase: float
+    cv: float
+    rng: np.random.Generator | int | None = None
+    duration_s: float = DEFAULT_DURATION_S
+    dt_s: float | None = None
+    robot: str | Path | None = None
+    joint_map: JointMap | None = None
+    attempts: int | None = None
+    trace: bool = False
+    actuation: Actuation | None = None
 
 
 def run_trial(
@@ -426,16 +479,14 @@ def run_trial(
     numerics: Numerics = Numerics(),
     compliance=None,
 ) -> TrialResult:
-    """Run one self-righting trial in a fresh pybullet DIRECT client.
+    """Run one self-righting trial in a fresh pybullet DIRECT client: the keyword form of :func:`simulate_trial`.
 
     Parameters
     ----------
     theta_w_deg, theta_l_deg : float
         Wing opening angle and leg oscillation amplitude, degrees.
-    phase : float
-        phi_1 = Delta t_1 / Tl in [0, 1): when the wings first open, as a fraction of the leg period.
-    cv : float
-        Coefficient of variation Cv = sigma / Tl (>= 0) of the closed-hold noise (see :mod:`sim.actuation`).
+    phase, cv : float
+        First-attempt phase phi_1 in [0, 1) and noise Cv = sigma / Tl (>= 0) (:class:`Trial`).
     rng : numpy.random.Generator, int or None
         Seed or generator of the noise; the seed used is kept in the result.
     duration_s, dt_s : float
@@ -444,23 +495,69 @@ def run_trial(
         URDF file (default :func:`sim.model.default_robot_urdf`).
     joint_map : JointMap, optional
     actuation : Actuation, optional
-        Profile timing; its theta fields are replaced by ``theta_w_deg`` and ``theta_l_deg``.
+        Profile timing instead of the model set's (:class:`Trial`).
     contact : Contact, optional
+        Instead of the model set's contact.
     trace : bool
         Record a :class:`Trace`.
     attempts : int, optional
-        Make at most this many wing openings; the wings then stay closed, and the trial ends one wing period
-        ``Tw`` after the last opening (or at ``duration_s`` if earlier). ``attempts=1`` is a single-attempt
-        trial (the phase map). None: attempts until ``duration_s``.
+        Make at most this many wing openings (:class:`Trial`); None: attempts until ``duration_s``.
     model_set : sim.model_set.ModelSet, optional
-        Model parameter set: its actuation timing and contact apply where ``actuation`` / ``contact`` are not
-        given, its body torsion (:class:`sim.compliance.BodyTorsion`) always (None: the shipped ``paper`` set,
-        the same values as the defaults of :class:`Actuation` and :class:`Contact`). Its name and hash are kept
-        in the result.
+        Model parameter set (None: the shipped ``paper`` set, the same values as the defaults of
+        :class:`Actuation` and :class:`Contact`). Its name and hash are kept in the result.
     numerics : Numerics
         Hulls, servo period and sub-stepping (defaults: the converged configuration).
     compliance : sim.compliance.Compliance, optional
-        Compliant wing roots (default: the model set's; None in the shipped sets: rigid wings).
+        Compliant wing joints instead of the model set's (None in most shipped sets: rigid wings).
+
+    Returns
+    -------
+    TrialResult
+
+    Raises
+    ------
+    TrialInputError, JointLimitError, RobotDescriptionError, SimulationDiverged
+        As :func:`simulate_trial` does.
+    """
+    if model_set is None:
+        from .model_set import load_model_set
+
+        model_set = load_model_set()
+    if contact is not None:
+        model_set = replace(model_set, contact=contact)
+    if compliance is not None:
+        model_set = replace(model_set, modifiers=with_modifier(model_set.modifiers, compliance))
+    trial = Trial(
+        theta_w_deg,
+        theta_l_deg,
+        phase,
+        cv,
+        rng=rng,
+        duration_s=duration_s,
+        dt_s=dt_s,
+        robot=robot,
+        joint_map=joint_map,
+        attempts=attempts,
+        trace=trace,
+        actuation=actuation,
+    )
+    return simulate_trial(trial, model_set=model_set, numerics=numerics)
+
+
+def simulate_trial(trial: Trial, *, model_set=None, numerics: Numerics = Numerics()) -> TrialResult:
+    """Run ``trial`` with ``model_set`` and ``numerics`` in a fresh pybullet DIRECT client.
+
+    The model set says what is simulated: its actuation timing (unless ``trial.actuation``), its contact, and
+    its modifiers (:mod:`sim.modifier`), which edit the model, attach to the world and check their stability
+    before the robot settles.
+
+    Parameters
+    ----------
+    trial : Trial
+    model_set : sim.model_set.ModelSet, optional
+        None: the shipped ``paper`` set. Its name and hash are kept in the result.
+    numerics : Numerics
+        Hulls, servo period and sub-stepping (defaults: the converged configuration).
 
     Returns
     -------
@@ -472,6 +569,8 @@ def run_trial(
         For bad parameters (both are ValueError).
     RobotDescriptionError
         If the robot cannot be loaded.
+    sim.compliance.ComplianceError
+        If a modifier's spring is too stiff for the servo command period.
     SimulationDiverged
         If the physics blows up.
     """
@@ -480,21 +579,18 @@ def run_trial(
         from .model_set import load_model_set
 
         model_set = load_model_set()
-    comp = compliance if compliance is not None else model_set.compliance
+    modifiers = model_set.modifiers
     model = sim_model(
-        robot,
+        trial.robot,
         tol_m=numerics.hull_tol_m,
         max_vertices=numerics.hull_max_vertices,
-        joint_map=joint_map,
+        joint_map=trial.joint_map,
         merge_fixed=numerics.merge_fixed_links,
-        body_torsion=model_set.body_torsion is not None,
-        com_offset_m=model_set.com_offset_m,
-        leg_bend=model_set.leg_bend is not None,
-        joint_shift=model_set.joint_shift_m,
-        head_compliance=model_set.head_compliance,
+        modifiers=modifiers,
     )
-    theta_w_deg, theta_l_deg, phase, cv = float(theta_w_deg), float(theta_l_deg), float(phase), float(cv)
-    duration_s, dt_s = float(duration_s), float(default_dt_s(model.source) if dt_s is None else dt_s)
+    theta_w_deg, theta_l_deg = float(trial.theta_w_deg), float(trial.theta_l_deg)
+    phase, cv, dt_s = float(trial.phase), float(trial.cv), trial.dt_s
+    duration_s, dt_s = float(trial.duration_s), float(default_dt_s(model.source) if dt_s is None else dt_s)
     _check_inputs(
         theta_w_deg,
         theta_l_deg,
@@ -506,17 +602,17 @@ def run_trial(
         control_period_s=numerics.control_period_s,
         n_joints=len(model.joint_map.wing) + len(model.joint_map.leg),
     )
-    seed, gen = resolve_seed(rng)
+    seed, gen = resolve_seed(trial.rng)
     act, starts, duration_s = _schedule(
         model_set,
-        actuation,
+        trial.actuation,
         theta_w_deg,
         theta_l_deg,
         phase=phase,
         cv=cv,
         gen=gen,
         duration_s=duration_s,
-        attempts=attempts,
+        attempts=trial.attempts,
     )
     cmd = _servo_commands(
         act,
@@ -533,33 +629,18 @@ def run_trial(
         model,
         dt_s=dt_s,
         substeps=substeps,
-        contact=contact or model_set.contact,
-        compliance=comp,
-        torsion=model_set.body_torsion,
-        leg_compliance=model_set.leg_compliance,
-        bend=model_set.leg_bend,
-        head=model_set.head_compliance,
+        contact=model_set.contact,
+        modifiers=modifiers,
     )
     with world:
-        from .compliance import check_head_stability, check_spring_stability, check_stability
-
-        if comp is not None:
-            check_stability(comp, world.wing_inertia_kg_m2(), cmd.ctrl_s)
-        for spring, inertia in (
-            (model_set.body_torsion, world.torsion_inertia_kg_m2),
-            (model_set.leg_compliance, world.leg_inertia_kg_m2),
-            (model_set.leg_bend, world.bend_inertia_kg_m2),
-        ):
-            if spring is not None:
-                check_spring_stability(spring, inertia(), cmd.ctrl_s)
-        if model_set.head_compliance is not None:
-            check_head_stability(model_set.head_compliance, world.head_inertia(), cmd.ctrl_s)
+        for m in modifiers:
+            m.check_stability(world, cmd.ctrl_s)
         _settle(world, model, cmd)
-        run = _run(world, cmd, trace=trace)
+        run = _run(world, cmd, trace=trial.trace)
     started = starts[starts <= run.t_end]
     attempt = int(np.searchsorted(starts, run.t_right, side="right")) if run.success else None
     tr = None
-    if trace:
+    if trial.trace:
         n = len(Trace.COLUMNS)
         a = np.asarray(run.rows, dtype=np.float64).reshape(-1, n + 6)
         tr = Trace(*(a[:, k].copy() for k in range(n)), a[:, n : n + 3].copy(), a[:, n + 3 :].copy())

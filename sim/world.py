@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from .model import BEND_JOINT, MESH_PLACEHOLDER, TORSION_JOINT, SimModel
+from .model import MESH_PLACEHOLDER, SimModel
 
 
 def _quiet_import_pybullet():
@@ -167,17 +167,6 @@ def model_urdf_file(model: SimModel) -> Path:
     return urdf
 
 
-def _passive_joint(names: dict[str, int], joint: str, spring, flag: str, kwarg: str) -> int | None:
-    """The index of a spring-driven joint a model option inserted (``joint``), checked against its spring: a
-    spring needs the joint (``sim_model(..., flag=True)``) and the joint needs its spring (else a free hinge)."""
-    j = names.get(joint)
-    if spring is not None and j is None:
-        raise ValueError(f"a {type(spring).__name__} needs a model built with sim_model(..., {flag}=True)")
-    if spring is None and j is not None:
-        raise ValueError(f"a model built with {flag}=True needs World(..., {kwarg}(...))")
-    return j
-
-
 class World:
     """One pybullet DIRECT client holding the ground and the robot; use as a context manager.
 
@@ -189,20 +178,15 @@ class World:
     substeps : int
         Physics steps per ``stepSimulation`` call (pybullet sub-stepping); :meth:`advance` moves in multiples.
     contact : Contact
-    compliance : sim.compliance.Compliance, optional
-        Drive the wing joints through a spring and damper towards their commands instead of the stiff servo
-        (:mod:`sim.compliance`).
-    torsion : sim.compliance.BodyTorsion, optional
-        Spring and damper of the body's twist; the model must have been built with ``body_torsion=True``
-        (:func:`sim.model.add_body_torsion`).
-    leg_compliance : sim.compliance.LegCompliance, optional
-        Drive the leg joints through a spring and damper towards their commands instead of the stiff servo.
-    bend : sim.compliance.LegBend, optional
-        Spring and damper of the leg's bend out of its swing plane; the model must have been built with
-        ``leg_bend=True`` (:func:`sim.model.add_leg_bend`).
-    head : sim.compliance.HeadCompliance, optional
-        Spring and damper of the head's attachment; the model must have been built with the same
-        ``head_compliance`` (:func:`sim.model.add_head_compliance`).
+    modifiers : tuple of sim.modifier.Modifier, optional
+        What the model set adds, each attached in turn (:meth:`sim.modifier.Modifier.attach`): soft servos
+        (:meth:`add_soft_joints`) and passive springs (:meth:`add_spring`). Default: the modifiers the model was
+        built with (``model.modifiers``); those that edit the URDF must be the model's.
+
+    Raises
+    ------
+    ValueError
+        If ``modifiers`` that edit the URDF differ from those the model was built with.
 
     Examples
     --------
@@ -218,18 +202,19 @@ class World:
         dt_s: float,
         substeps: int = 1,
         contact: Contact | None = None,
-        compliance=None,
-        torsion=None,
-        leg_compliance=None,
-        bend=None,
-        head=None,
+        modifiers: tuple | None = None,
     ):
         self.model = model
-        self.head = head
-        self.compliance = compliance
-        self.torsion = torsion
-        self.leg_compliance = leg_compliance
-        self.bend = bend
+        self.modifiers = tuple(model.modifiers if modifiers is None else modifiers)
+        built = {m for m in self.modifiers if m.EDITS_URDF}
+        edited = {m for m in model.modifiers if m.EDITS_URDF}
+        if built != edited:
+            have = ", ".join(sorted(m.TABLE for m in edited)) or "none"
+            want = ", ".join(sorted(m.TABLE for m in built)) or "none"
+            raise ValueError(
+                f"the World's modifiers that edit the URDF ({want}) must be those the model was built with "
+                f"({have}); build the model with sim_model(..., modifiers=) the same"
+            )
         self.dt_s = float(dt_s)
         self.substeps = int(substeps)
         self.contact = contact or Contact()
@@ -279,40 +264,20 @@ class World:
             pb.getJointInfo(self.body, j, physicsClientId=cid)[1].decode(): j for j in range(self.n_joints)
         }
         jm = self.model.joint_map
+        self._joint_names = names
         self.wing_joints = [names[n] for n in jm.wing]
-        self.torsion_joint = _passive_joint(
-            names, TORSION_JOINT, self.torsion, "body_torsion", "torsion=BodyTorsion"
-        )
-        self.bend_joint = _passive_joint(names, BEND_JOINT, self.bend, "leg_bend", "bend=LegBend")
-        built = self.model.head_joint
-        if (self.head is None) != (built is None) or (built is not None and built != self.head.joint):
-            raise ValueError(
-                "a HeadCompliance needs a model built with sim_model(..., head_compliance=) on the same joint, and "
-                f"such a model needs World(..., head=HeadCompliance(...)) (model: {built}, "
-                f"head: {None if self.head is None else self.head.joint})"
-            )
-        self.head_joint = None if built is None else names[built]
-        # the passive springs (stiffness, damping, joint) that advance() renews before every stepSimulation call
-        pairs = ((self.torsion, self.torsion_joint), (self.bend, self.bend_joint))
-        self._springs = [(s.stiffness_n_m_rad, s.damping_n_m_s_rad, j) for s, j in pairs if s is not None]
-        if self.head is not None:
-            self._springs.append((self.head.stiffness, self.head.damping, self.head_joint))
         self.leg_joints = [names[n] for n in jm.leg]
         self.driven = self.wing_joints + self.leg_joints
-        n_wing, n_leg = len(jm.wing), len(jm.leg)
-        comp, leg = self.compliance, self.leg_compliance
-        gains = []  # per soft joint: stiffness, damping and integral gain (the wing servo's integral only)
-        if comp is not None:
-            ti = comp.wing_integral_time_s
-            ki = comp.wing_stiffness_n_m_rad / ti if ti is not None else 0.0
-            kw, cw = comp.wing_stiffness_n_m_rad, comp.wing_damping_n_m_s_rad
-            gains += [(kw * f, cw * f, ki * f) for f in comp.joint_scales(n_wing)]
-        if leg is not None:
-            gains += [(leg.stiffness_n_m_rad, leg.damping_n_m_s_rad, 0.0)] * n_leg
-        self._soft = (list(range(n_wing)) if comp is not None else []) + (
-            list(range(n_wing, n_wing + n_leg)) if leg is not None else []
+        # what the modifiers attach: soft servos (index into driven; stiffness, damping, integral gain) and the
+        # passive springs (stiffness, damping, joint) that advance() renews before every stepSimulation call
+        self._soft: list[int] = []
+        self._soft_gains: list[tuple[float, float, float]] = []
+        self._springs: list[tuple[float, float, int]] = []
+        for m in self.modifiers:
+            m.attach(self)
+        self._soft_k, self._soft_c, self._soft_ki = (
+            np.array(self._soft_gains, dtype=np.float64).reshape(-1, 3).T
         )
-        self._soft_k, self._soft_c, self._soft_ki = np.array(gains, dtype=np.float64).reshape(-1, 3).T
         self._integral = np.zeros(len(self._soft))  # a PI servo's integrated error per soft joint, rad s
         self._last_err = np.zeros(len(self._soft))
         self._elapsed_s = self._last_drive_s = 0.0
@@ -397,10 +362,9 @@ class World:
         pb.resetBaseVelocity(self.body, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], physicsClientId=cid)
 
     def drive(self, target_rad, speed_rad_s, *, kp: float, kd: float) -> None:
-        """Position control of the driven joints (wing joints then leg joints) within their effort limits; with
-        a compliance (a leg compliance), the wing joints (the leg joints) get the torque
-        ``k (target - q) + c (speed - dq/dt)`` instead, held until the next call and capped at their effort
-        limits."""
+        """Position control of the driven joints (wing joints then leg joints) within their effort limits; the
+        soft joints a modifier attached (:meth:`add_soft_joints`) get the torque ``k (target - q) + c (speed -
+        dq/dt)`` (plus the integral's) instead, held until the next call and capped at their effort limits."""
         if self._soft:
             self._drive_soft(target_rad, speed_rad_s)
             target_rad = [target_rad[k] for k in self._stiff]
@@ -469,24 +433,33 @@ class World:
                 below.add(j)
         return below
 
-    def head_inertia(self) -> float:
-        """What the head's spring moves (nan without one): the head's mass, kg, for a slide; its moment of inertia
-        about the hinge, kg m², for a hinge."""
-        if self.head_joint is None:
-            return math.nan
-        if self.head.slide:
-            return float(pb.getDynamicsInfo(self.body, self.head_joint, physicsClientId=self.cid)[0])
-        return self._child_inertia([self.head_joint])
+    # ------------------------------------------------------------------ what modifiers attach
+    def joint_index(self, name: str) -> int | None:
+        """The pybullet index of the joint ``name``, or None if the model has none."""
+        return self._joint_names.get(name)
 
-    def bend_inertia_kg_m2(self) -> float:
-        """The leg's moment of inertia about its bending axis, kg m² (nan without a bend joint)."""
-        return math.nan if self.bend_joint is None else self._child_inertia([self.bend_joint])
+    def add_soft_joints(self, indices, gains) -> None:
+        """Drive the driven joints ``indices`` (positions in :attr:`driven`) with the torque
+        ``k (target - q) + c (speed - dq/dt) + ki * integral(target - q) dt`` instead of the stiff servo;
+        ``gains``: one (k, c, ki) per joint. Only while the world is being built (from a modifier's ``attach``)."""
+        indices = list(indices)
+        if len(indices) != len(gains) or set(indices) & set(self._soft):
+            raise ValueError(f"soft joints {indices} need one gain each and no joint twice; got {len(gains)}")
+        self._soft += indices
+        self._soft_gains += [tuple(float(v) for v in g) for g in gains]
 
-    def torsion_inertia_kg_m2(self) -> float:
-        """Effective moment of inertia of the body's twist, kg m² (nan without a torsion joint): the Schur
-        complement of the twist's entry of the joint-space mass matrix, base free, at the current pose."""
-        if self.torsion_joint is None:
-            return math.nan
+    def add_spring(self, joint: int, stiffness: float, damping: float) -> None:
+        """Drive the (passive) joint ``joint`` with ``-k q - c dq/dt``, renewed before every ``stepSimulation``
+        call, settling's too."""
+        self._springs.append((float(stiffness), float(damping), int(joint)))
+
+    def link_mass_kg_of(self, joint: int) -> float:
+        """The mass of the joint's child link, kg."""
+        return float(pb.getDynamicsInfo(self.body, joint, physicsClientId=self.cid)[0])
+
+    def effective_inertia_kg_m2(self, joint: int) -> float:
+        """Effective moment of inertia about a joint, kg m²: the Schur complement of its entry of the joint-space
+        mass matrix, base free, at the current pose."""
         cid = self.cid
         movable = [
             j
@@ -495,22 +468,15 @@ class World:
         ]
         q = [pb.getJointState(self.body, j, physicsClientId=cid)[0] for j in movable]
         m = np.asarray(pb.calculateMassMatrix(self.body, q, physicsClientId=cid), dtype=np.float64)
-        i = m.shape[0] - len(movable) + movable.index(self.torsion_joint)
+        i = m.shape[0] - len(movable) + movable.index(joint)
         rest = [k for k in range(m.shape[0]) if k != i]
         coupling = m[i, rest]
         return float(m[i, i] - coupling @ np.linalg.solve(m[np.ix_(rest, rest)], coupling))
 
-    def wing_inertia_kg_m2(self) -> float:
-        """The smallest moment of inertia of a wing joint's child link about the joint's axis, kg m² (a lower
-        bound on what the joint moves; nan without a compliance)."""
-        n_wing = len(self.wing_joints)
-        return self._child_inertia([self.driven[k] for k in self._soft if k < n_wing])
-
-    def leg_inertia_kg_m2(self) -> float:
-        """The smallest moment of inertia of a leg joint's child link about the joint's axis, kg m² (nan without
-        a leg compliance)."""
-        n_wing = len(self.wing_joints)
-        return self._child_inertia([self.driven[k] for k in self._soft if k >= n_wing])
+    def child_inertia_kg_m2(self, joints: list[int]) -> float:
+        """The smallest moment of inertia of the joints' child links about each joint's axis, kg m² (nan for no
+        joint)."""
+        return self._child_inertia(list(joints))
 
     def _child_inertia(self, joints: list[int]) -> float:
         cid, out = self.cid, []
@@ -528,8 +494,7 @@ class World:
         assert n_steps % self.substeps == 0, (n_steps, self.substeps)
         self._elapsed_s += n_steps * self.dt_s
         for _ in range(n_steps // self.substeps):
-            # the twist's, the bend's and the head's springs are renewed before every stepSimulation call,
-            # settling's too
+            # the modifiers' passive springs are renewed before every stepSimulation call, settling's too
             for k, c, joint in self._springs:
                 self._drive_spring(joint, k, c)
             pb.stepSimulation(physicsClientId=self.cid)

@@ -1,4 +1,4 @@
-"""A body that twists (sim.compliance.BodyTorsion, sim.model.add_body_torsion): values and stability refused in
+"""A body that twists (sim.compliance.BodyTorsion, sim.urdf_edits.add_body_torsion): values and stability refused in
 one line, the model-set table, a joint that changes neither mass nor pose, and the physics: the symmetric load of
 the hold does not twist the body (no sag, unlike a spring in each wing joint), a stiff torsion acts rigid, and a
 soft one lets the leg's swing rock the body further."""
@@ -8,9 +8,10 @@ import pybullet as pb
 import pytest
 
 from sim.compliance import BodyTorsion, ComplianceError, check_spring_stability
-from sim.model import TORSION_JOINT, TORSION_LINK, sim_model
+from sim.model import sim_model
 from sim.model_set import load_model_set
 from sim.trial import run_trial
+from sim.urdf_edits import TORSION_JOINT, TORSION_LINK
 from sim.world import World
 from tests.conftest import set_with_table
 
@@ -39,11 +40,12 @@ def _link_poses(w: World) -> dict[str, tuple]:
 
 
 def test_the_joint_changes_neither_mass_nor_pose():
-    rigid, twisting = sim_model(), sim_model(body_torsion=True)
+    torsion = BodyTorsion(0.05)
+    rigid, twisting = sim_model(), sim_model(modifiers=(torsion,))
     assert TORSION_JOINT in twisting.urdf_text and TORSION_JOINT not in rigid.urdf_text
     assert twisting.model_hash != rigid.model_hash
     joints = np.deg2rad([40.0, 40.0, 40.0, 40.0, 20.0])
-    with World(rigid, dt_s=5e-4) as w0, World(twisting, dt_s=5e-4, torsion=BodyTorsion(0.05)) as w1:
+    with World(rigid, dt_s=5e-4) as w0, World(twisting, dt_s=5e-4) as w1:
         for w in (w0, w1):
             w.place(np.deg2rad(30.0), np.deg2rad(10.0), joints_rad=joints)
         assert w1.mass_kg == pytest.approx(w0.mass_kg, rel=1e-12)
@@ -51,16 +53,19 @@ def test_the_joint_changes_neither_mass_nor_pose():
         assert set(p1) == set(p0) | {TORSION_LINK}
         for name, pos in p0.items():
             assert np.allclose(p1[name], pos, atol=1e-12), name
-        assert 0 < w1.torsion_inertia_kg_m2() < np.inf
-        assert np.isnan(w0.torsion_inertia_kg_m2())
+        assert 0 < torsion.inertia_kg_m2(w1) < np.inf
+        assert np.isnan(torsion.inertia_kg_m2(w0))
 
 
 def test_a_torsion_and_the_twisting_model_go_together():
-    with pytest.raises(ValueError, match="body_torsion=True"):
-        with World(sim_model(), dt_s=5e-4, torsion=BodyTorsion(0.05)):
+    torsion = BodyTorsion(0.05)
+    with pytest.raises(
+        ValueError, match=r"URDF \(body_torsion\) must be those the model was built with \(none\)"
+    ):
+        with World(sim_model(), dt_s=5e-4, modifiers=(torsion,)):
             pass
-    with pytest.raises(ValueError, match=r"torsion=BodyTorsion"):  # else the twist would be a free hinge
-        with World(sim_model(body_torsion=True), dt_s=5e-4):
+    with pytest.raises(ValueError, match=r"URDF \(none\) must be those .* \(body_torsion\)"):  # a free hinge
+        with World(sim_model(modifiers=(torsion,)), dt_s=5e-4, modifiers=()):
             pass
 
 

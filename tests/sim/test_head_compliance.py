@@ -1,4 +1,4 @@
-"""A head whose attachment gives (sim.compliance.HeadCompliance, sim.model.add_head_compliance, a model set's
+"""A head whose attachment gives (sim.head_compliance.HeadCompliance, sim.urdf_edits.add_head_compliance, a model set's
 ``[head_compliance]``): values and tables refused in one line, a joint that changes neither mass nor pose, and the
 physics on the built-in robot: the head carries nothing on the robot's back and part of the body in the hold, so
 a soft head holds the body further over only once the wings are open, by more the softer it is, and no further
@@ -13,7 +13,8 @@ import pytest
 from geometry.errors import RobotDescriptionError, UnknownJointError
 from landscape.analysis.calibration import candidate_set
 from landscape.analysis.opening import simulated_opening
-from sim.compliance import ComplianceError, HeadCompliance, check_head_stability
+from sim.compliance import ComplianceError
+from sim.head_compliance import HeadCompliance, check_head_stability
 from sim.model import sim_model
 from sim.model_set import ModelSetError, load_model_set
 from sim.trial import run_trial
@@ -92,11 +93,11 @@ def test_a_calibration_may_add_the_table(tmp_path):
 
 def test_the_joint_changes_neither_mass_nor_pose_and_needs_its_spring():
     head = HeadCompliance(25.0, 0.3)
-    rigid, soft = sim_model(), sim_model(head_compliance=head)
-    assert soft.head_joint == "head_mount" and rigid.head_joint is None
+    rigid, soft = sim_model(), sim_model(modifiers=(head,))
+    assert soft.modifiers == (head,) and rigid.modifiers == ()
     assert soft.model_hash != rigid.model_hash
     joints = np.deg2rad([40.0, 40.0, 40.0, 40.0, 20.0])
-    with World(rigid, dt_s=5e-4) as w0, World(soft, dt_s=5e-4, head=head) as w1:
+    with World(rigid, dt_s=5e-4) as w0, World(soft, dt_s=5e-4) as w1:
         for w in (w0, w1):
             w.place(np.deg2rad(30.0), np.deg2rad(10.0), joints_rad=joints)
         assert w1.mass_kg == pytest.approx(w0.mass_kg, rel=1e-9)
@@ -104,21 +105,21 @@ def test_the_joint_changes_neither_mass_nor_pose_and_needs_its_spring():
         assert set(p1) == set(p0)
         for name, pos in p0.items():
             assert np.allclose(p1[name], pos, atol=1e-12), name
-        assert w1.head_inertia() == pytest.approx(0.0134, rel=0.3)  # the slide moves the head's mass
-        assert math.isnan(w0.head_inertia())
-    with pytest.raises(ValueError, match="needs World"):
-        with World(soft, dt_s=5e-4):  # else the head would slide freely
+        assert head.inertia(w1) == pytest.approx(0.0134, rel=0.3)  # the slide moves the head's mass
+        assert math.isnan(HeadCompliance(25.0, joint="nose").inertia(w0))
+    with pytest.raises(ValueError, match=r"URDF \(none\) must be those"):
+        with World(soft, dt_s=5e-4, modifiers=()):  # else the head would slide freely
             pass
-    with pytest.raises(ValueError, match="HeadCompliance needs a model"):
-        with World(rigid, dt_s=5e-4, head=head):
+    with pytest.raises(ValueError, match=r"URDF \(head_compliance\) must be those .* \(none\)"):
+        with World(rigid, dt_s=5e-4, modifiers=(head,)):
             pass
 
 
 def test_a_joint_that_is_missing_or_moves_is_refused():
     with pytest.raises(UnknownJointError, match="no joint 'nose'.*give the joint that attaches the head"):
-        sim_model(head_compliance=HeadCompliance(25.0, joint="nose"))
+        sim_model(modifiers=(HeadCompliance(25.0, joint="nose"),))
     with pytest.raises(RobotDescriptionError, match="joint 'leg' is revolute, not fixed"):
-        sim_model(head_compliance=HeadCompliance(25.0, joint="leg"))
+        sim_model(modifiers=(HeadCompliance(25.0, joint="leg"),))
 
 
 def test_too_stiff_a_head_is_refused_before_the_trial(tmp_path):
@@ -137,10 +138,10 @@ def _hold(tmp_path, text: str | None) -> float:
 def _deflection_on_back(text: str, tmp_path) -> float:
     ms = load_model_set(set_with_table(tmp_path, "head_compliance", text))
     head = ms.head_compliance
-    with World(sim_model(head_compliance=head), dt_s=5e-4, head=head) as w:
+    with World(sim_model(modifiers=(head,)), dt_s=5e-4) as w:
         w.place(0.0, 0.0, joints_rad=np.zeros(5))
         w.advance(1000)
-        return pb.getJointState(w.body, w.head_joint, physicsClientId=w.cid)[0]
+        return pb.getJointState(w.body, w.joint_index(head.joint), physicsClientId=w.cid)[0]
 
 
 def test_a_soft_head_holds_the_body_further_over_only_in_the_hold_and_no_further_than_its_stop(tmp_path):

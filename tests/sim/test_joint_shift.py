@@ -1,5 +1,5 @@
 """A model set's ``[geometry]`` joint shift: one joint's origin (and everything it carries) moved, the same in the
-landscape (geometry.Robot.with_joint_shift) and in the simulation (sim.model.shift_joint); the table refused in
+landscape (geometry.Robot.with_joint_shift) and in the simulation (sim.urdf_edits.shift_joint); the table refused in
 one line when wrong; the hash; and the lab robot's head moved back holds the body where the robot holds it."""
 
 import numpy as np
@@ -10,12 +10,14 @@ from geometry import UsageError
 from geometry.errors import UnknownJointError
 from geometry.robots import load_robot
 from landscape.minima import metastable_orientation
+from sim.joint_shift import JointShift
 from sim.model import sim_model
 from sim.model_set import ModelSetError, load_model_set
 from sim.world import World
 from tests.conftest import set_with_table
 
-SHIFT_M = np.array([-0.012, 0.0, 0.002])
+SHIFT_MM = (-12.0, 0.0, 2.0)
+SHIFT_M = np.array(SHIFT_MM) * 1e-3
 
 
 def test_the_landscape_robot_moves_the_head_and_nothing_else():
@@ -39,7 +41,7 @@ def test_the_landscape_robot_moves_the_head_and_nothing_else():
 def test_the_simulated_head_moves_as_the_landscape_one():
     """Placed alike, the simulated head link sits SHIFT_M further from the base (base frame) and nothing else
     moves; the model's rest is the shifted robot's."""
-    plain, moved = sim_model(), sim_model(joint_shift=("head_mount", SHIFT_M))
+    plain, moved = sim_model(), sim_model(modifiers=(JointShift("head_mount", SHIFT_MM),))
     assert moved.model_hash != plain.model_hash
     joints = np.deg2rad([60.0, 60.0, 60.0, 60.0, 20.0])
 
@@ -60,7 +62,7 @@ def test_the_simulated_head_moves_as_the_landscape_one():
         want = SHIFT_M if link == "head" else np.zeros(3)
         assert np.allclose(b[link] - a[link], want, rtol=0.0, atol=1e-6), link  # pybullet: single precision
     with pytest.raises(UnknownJointError, match="no joint 'nope' to shift"):
-        sim_model(joint_shift=("nope", SHIFT_M))
+        sim_model(modifiers=(JointShift("nope", SHIFT_MM),))
 
 
 def test_the_geometry_table(tmp_path):

@@ -1,4 +1,4 @@
-"""A leg that bends out of its swing plane (sim.compliance.LegBend, sim.model.add_leg_bend, a model set's
+"""A leg that bends out of its swing plane (sim.compliance.LegBend, sim.urdf_edits.add_leg_bend, a model set's
 ``[leg_bend]``): values refused in one line, the table, a joint that changes neither mass nor pose, a stiff bend
 that barely sags, and a soft one that sags by its load and rings at its frequency."""
 
@@ -7,7 +7,8 @@ import pybullet as pb
 import pytest
 
 from sim.compliance import ComplianceError, LegBend, check_spring_stability
-from sim.model import BEND_JOINT, BEND_LINK, sim_model
+from sim.model import sim_model
+from sim.urdf_edits import BEND_JOINT, BEND_LINK
 from sim.world import World
 from tests.sim.test_body_torsion import _link_poses
 
@@ -27,10 +28,11 @@ def test_stability_bound():
 
 
 def test_the_joint_changes_neither_mass_nor_pose():
-    rigid, bending = sim_model(), sim_model(leg_bend=True)
+    bend = LegBend(0.135)
+    rigid, bending = sim_model(), sim_model(modifiers=(bend,))
     assert BEND_JOINT in bending.urdf_text and BEND_JOINT not in rigid.urdf_text
     joints = np.deg2rad([40.0, 40.0, 40.0, 40.0, 20.0])
-    with World(rigid, dt_s=5e-4) as w0, World(bending, dt_s=5e-4, bend=LegBend(0.135)) as w1:
+    with World(rigid, dt_s=5e-4) as w0, World(bending, dt_s=5e-4) as w1:
         for w in (w0, w1):
             w.place(np.deg2rad(30.0), np.deg2rad(10.0), joints_rad=joints)
         assert w1.mass_kg == pytest.approx(w0.mass_kg, rel=1e-5)
@@ -38,24 +40,27 @@ def test_the_joint_changes_neither_mass_nor_pose():
         assert set(p1) == set(p0) | {BEND_LINK}
         for name, pos in p0.items():
             assert np.allclose(p1[name], pos, atol=1e-12), name
-        assert w1.bend_inertia_kg_m2() == pytest.approx(2.25e-4, rel=0.05)  # 55.8 g about 62 mm
-    with pytest.raises(ValueError, match="leg_bend=True"):
-        with World(rigid, dt_s=5e-4, bend=LegBend(0.1)):
+        assert bend.inertia_kg_m2(w1) == pytest.approx(2.25e-4, rel=0.05)  # 55.8 g about 62 mm
+    with pytest.raises(
+        ValueError, match=r"URDF \(leg_bend\) must be those the model was built with \(none\)"
+    ):
+        with World(rigid, dt_s=5e-4, modifiers=(LegBend(0.1),)):
             pass
-    with pytest.raises(ValueError, match=r"bend=LegBend"):  # else the bend would be a free hinge
-        with World(bending, dt_s=5e-4):
+    with pytest.raises(ValueError, match=r"URDF \(none\) must be those .* \(leg_bend\)"):  # a free hinge
+        with World(bending, dt_s=5e-4, modifiers=()):
             pass
 
 
 def _bend_angle(k: float, c: float, *, seconds: float = 1.0, dt: float = 5e-4):
     """The bend joint's angle (rad) over ``seconds`` with the robot placed on its back, wings closed, leg centred."""
-    with World(sim_model(leg_bend=True), dt_s=dt, bend=LegBend(k, c)) as w:
+    bend = LegBend(k, c)
+    with World(sim_model(modifiers=(bend,)), dt_s=dt) as w:
         w.place(0.0, 0.0, joints_rad=np.zeros(5))
         q = []
         for _ in range(int(round(seconds / dt))):
             w.advance(1)
-            q.append(pb.getJointState(w.body, w.bend_joint, physicsClientId=w.cid)[0])
-        return np.asarray(q), w.bend_inertia_kg_m2()
+            q.append(pb.getJointState(w.body, w.joint_index(BEND_JOINT), physicsClientId=w.cid)[0])
+        return np.asarray(q), bend.inertia_kg_m2(w)
 
 
 def test_a_soft_bend_sags_by_its_load_and_rings_at_its_frequency():

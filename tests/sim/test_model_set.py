@@ -137,3 +137,19 @@ def test_a_store_made_before_model_sets_reads_as_the_paper_set(tmp_path, late):
     assert r["side"] is None
     names = [c[1] for c in sqlite3.connect(db).execute("PRAGMA table_info(trials)")]
     assert names == list(st.COLUMNS)  # the same layout as a new store's, in order
+
+
+SHIPPED_HASHES = {
+    "paper": "63cfd0473108cf16",
+    "physical": "4507da0aa90ae140",
+    "physical-head": "a974cc95a862cf17",
+    "physical-offset": "19529bcb520bfde4",
+    "physical-posed": "1c77594c535e39d3",
+}
+"""Every shipped set's hash, as stored trials carry it (computed before the modifiers became one protocol)."""
+
+
+@pytest.mark.parametrize("name", sorted(SHIPPED_HASHES))
+def test_every_shipped_set_keeps_its_hash(name):
+    assert shipped_model_sets() == sorted(SHIPPED_HASHES)
+    assert load_model_set(name).model_set_hash == SHIPPED_HASHES[name]

@@ -328,3 +328,21 @@ def test_wing_and_leg_periods_change_the_simulated_motion(sim_robot):
     assert not np.allclose(tr.leg_cmd_deg[80:], tr.leg_cmd_deg[:-80], atol=1.0)  # not the default 0.8 s
     assert np.abs(tr.leg_deg - tr.leg_cmd_deg).mean() < 2.0  # the joint follows the 1 s profile
     assert r.attempt_starts_s[:2] == (0.0, 2.5) or r.success
+
+
+def test_the_keyword_form_runs_the_same_trial_spec():
+    """run_trial(...) is simulate_trial(Trial(...)) with its contact and compliance put into the model set."""
+    from sim.compliance import Compliance
+    from sim.model_set import load_model_set
+    from sim.trial import Trial, simulate_trial
+
+    contact, wings = replace(Contact(), friction=0.8), Compliance(0.9, 0.002)
+    kw = dict(phase=0.7, cv=0.1, rng=3, duration_s=0.6, trace=True)
+    by_keywords = run_trial(74.0, 30.0, contact=contact, compliance=wings, **kw)
+    paper = load_model_set("paper")
+    ms = replace(paper, contact=contact, modifiers=(wings,))
+    by_spec = simulate_trial(Trial(74.0, 30.0, **kw), model_set=ms)
+    np.testing.assert_array_equal(by_spec.trace.as_array(), by_keywords.trace.as_array())
+    assert (by_spec.model_set, by_spec.model_set_hash) == ("paper", paper.model_set_hash)
+    plain = simulate_trial(Trial(74.0, 30.0, **kw))
+    assert not np.array_equal(plain.trace.as_array(), by_spec.trace.as_array())  # the overrides took effect

@@ -1,5 +1,5 @@
 """A model set's ``[mass] com_offset_y_mm``: the whole body's CoM moved sideways, the same in the landscape
-(geometry.Robot.with_com_offset) and in the simulation (sim.model.shift_com); the table refused in one line when
+(geometry.Robot.with_com_offset) and in the simulation (sim.urdf_edits.shift_com); the table refused in one line when
 wrong; the hash; and a one-sided barrier."""
 
 import numpy as np
@@ -8,12 +8,14 @@ import pytest
 from geometry import UsageError
 from geometry.robots import load_robot
 from landscape.computation import compute
+from sim.mass import ComOffset
 from sim.model import sim_model
 from sim.model_set import ModelSetError, load_model_set
 from sim.world import World
 from tests.conftest import set_with_table
 
-OFFSET_M = np.array([0.0, -2e-3, 0.0])
+OFFSET_MM = -2.0
+OFFSET_M = np.array([0.0, OFFSET_MM * 1e-3, 0.0])
 
 
 def test_the_landscape_robot_moves_its_com_and_nothing_else():
@@ -34,7 +36,7 @@ def test_the_simulated_com_moves_as_the_landscape_one():
     """Placed rolled 90 deg (world up = body +y, the same hull on the ground), the CoM height changes by the
     offset's y, and the mass stays."""
     joints = np.deg2rad([60.0, 60.0, 60.0, 60.0, 20.0])
-    plain, moved = sim_model(merge_fixed=True), sim_model(merge_fixed=True, com_offset_m=OFFSET_M)
+    plain, moved = sim_model(merge_fixed=True), sim_model(merge_fixed=True, modifiers=(ComOffset(OFFSET_MM),))
     assert moved.model_hash != plain.model_hash
     with World(plain, dt_s=5e-4) as w0, World(moved, dt_s=5e-4) as w1:
         for w in (w0, w1):
