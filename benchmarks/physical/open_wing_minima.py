@@ -26,7 +26,7 @@ from geometry.errors import UsageError
 from geometry.frames import up_vector
 from geometry.robots import load_robot
 from landscape import _kernels
-from landscape.analysis.opening import support_links
+from landscape.analysis.physical.hold import support_links
 from landscape.computation import compute, posed, start_orientation
 from landscape.energy import G_M_S2, energy_landscape, height_at
 from landscape.minima import local_descent

@@ -48,16 +48,18 @@ def physical():
 )
 def table_cmd(data, out):
     """One row per trial (trials.csv) and per (theta_w, theta_l) cell with Wilson 95 % intervals (cells.csv)."""
-    from landscape.analysis import physical as ph
+    from landscape.analysis.physical.attempts import attempt_outcomes
+    from landscape.analysis.physical.cells import lateralisation, physical_cells
+    from landscape.analysis.physical.outcome import physical_trials
     from landscape.cli.options import writable_dir
     from landscape.viz.physical_plots import cells_table, write_rows_csv
 
     writable_dir(out, "--out")
-    trials = ph.physical_trials(data)
-    cells = ph.physical_cells(trials)
-    attempts = ph.attempt_outcomes(trials)
+    trials = physical_trials(data)
+    cells = physical_cells(trials)
+    attempts = attempt_outcomes(trials)
     click.echo(cells_table(cells, attempts))
-    lat = ph.lateralisation(trials)
+    lat = lateralisation(trials)
     click.echo(
         f"\nroll-overs to + roll: {lat.positive} of {lat.positive + lat.negative} "
         f"(Wilson 95 % [{100 * lat.ci_low:.0f}, {100 * lat.ci_high:.0f}] %)"
@@ -91,13 +93,13 @@ def table_cmd(data, out):
 def energy_cmd(data, robot, model_set, out, no_progress):
     """Kinetic energy against the barrier in every recorded attempt: energy.csv (one row per attempt), energy.png,
     and how often the energy margin's sign matches the outcome beside the barrier alone."""
-    from landscape.analysis import energy as en
+    from landscape.analysis.physical.motion import recorded_motions
     from landscape.cli.options import load_robot, writable_dir
     from landscape.viz.sections import ENERGY_METHOD, energy_files, energy_paragraphs
     from sim.model_set import load_model_set
 
     writable_dir(out, "--out")
-    rec = en.recorded_motions(data, load_robot(robot, None), load_model_set(model_set))
+    rec = recorded_motions(data, load_robot(robot, None), load_model_set(model_set))
     rows, _, csv_path, png = energy_files(
         Path(out),
         [(rec.body, rec.motions)],
@@ -127,8 +129,18 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
     The model's hold is its metastable pitch with the wing joints at the measured plateau, or, for a model set
     with a measured actuation profile (--model physical), each wing servo at its own measured plateau."""
 
-    from landscape.analysis import opening as op
-    from landscape.analysis import physical as ph
+    from landscape.analysis.physical.cells import lateralisation
+    from landscape.analysis.physical.hold import (
+        hold_pitch_frames,
+        per_servo_hold_deg,
+        plateau_hold_deg,
+        support_links,
+    )
+    from landscape.analysis.physical.lean import cell_lean, recorded_leans
+    from landscape.analysis.physical.mounting import mounting_from_rests
+    from landscape.analysis.physical.outcome import physical_trials
+    from landscape.analysis.physical.response import protocol_phases, recorded_first_openings
+    from landscape.analysis.physical.resting import resting_pitch_table
     from landscape.viz.physical_plots import (
         first_openings_markdown,
         hold_frames_markdown,
@@ -137,7 +149,7 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
         resting_pitch_markdown,
     )
 
-    rows = ph.resting_pitch_table(data)
+    rows = resting_pitch_table(data)
     model = frames = None
     if not no_model:
         from landscape.cli.options import load_robot
@@ -148,16 +160,16 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
         r = ms.robot_for(load_robot(robot, None, joints=joints))  # the set's CoM, if it moves one
         commands = [row.theta_w_cmd_deg for row in rows]
         rest = metastable_orientation(r, 0.0, 0.0)
-        equal = op.plateau_hold_deg(r, data, commands)  # every wing joint at the measured plateau
+        equal = plateau_hold_deg(r, data, commands)  # every wing joint at the measured plateau
         model = [equal[c] - rest[0] for c in commands]
         if ms.measured is not None:
-            hold = op.per_servo_hold_deg(r, ms.measured, commands)
+            hold = per_servo_hold_deg(r, ms.measured, commands)
             how = f"each wing servo at its own measured plateau (model set {ms.name})"
         else:
             hold, how = equal, "every wing joint at the measured plateau"
-        frames = op.hold_pitch_frames(data, hold, rest[0])
-        mounting = op.mounting_from_rests(data, r)
-        closed_on = ", ".join(op.support_links(r.pose(0.0, 0.0), *rest))
+        frames = hold_pitch_frames(data, hold, rest[0])
+        mounting = mounting_from_rests(data, r)
+        closed_on = ", ".join(support_links(r.pose(0.0, 0.0), *rest))
         click.echo(f"model: {r.name} ({r.source}); pitch at each measured plateau minus pitch at theta_w = 0")
     click.echo(
         "pitch 0.5-0.95 s after each opening starts minus the rest in the 0.3 s before the first opening "
@@ -184,12 +196,12 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
         "closing (0.95-1.05 s), the openings that rolled past a tilt of 45 deg within 1.4 s, and how far the "
         "recorded tilt strays from the tilt the gyro alone gives, -0.3 to 1.05 s (medians)"
     )
-    click.echo(first_openings_markdown(op.recorded_first_openings(data)))
-    from landscape.analysis.measured import MeasuredDataError, leg_crossing_lag_s
+    click.echo(first_openings_markdown(recorded_first_openings(data)))
+    from landscape.analysis.physical.measured import MeasuredDataError, leg_crossing_lag_s
 
     try:
         lag = leg_crossing_lag_s(Path(data) / "vib_pulse_v2.mat")
-        phases = sorted({(leg, round(p, 3)) for (_, leg), p in op.protocol_phases(data).items()})
+        phases = sorted({(leg, round(p, 3)) for (_, leg), p in protocol_phases(data).items()})
     except MeasuredDataError as exc:  # a folder without the leg's trace still gets every other table
         click.echo(f"the first attempt's leg phase under the protocol: not measured ({exc})")
     else:
@@ -206,9 +218,9 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
         "windows in brackets) and, for the openings that roll over, when the tilt last rose through 5 deg before "
         "passing 45 deg (median, s after the opening starts; rolled/openings)"
     )
-    leans = op.recorded_leans(data)
-    click.echo(hold_leans_markdown([op.cell_lean(*cell, h) for cell, h in leans.items()]))
-    lat = ph.lateralisation(ph.physical_trials(data))
+    leans = recorded_leans(data)
+    click.echo(hold_leans_markdown([cell_lean(*cell, h) for cell, h in leans.items()]))
+    lat = lateralisation(physical_trials(data))
     click.echo(
         f"\nroll-overs to + roll: {lat.positive} of {lat.positive + lat.negative} "
         f"(Wilson 95 % [{100 * lat.ci_low:.0f}, {100 * lat.ci_high:.0f}] %); a mirror-symmetric model "
@@ -236,7 +248,7 @@ def actuation_cmd(data, out, servo_sides):
     """The measured actuation profile: piecewise-linear knots fitted to each wing servo's and the leg's recorded
     traces (motor_pulse_v2.mat, vib_pulse_v2.mat), printed as the [actuation] block of a model set (the block
     sim/models/physical.toml ships, with --servo-sides mirrored), with each fit's largest error as comments."""
-    from landscape.analysis.measured import measured_actuation_toml
+    from landscape.analysis.physical.measured import measured_actuation_toml
 
     if out is not None:
         from landscape.cli.options import writable_file
@@ -250,7 +262,7 @@ def actuation_cmd(data, out, servo_sides):
 
 
 def _report_validation(out: Path, validation, tables: dict, doc_name: str, doc: dict) -> None:
-    """Print ``validation`` (:class:`landscape.analysis.validation.Validation`) as a table, then write into
+    """Print ``validation`` (:class:`landscape.analysis.physical.validation.Validation`) as a table, then write into
     ``out`` each of ``tables`` (file name -> rows) as CSV, ``doc`` as JSON to ``doc_name`` and the time-to-right
     figure, naming each file on stdout as it is written."""
     from landscape.viz.files import json_text
@@ -345,7 +357,7 @@ def validate_cmd(
     cells leg 0/30 and held-out cells leg 15/45 apart), per-attempt rates, righting side, time to right."""
     from dataclasses import asdict
 
-    from landscape.analysis.validation import validate
+    from landscape.analysis.physical.validation import validate
     from landscape.cli.options import robot_urdf, robot_urdf_arg, writable_dir
     from sim.model_set import load_model_set
 
@@ -400,11 +412,11 @@ def _phase_doc(phase) -> dict:
 
 def _phase_arg(text: str | None, data):
     """``--phase``: None, a number in [0, 1), or ``protocol`` (each cell's phase under the lab's protocol,
-    :func:`landscape.analysis.opening.protocol_phases`, printed as it is used)."""
+    :func:`landscape.analysis.physical.response.protocol_phases`, printed as it is used)."""
     if text is None:
         return None
     if text.strip().lower() == "protocol":
-        from landscape.analysis.opening import protocol_phases
+        from landscape.analysis.physical.response import protocol_phases
 
         phases = protocol_phases(data)
         shown = sorted({(leg, round(p, 3)) for (_, leg), p in phases.items()})
@@ -517,7 +529,7 @@ def calibrate_cmd(
     from dataclasses import asdict
 
     from geometry.errors import UsageError
-    from landscape.analysis.calibration import calibrate, format_value, parse_vary
+    from landscape.analysis.physical.calibration import calibrate, format_value, parse_vary
     from landscape.cli.options import robot_urdf_arg, writable_dir
     from landscape.params import parse_values
     from landscape.viz.files import json_text

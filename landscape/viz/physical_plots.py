@@ -37,7 +37,7 @@ def _pct(x: float) -> str:
 
 
 def cells_table(cells: Sequence, attempts: Sequence = ()) -> str:
-    """Markdown table of :class:`~landscape.analysis.physical.PhysicalCell` (and per-attempt rates)."""
+    """Markdown table of :class:`~landscape.analysis.physical.cells.PhysicalCell` (and per-attempt rates)."""
     lines = [
         "| wing cmd (measured) | leg | righted | Wilson 95 % | median time to right |",
         "|---|---|---|---|---|",
@@ -63,7 +63,7 @@ def cells_table(cells: Sequence, attempts: Sequence = ()) -> str:
 
 
 def resting_pitch_markdown(rows: Sequence, model_deg: Sequence[float] | None = None) -> str:
-    """Markdown table of :class:`~landscape.analysis.physical.RestingPitch`, beside the model's pitch."""
+    """Markdown table of :class:`~landscape.analysis.physical.resting.RestingPitch`, beside the model's pitch."""
     head = "| wing command | measured plateau | robot, median [IQR] (n) | first openings | closed again |"
     rule = "|---|---|---|---|---|"
     if model_deg is not None:
@@ -82,7 +82,7 @@ def resting_pitch_markdown(rows: Sequence, model_deg: Sequence[float] | None = N
 
 
 def hold_frames_markdown(rows: Sequence) -> str:
-    """Markdown table of :class:`~landscape.analysis.opening.HoldFrame` rows (first openings, leg still)."""
+    """Markdown table of :class:`~landscape.analysis.physical.hold.HoldFrame` rows (first openings, leg still)."""
     lines = [
         "| wing command | n | robot, IMU frame (sd) | robot, minus its rest (sd) | rest sd | model | "
         "robot - mounting - model | same, mounting fitted on the other commands |",
@@ -103,8 +103,8 @@ def hold_frames_markdown(rows: Sequence) -> str:
 
 
 def rest_mounting_markdown(frames: Sequence, mounting) -> str:
-    """The IMU's mounting measured from the robot's two rests (:class:`~landscape.analysis.opening.RestMounting`)
-    as one line, then a Markdown table of the first openings' hold (:class:`~landscape.analysis.opening.HoldFrame`
+    """The IMU's mounting measured from the robot's two rests (:class:`~landscape.analysis.physical.mounting.RestMounting`)
+    as one line, then a Markdown table of the first openings' hold (:class:`~landscape.analysis.physical.hold.HoldFrame`
     rows) in the body frame that mounting gives, beside the model's: issue #15's resting-pose check."""
     m = mounting
     lines = [
@@ -125,7 +125,7 @@ def rest_mounting_markdown(frames: Sequence, mounting) -> str:
 
 
 def first_openings_markdown(openings: Sequence) -> str:
-    """Markdown table of the recorded first openings per cell (:class:`~landscape.analysis.opening.RecordedOpening`):
+    """Markdown table of the recorded first openings per cell (:class:`~landscape.analysis.physical.response.RecordedOpening`):
     medians of the leg command's lead, the overshoot, the rise and the lateral tilt (with its range), the tilt when
     the wings start closing (with its range), how many rolled past a tilt of 45 deg (median time) and how far the
     recorded tilt strays from the gyro's (median)."""
@@ -170,7 +170,7 @@ def lean_text(value_deg: float, n: int) -> str:
 
 
 def departure_text(cell) -> str:
-    """A :class:`~landscape.analysis.opening.CellLean`'s median departure and rolled/openings, e.g.
+    """A :class:`~landscape.analysis.physical.lean.CellLean`'s median departure and rolled/openings, e.g.
     ``0.81 s (6/8)``; ``(0/3)`` if none rolled over."""
     at = f"{cell.departure_s:.2f} s " if cell.n_rolled else ""
     return f"{at}({cell.n_rolled}/{cell.n_openings})"
@@ -178,11 +178,11 @@ def departure_text(cell) -> str:
 
 def hold_leans_markdown(cells: Sequence) -> str:
     """Markdown table of the recorded held body's lean with the leg on each side and the departure of the
-    openings that roll over, per cell (:class:`~landscape.analysis.opening.CellLean`).
+    openings that roll over, per cell (:class:`~landscape.analysis.physical.lean.CellLean`).
 
     Examples
     --------
-    >>> from landscape.analysis.opening import CellLean
+    >>> from landscape.analysis.physical.lean import CellLean
     >>> print(hold_leans_markdown([CellLean(60.0, 30.0, 7.8, 3, -1.0, 7, 0.81, 6, 8),
     ...                            CellLean(90.0, 45.0, math.nan, 0, math.nan, 0, 0.28, 5, 5)]))
     | wing command | leg | lean, leg on + | lean, leg on − | roll-overs leave the level |
@@ -226,7 +226,7 @@ def robot_rule_text(v) -> str:
 def consistent_text(v) -> str:
     """How many cells the trials cannot tell apart (Fisher's exact test, :data:`validation.CONSISTENT_P`), all and
     per split, and the cells that differ with their p-values; '' for a validation stored without the test."""
-    from landscape.analysis.validation import CONSISTENT_P
+    from landscape.analysis.physical.validation import CONSISTENT_P
 
     cells = [c for c in v.cells if math.isfinite(c.fisher_p)]
     if not cells or len(cells) < len(v.cells):
@@ -260,7 +260,7 @@ def _ttr(med: float, sd: float) -> str:
 
 
 def validation_markdown(v) -> str:
-    """Markdown tables of a :class:`~landscape.analysis.validation.Validation`: cells by split, the per-attempt
+    """Markdown tables of a :class:`~landscape.analysis.physical.validation.Validation`: cells by split, the per-attempt
     rates, the side and the totals."""
     lines = [f"model set: {v.model_set} ({v.model_set_hash})", ""]
     head = (
@@ -309,7 +309,7 @@ def validation_markdown(v) -> str:
 
 def time_to_right_figure(v, path: str | Path) -> Path:
     """Median time to right ± s.d. per cell, physical beside simulated (the source paper's Fig. 4(c) analogue),
-    PNG and SVG; held-out cells hatched. ``v``: a :class:`~landscape.analysis.validation.Validation`."""
+    PNG and SVG; held-out cells hatched. ``v``: a :class:`~landscape.analysis.physical.validation.Validation`."""
     from landscape.viz._mpl import plt, save
 
     cells = list(v.cells)

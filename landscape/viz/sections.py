@@ -1234,10 +1234,10 @@ def section_energy(
 ) -> Section:
     """The energy budget of up to ``sample`` (default :data:`ENERGY_TRIALS`) rerun multi-attempt trials
     (:func:`energy_reruns`) and, with ``physical_dir``, of the robot's recorded trials (model set
-    ``physical_set``, default :data:`landscape.analysis.energy.DEFAULT_PHYSICAL_SET`, on the lab robot of
+    ``physical_set``, default :data:`landscape.analysis.physical.motion.DEFAULT_PHYSICAL_SET`, on the lab robot of
     ``robot`` or the trials'), on one figure: ``out/energy.csv``, ``out/energy.png``, ``out/energy_reruns.csv``.
     A database without multi-attempt trials leaves the section missing (with the sweep to run)."""
-    from landscape.analysis import energy as en
+    from landscape.analysis.physical.motion import DEFAULT_PHYSICAL_SET, recorded_motions
     from sim.model_set import load_model_set
 
     title = "Energy budget of the attempts"
@@ -1260,8 +1260,8 @@ def section_energy(
             Table("Reruns against the stored outcomes", _write_csv(out / "energy_reruns.csv", records))
         )
     if physical_dir is not None:
-        ms = load_model_set(physical_set or en.DEFAULT_PHYSICAL_SET)
-        rec = en.recorded_motions(physical_dir, _robot_of(rows, robot), ms)
+        ms = load_model_set(physical_set or DEFAULT_PHYSICAL_SET)
+        rec = recorded_motions(physical_dir, _robot_of(rows, robot), ms)
         groups = [*groups, (rec.body, rec.motions)]
         paras.append(
             f"Recorded: {len(rec.motions)} trials of the robot, posed by model set {rec.model_set}, IMU mounting "
@@ -1310,16 +1310,18 @@ def section_physical(
     PhysicalDataError
         If ``data_dir`` is not the lab's data directory.
     """
-    from landscape.analysis import physical as ph
+    from landscape.analysis.physical.cells import PhysicalCell, physical_cells
+    from landscape.analysis.physical.measured import WING_COMMANDS_DEG
+    from landscape.analysis.physical.outcome import physical_trials
     from landscape.computation import compute
     from landscape.viz.trajectory import physical_poses, physical_robot_note, render_trajectories
 
     title = "The physical robot's attempts over the landscape"
-    cells = ph.physical_cells(ph.physical_trials(data_dir))
+    cells = physical_cells(physical_trials(data_dir))
     csv_path = _write_csv(
-        out / "physical_cells.csv", [{k: getattr(c, k) for k in ph.PhysicalCell.CSV_COLUMNS} for c in cells]
+        out / "physical_cells.csv", [{k: getattr(c, k) for k in PhysicalCell.CSV_COLUMNS} for c in cells]
     )
-    poses = physical_poses(data_dir, commands_deg=ph.WING_COMMANDS_DEG, theta_l_deg=0.0)
+    poses = physical_poses(data_dir, commands_deg=WING_COMMANDS_DEG, theta_l_deg=0.0)
     try:
         rb = _robot_of(rows, robot)
     except UsageError as exc:
@@ -1376,8 +1378,8 @@ def section_validation(
     """
     import json
 
-    from landscape.analysis import physical as ph
-    from landscape.analysis.validation import validation_from_json
+    from landscape.analysis.physical.resting import resting_pitch_table
+    from landscape.analysis.physical.validation import validation_from_json
     from landscape.viz.physical_plots import consistent_text, robot_rule_text, time_to_right_figure
 
     title = "The simulation against the physical robot"
@@ -1385,7 +1387,7 @@ def section_validation(
     for v in validations:
         f = Path(v) / "validation.json" if Path(v).is_dir() else Path(v)
         if not f.is_file():
-            from landscape.analysis.validation import ValidationError
+            from landscape.analysis.physical.validation import ValidationError
 
             raise ValidationError(
                 f"--validation: {f} not found; give the --out directory of `landscape physical validate`"
@@ -1455,10 +1457,10 @@ def section_validation(
         from dataclasses import asdict
 
         from geometry.robots import load_robot
-        from landscape.analysis import opening as op
+        from landscape.analysis.physical.hold import hold_pitch_frames, plateau_hold_deg
         from landscape.minima import metastable_orientation
 
-        rows = ph.resting_pitch_table(data_dir)
+        rows = resting_pitch_table(data_dir)
         commands = [x.theta_w_cmd_deg for x in rows]
         out_rows, frames = [], []
         robots = {str(doc.get("robot")) for doc in docs if doc.get("robot")}
@@ -1466,9 +1468,9 @@ def section_validation(
         for r in sorted(robots):  # each robot's holds once: relative to its rest here, in frames below
             rb = load_robot(r)
             rest = metastable_orientation(rb, 0.0, 0.0)[0]
-            hold = op.plateau_hold_deg(rb, data_dir, commands)
+            hold = plateau_hold_deg(rb, data_dir, commands)
             models[rb.name] = [hold[c] - rest for c in commands]
-            frames += [{"robot": rb.name} | asdict(x) for x in op.hold_pitch_frames(data_dir, hold, rest)]
+            frames += [{"robot": rb.name} | asdict(x) for x in hold_pitch_frames(data_dir, hold, rest)]
         for i, x in enumerate(rows):
             row = {
                 "wing_command_deg": x.theta_w_cmd_deg,
@@ -1517,9 +1519,10 @@ def section_validation(
 def _body_frame_rows(data_dir, docs: list[dict]):
     """Per validated set (a shipped set, or a file set whose hash still matches) and wing command: the robot's
     hold in the body frame the two rests give and the set's own hold (its robot as the set models it), and the
-    mounting (:class:`landscape.analysis.opening.RestMounting`; None when no validation names a robot)."""
+    mounting (:class:`landscape.analysis.physical.mounting.RestMounting`; None when no validation names a robot)."""
     from geometry.robots import load_robot
-    from landscape.analysis import opening as op
+    from landscape.analysis.physical.hold import hold_pitch_frames, per_servo_hold_deg, plateau_hold_deg
+    from landscape.analysis.physical.mounting import mounting_from_rests
     from landscape.minima import metastable_orientation
     from sim.model_set import ModelSetError, load_model_set
 
@@ -1536,13 +1539,13 @@ def _body_frame_rows(data_dir, docs: list[dict]):
             continue  # another version of the set, or one already shown (validated twice, e.g. at two phases)
         seen.add(key)
         robot = ms.robot_for(load_robot(doc["robot"]))
-        mount = op.mounting_from_rests(data_dir, robot) if mount is None else mount
+        mount = mounting_from_rests(data_dir, robot) if mount is None else mount
         commands = (60.0, 75.0, 90.0)
         if ms.measured is not None:
-            hold = op.per_servo_hold_deg(robot, ms.measured, commands)
+            hold = per_servo_hold_deg(robot, ms.measured, commands)
         else:
-            hold = op.plateau_hold_deg(robot, data_dir, commands)
-        frames = op.hold_pitch_frames(data_dir, hold, metastable_orientation(robot, 0.0, 0.0)[0])
+            hold = plateau_hold_deg(robot, data_dir, commands)
+        frames = hold_pitch_frames(data_dir, hold, metastable_orientation(robot, 0.0, 0.0)[0])
         for f in frames:
             body = f.recorded_deg - mount.mount_deg
             rows.append(
@@ -1561,10 +1564,11 @@ def _body_frame_rows(data_dir, docs: list[dict]):
 
 def _opening_tables(out: Path, data_dir, frames: list[dict]) -> list[Table]:
     """The hold pitch of first openings in the IMU's frame beside each robot model's (``frames``: rows of
-    :func:`landscape.analysis.opening.hold_pitch_frames` with their robot), and every recorded first opening."""
+    :func:`landscape.analysis.physical.hold.hold_pitch_frames` with their robot), and every recorded first opening."""
     from dataclasses import asdict
 
-    from landscape.analysis import opening as op
+    from landscape.analysis.physical.lean import cell_lean, recorded_leans
+    from landscape.analysis.physical.response import recorded_first_openings
 
     first = [
         {
@@ -1577,9 +1581,9 @@ def _opening_tables(out: Path, data_dir, frames: list[dict]) -> list[Table]:
             "gyro_deviation_deg": o.gyro_deviation_deg,
         }
         | asdict(o.response)
-        for o in op.recorded_first_openings(data_dir)
+        for o in recorded_first_openings(data_dir)
     ]
-    leans = [asdict(op.cell_lean(*cell, h)) for cell, h in op.recorded_leans(data_dir).items()]
+    leans = [asdict(cell_lean(*cell, h)) for cell, h in recorded_leans(data_dir).items()]
     return [
         Table(
             "Hold pitch of first openings (leg still) in the IMU's frame and relative to each trial's rest, beside "

@@ -9,6 +9,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from landscape.analysis import energy as en
+from landscape.analysis.physical.motion import quaternion_rates_rad_s, recorded_motion
 from tests.conftest import SHARED
 
 PHYSICAL = SHARED / "ref" / "physical_robot"
@@ -147,7 +148,7 @@ def test_quaternion_rates_recover_a_constant_body_rate():
     w = np.array([0.4, -1.1, 2.0])
     t = np.linspace(0.0, 1.0, 51)
     q = (Rotation.from_euler("zyx", [0.2, -0.3, 0.1]) * Rotation.from_rotvec(t[:, None] * w)).as_quat()
-    tm, rates = en.quaternion_rates_rad_s(t, q)
+    tm, rates = quaternion_rates_rad_s(t, q)
     np.testing.assert_allclose(tm, 0.5 * (t[1:] + t[:-1]))
     np.testing.assert_allclose(rates, np.broadcast_to(w, rates.shape), atol=1e-9)
 
@@ -159,7 +160,7 @@ def test_gyro_and_differentiated_quaternions_agree_on_every_recorded_first_openi
     time agrees within 15 % between the gyro and the differentiated quaternions (both median-filtered over 3
     samples), and the two series correlate at r > 0.8 in every recording and at r > 0.9 in most."""
     from geometry import Robot
-    from landscape.analysis.physical import read_recording, trial_files
+    from landscape.analysis.physical.recording import read_recording, trial_files
     from sim.model_set import load_model_set
     from tests.conftest import lab_sim_robot
 
@@ -170,8 +171,8 @@ def test_gyro_and_differentiated_quaternions_agree_on_every_recorded_first_openi
     for f in trial_files(PHYSICAL):
         rec = read_recording(f)
         act = ms.actuation(rec.theta_w_cmd_deg, rec.theta_l_deg)
-        gyro = en.recorded_motion(rec, mount_deg=2.6, actuation=act)
-        quat = en.recorded_motion(rec, mount_deg=2.6, actuation=act, use_gyro=False)
+        gyro = recorded_motion(rec, mount_deg=2.6, actuation=act)
+        quat = recorded_motion(rec, mount_deg=2.6, actuation=act, use_gyro=False)
         sel = (gyro.t_s >= 0.0) & (gyro.t_s < 1.0)
         kg = en.rotational_shares_j(gyro.omega_body_rad_s[sel], inertia).sum(axis=1)
         kq = en.rotational_shares_j(quat.omega_body_rad_s[sel], inertia).sum(axis=1)

@@ -9,11 +9,31 @@ import numpy as np
 import pytest
 
 from geometry.frames import up_vector
-from landscape.analysis import physical as ph
+from landscape.analysis.physical.attempts import (
+    LAB_ATTEMPTS_PER_TRIAL,
+    attempt_outcomes,
+    physical_attempts,
+    recorded_attempt_counts,
+    recording_attempts,
+)
+from landscape.analysis.physical.cells import lateralisation, physical_cells
+from landscape.analysis.physical.measured import WING_COMMANDS_DEG
+from landscape.analysis.physical.outcome import UPRIGHT_HOLD_S, PhysicalTrial, physical_trials, trial_outcome
+from landscape.analysis.physical.recording import (
+    PhysicalDataError,
+    Recording,
+    imu_to_body,
+    pitch_roll_from_quat_deg,
+    read_recording,
+    trial_files,
+    up_in_body,
+    up_z_mounted,
+)
+from landscape.analysis.physical.resting import resting_pitch_table
 from landscape.cli import main
 
 DATA = (
-    Path(os.environ.get("LANDSCAPE_SHARED", Path(__file__).resolve().parents[3].parent / "shared"))
+    Path(os.environ.get("LANDSCAPE_SHARED", Path(__file__).resolve().parents[4].parent / "shared"))
     / "ref"
     / ("physical_robot")
 )
@@ -42,7 +62,7 @@ def _quat_from_pitch_roll(pitch_deg, roll_deg):
 @pytest.mark.parametrize("pitch,roll", [(0.0, 0.0), (30.0, -20.0), (67.9, 5.0), (-45.0, 170.0), (10.0, 95.0)])
 def test_pitch_roll_from_quaternion_inverts_the_frames_convention(pitch, roll):
     q = _quat_from_pitch_roll(pitch, roll)
-    p, r = ph.pitch_roll_from_quat_deg(q[None])
+    p, r = pitch_roll_from_quat_deg(q[None])
     assert p[0] == pytest.approx(pitch, abs=1e-9)
     assert r[0] == pytest.approx(roll, abs=1e-9)
     x, y = q[0], q[1]
@@ -54,7 +74,7 @@ def test_pitch_roll_from_quaternion_inverts_the_frames_convention(pitch, roll):
 def _recording(up_z, roll_deg, openings=(0.0, 2.0, 4.0), dt=0.02, t0=-1.0):
     n = len(up_z)
     t = t0 + dt * np.arange(n)
-    return ph.Recording(
+    return Recording(
         "x",
         60.0,
         15.0,
@@ -71,7 +91,7 @@ def test_outcome_rights_on_the_attempt_that_contains_the_final_upright_stretch()
     t = -1.0 + 0.02 * np.arange(300)  # -1 .. 4.98 s
     up = np.where(t >= 2.5, -1.0, 1.0)
     roll = np.where(t >= 2.5, -92.0, 0.0)
-    out = ph.trial_outcome(_recording(up, roll), theta_w_measured_deg=59.1)
+    out = trial_outcome(_recording(up, roll), theta_w_measured_deg=59.1)
     assert out.success and out.attempts == 2 and out.direction == -1 and out.first_upright_attempt == 2
     assert out.time_to_right_s == pytest.approx(2.5, abs=1e-9)
 
@@ -79,10 +99,10 @@ def test_outcome_rights_on_the_attempt_that_contains_the_final_upright_stretch()
 def test_a_robot_that_rights_and_falls_back_fails_but_counts_a_roll_over_and_a_lab_success():
     t = -1.0 + 0.02 * np.arange(300)
     up = np.where((t >= 0.8) & (t < 1.6), -1.0, 1.0)  # upright 0.8 s during attempt 1, then back
-    out = ph.trial_outcome(_recording(up, np.full(300, 91.0)))
+    out = trial_outcome(_recording(up, np.full(300, 91.0)))
     assert not out.success and math.isnan(out.time_to_right_s) and out.attempts == 3
     assert out.upright_directions == (1,) and out.first_upright_attempt == 1
-    counts = ph.attempt_outcomes([out])
+    counts = attempt_outcomes([out])
     assert (counts[0].attempts, counts[0].successes) == (1, 1)
 
 
@@ -91,24 +111,22 @@ def test_brief_or_shallow_upright_excursions_are_not_rightings():
     brief = np.where((t >= 1.0) & (t < 1.2), -1.0, 1.0)  # 0.18 s
     shallow = np.where((t >= 1.0) & (t < 2.0), -0.3, 1.0)  # 1 s at u_z = -0.3 (near the pole)
     for up in (brief, shallow):
-        out = ph.trial_outcome(_recording(up, np.full(300, 90.0)))
+        out = trial_outcome(_recording(up, np.full(300, 90.0)))
         assert not out.success and out.upright_directions == ()
 
 
 def test_attempt_rule_caps_at_five_openings():
-    late = ph.PhysicalTrial("a", 60.0, 59.1, 15.0, 1, True, 12.0, 7, 1, (1,), 7, 14.0)  # rights on the 7th
-    c = ph.attempt_outcomes([late])[0]
+    late = PhysicalTrial("a", 60.0, 59.1, 15.0, 1, True, 12.0, 7, 1, (1,), 7, 14.0)  # rights on the 7th
+    c = attempt_outcomes([late])[0]
     assert (c.attempts, c.successes) == (5, 0)
 
 
 def test_cells_use_the_wilson_interval():
     ts = [
-        ph.PhysicalTrial(
-            str(k), 75.0, 73.6, 30.0, k, k < 3, 1.0 + k if k < 3 else math.nan, 1, 1, (1,), 1, 5.0
-        )
+        PhysicalTrial(str(k), 75.0, 73.6, 30.0, k, k < 3, 1.0 + k if k < 3 else math.nan, 1, 1, (1,), 1, 5.0)
         for k in range(5)
     ]
-    (c,) = ph.physical_cells(ts)
+    (c,) = physical_cells(ts)
     z = 1.959963984540054
     p, n = 3 / 5, 5
     centre = (p + z * z / (2 * n)) / (1 + z * z / n)
@@ -118,10 +136,10 @@ def test_cells_use_the_wilson_interval():
 
 
 def test_a_missing_data_directory_is_one_clear_error(tmp_path, capsys):
-    with pytest.raises(ph.PhysicalDataError, match="does not exist"):
-        ph.physical_trials(tmp_path / "nope")
-    with pytest.raises(ph.PhysicalDataError, match="no trial file"):
-        ph.trial_files(tmp_path)
+    with pytest.raises(PhysicalDataError, match="does not exist"):
+        physical_trials(tmp_path / "nope")
+    with pytest.raises(PhysicalDataError, match="no trial file"):
+        trial_files(tmp_path)
     assert main(["physical", "table", "--data", str(tmp_path), "--out", str(tmp_path / "o")]) == 2
     assert "no trial file" in capsys.readouterr().err
 
@@ -129,35 +147,35 @@ def test_a_missing_data_directory_is_one_clear_error(tmp_path, capsys):
 def test_a_file_that_is_not_hdf5_is_refused(tmp_path):
     bad = tmp_path / "run5_60_60_60_60_0_1.bag.mat"
     bad.write_text("not hdf5")
-    with pytest.raises(ph.PhysicalDataError, match="not a lab trial file"):
-        ph.read_recording(bad)
+    with pytest.raises(PhysicalDataError, match="not a lab trial file"):
+        read_recording(bad)
 
 
 # ---------------------------------------------------------------------------------------- the lab's data
 @needs_data
 def test_derived_per_attempt_counts_reproduce_robot_attempts_mat():
-    recorded = ph.recorded_attempt_counts(DATA)
+    recorded = recorded_attempt_counts(DATA)
     assert [(c.successes, c.attempts) for c in recorded] == [(12, 58), (15, 42), (17, 34)]
     assert [round(c.theta_w_measured_deg, 1) for c in recorded] == [59.1, 73.6, 82.1]
-    derived = ph.attempt_outcomes(ph.physical_trials(DATA))
+    derived = attempt_outcomes(physical_trials(DATA))
     assert [(c.successes, c.attempts) for c in derived] == [(12, 58), (15, 42), (17, 34)]
 
 
 @needs_data
 def test_trials_cells_and_lateralisation():
-    trials = ph.physical_trials(DATA)
+    trials = physical_trials(DATA)
     assert len(trials) == 60
-    cells = {(c.theta_w_cmd_deg, c.theta_l_deg): c.successes for c in ph.physical_cells(trials)}
+    cells = {(c.theta_w_cmd_deg, c.theta_l_deg): c.successes for c in physical_cells(trials)}
     # the issue: at 60 deg the robot rights with theta_l 15-45 in 13 of 15 trials; at 74 deg, 15 deg: 5/5
     assert cells[(60.0, 15.0)] + cells[(60.0, 30.0)] + cells[(60.0, 45.0)] == 13
     assert cells[(75.0, 15.0)] == 5 and cells[(60.0, 0.0)] == cells[(75.0, 0.0)] == 0
-    lat = ph.lateralisation(trials)
+    lat = lateralisation(trials)
     assert (lat.positive, lat.negative) == (43, 3)
 
 
 @needs_data
 def test_resting_pitch_reproduces_the_issue_table():
-    rows = ph.resting_pitch_table(DATA)
+    rows = resting_pitch_table(DATA)
     got = [
         (r.theta_w_cmd_deg, round(r.median_deg, 1), round(r.q25_deg, 1), round(r.q75_deg, 1), r.n)
         for r in rows
@@ -174,7 +192,7 @@ def test_resting_pitch_reproduces_the_issue_table():
 def test_model_pitch_on_the_lab_urdf(lab_robot):
     """Issue #15's model column: the metastable pitch with every wing joint at the measured plateau, minus the
     rest at theta_w = 0 (as `landscape physical kinematics` and the report compute it)."""
-    from landscape.analysis.opening import plateau_hold_deg
+    from landscape.analysis.physical.hold import plateau_hold_deg
     from landscape.minima import metastable_orientation
 
     rest = metastable_orientation(lab_robot, 0.0, 0.0)[0]
@@ -197,18 +215,18 @@ def test_attempts_split_at_openings_and_end_after_the_robot_rights():
     t = -1.0 + 0.02 * np.arange(300)  # -1 .. 4.98 s; openings at 0, 2, 4 s
     up = np.where(t >= 2.5, -1.0, 1.0)  # upright from 2.5 s: during the second opening
     roll = np.clip(t, 0.0, None) * 10.0
-    atts = ph.recording_attempts(_recording(up, roll), theta_w_measured_deg=59.1)
+    atts = recording_attempts(_recording(up, roll), theta_w_measured_deg=59.1)
     assert [(a.attempt, a.righted) for a in atts] == [(1, False), (2, True)]
     a1, a2 = atts
     assert a1.t_s[0] == pytest.approx(0.0) and a1.t_s[-1] == pytest.approx(1.98)
     # the righting attempt runs from its opening to UPRIGHT_HOLD_S after the robot is upright
-    assert a2.t_s[0] == pytest.approx(2.0) and a2.t_s[-1] == pytest.approx(2.5 + ph.UPRIGHT_HOLD_S - 0.02)
+    assert a2.t_s[0] == pytest.approx(2.0) and a2.t_s[-1] == pytest.approx(2.5 + UPRIGHT_HOLD_S - 0.02)
     assert a2.roll_deg == pytest.approx(a2.t_s * 10.0)
     assert a1.theta_w_measured_deg == 59.1 and a1.theta_l_deg == 15.0
-    never = ph.recording_attempts(_recording(np.ones(300), np.zeros(300)))
+    never = recording_attempts(_recording(np.ones(300), np.zeros(300)))
     assert [(a.attempt, a.righted) for a in never] == [(1, False), (2, False), (3, False)]
     assert [
-        a.attempt for a in ph.recording_attempts(_recording(np.ones(300), np.zeros(300)), max_attempts=2)
+        a.attempt for a in recording_attempts(_recording(np.ones(300), np.zeros(300)), max_attempts=2)
     ] == [
         1,
         2,
@@ -222,29 +240,27 @@ def test_no_trial_at_the_asked_wing_angle_says_which_there_are(tmp_path):
     with h5py.File(f, "w") as h:
         h["quat"] = np.zeros((6, 3))
         h["servo"] = np.zeros((5, 3))
-    with pytest.raises(
-        ph.PhysicalDataError, match=r"no physical trial at wing 75.0 deg.*commands are 60/0 deg"
-    ):
-        ph.physical_attempts(tmp_path, theta_w_cmd_deg=75.0)
+    with pytest.raises(PhysicalDataError, match=r"no physical trial at wing 75.0 deg.*commands are 60/0 deg"):
+        physical_attempts(tmp_path, theta_w_cmd_deg=75.0)
 
 
 @needs_data
 def test_attempt_paths_reproduce_the_lab_per_attempt_counts():
     """The attempts cut from the trial files, capped at the lab's five per trial, are robot_attempts.mat's."""
-    atts = ph.physical_attempts(DATA, max_attempts=ph.LAB_ATTEMPTS_PER_TRIAL)
+    atts = physical_attempts(DATA, max_attempts=LAB_ATTEMPTS_PER_TRIAL)
     counts = [
         (sum(a.righted for a in atts if a.theta_w_cmd_deg == w), sum(a.theta_w_cmd_deg == w for a in atts))
-        for w in ph.WING_COMMANDS_DEG
+        for w in WING_COMMANDS_DEG
     ]
     assert counts == [(12, 58), (15, 42), (17, 34)]
-    l0 = ph.physical_attempts(DATA, theta_w_cmd_deg=75.0, theta_l_deg=0.0)
+    l0 = physical_attempts(DATA, theta_w_cmd_deg=75.0, theta_l_deg=0.0)
     assert {a.name for a in l0} == {f"run5_75_75_75_75_0_{k}.bag.mat" for k in range(1, 6)}
     assert all(a.theta_w_measured_deg == pytest.approx(73.6, abs=0.1) for a in l0)
     assert all(np.isfinite(a.pitch_deg).all() and len(a.pitch_deg) > 10 for a in l0)
 
 
 def test_world_up_in_the_body_frame_with_the_imus_mounting():
-    """The IMU reads the body's pitch plus its mounting (landscape.analysis.opening.mounting_from_rests), so the
+    """The IMU reads the body's pitch plus its mounting (landscape.analysis.physical.mounting.mounting_from_rests), so the
     body's pitch is the IMU's minus the mounting; the gyro turns the same way."""
     from geometry.frames import pitch_roll_from_up, up_vector
 
@@ -253,9 +269,9 @@ def test_world_up_in_the_body_frame_with_the_imus_mounting():
     assert np.allclose(pb, p) and np.allclose(rb, r)
     # an IMU that reads level, mounted 30 deg, sits on a body pitched -30 deg
     level = np.array([[0.0, 0.0, 0.0, 1.0]])
-    assert np.allclose(np.rad2deg(pitch_roll_from_up(ph.up_in_body(level, 30.0))[0]), -30.0)
+    assert np.allclose(np.rad2deg(pitch_roll_from_up(up_in_body(level, 30.0))[0]), -30.0)
     q = np.array([[0.0, np.sin(np.radians(20)), 0.0, np.cos(np.radians(20))]])  # the IMU pitched 40 deg
-    assert np.allclose(ph.pitch_roll_from_quat_deg(q)[0], 40.0)
-    assert np.allclose(np.rad2deg(pitch_roll_from_up(ph.up_in_body(q, 2.6))[0]), 37.4)
-    assert np.allclose(ph.up_in_body(q, 2.6)[..., 2], ph.up_z_mounted(q, 2.6))
-    assert np.allclose(ph.imu_to_body([0.0, 0.0, 1.0], 2.6), ph.up_in_body(level, 2.6)[0])
+    assert np.allclose(pitch_roll_from_quat_deg(q)[0], 40.0)
+    assert np.allclose(np.rad2deg(pitch_roll_from_up(up_in_body(q, 2.6))[0]), 37.4)
+    assert np.allclose(up_in_body(q, 2.6)[..., 2], up_z_mounted(q, 2.6))
+    assert np.allclose(imu_to_body([0.0, 0.0, 1.0], 2.6), up_in_body(level, 2.6)[0])

@@ -4,7 +4,7 @@ For each physical cell (wing command 60/75/90° simulated at its measured platea
 :func:`validation_specs` makes ``trials`` simulated trials, by default with random first-attempt phases (each
 trial draws phi_1 uniformly from its seed), or all at one given phase: the lab's protocol starts the leg 0.2 s
 (the servo log's 10 Hz resolution) before every trial's first opening, so on the robot phi_1 is the same in every
-trial (:mod:`landscape.analysis.opening`); the model set's own actuation and the given noise Cv on the closed
+trial (:mod:`landscape.analysis.physical.response`); the model set's own actuation and the given noise Cv on the closed
 holds; they run through the ordinary sweep machinery (:func:`sim.sweep.run_sweep`, a resumable store).
 :func:`compare` then puts simulated beside physical:
 
@@ -32,16 +32,11 @@ from pathlib import Path
 import numpy as np
 
 from geometry.errors import UsageError
-from landscape.analysis.physical import (
-    LAB_ATTEMPTS_PER_TRIAL,
-    WING_COMMANDS_DEG,
-    AttemptCount,
-    PhysicalTrial,
-    lateralisation,
-    measured_plateaus_deg,
-    physical_trials,
-    recorded_attempt_counts,
-)
+from landscape.analysis.physical.attempts import LAB_ATTEMPTS_PER_TRIAL, AttemptCount, recorded_attempt_counts
+from landscape.analysis.physical.cells import lateralisation
+from landscape.analysis.physical.measured import WING_COMMANDS_DEG
+from landscape.analysis.physical.outcome import PhysicalTrial, physical_trials
+from landscape.analysis.physical.recording import measured_plateaus_deg
 from landscape.analysis.trials import wilson_interval
 
 HELD_OUT_LEGS_DEG = (15.0, 45.0)
@@ -124,7 +119,7 @@ def validation_specs(
 ):
     """The simulated trials of the cells: ``trials`` random phases each (or ``trials`` seeds at the one first-attempt
     ``phase`` in [0, 1), or at each cell's own phase from a mapping ``{(wing command, leg): phase}``, cells it lacks,
-    e.g. the leg still, at ``landscape.analysis.opening.PROTOCOL_PHASE``), at the cell's measured plateau (or at its
+    e.g. the leg still, at ``landscape.analysis.physical.response.PROTOCOL_PHASE``), at the cell's measured plateau (or at its
     command for a set with a measured actuation profile, :func:`simulates_commands`).
 
     Returns a list of :class:`sim.sweep.TrialSpec` for :func:`sim.sweep.run_sweep`.
@@ -137,7 +132,7 @@ def validation_specs(
     if not cells:
         raise ValidationError("no cells to simulate; give --cells WING:LEG,... from the recorded cells")
     if isinstance(phase, Mapping):
-        from landscape.analysis.opening import PROTOCOL_PHASE
+        from landscape.analysis.physical.response import PROTOCOL_PHASE
 
         per_cell = {(float(w), float(leg)): float(p) for (w, leg), p in phase.items()}
         phases = {c: per_cell.get((float(c[0]), float(c[1])), PROTOCOL_PHASE) for c in cells}
@@ -483,10 +478,10 @@ def validate(
 ) -> tuple[Validation, object]:
     """Simulate the physical cells with a model set (resuming ``db``) and compare: ``(Validation, SweepSummary)``.
     ``phase``: every trial's first attempt at this phase, or at each cell's (a mapping, e.g. the lab protocol's,
-    :func:`landscape.analysis.opening.protocol_phases`); None: random phases (:func:`validation_specs`).
+    :func:`landscape.analysis.physical.response.protocol_phases`); None: random phases (:func:`validation_specs`).
     ``robot_attempts``: count the robot's rightings within its first that many openings only (:func:`compare`).
     ``imu_mount_deg``: judge the robot's uprightness in a body frame pitched that much below its IMU's
-    (:func:`landscape.analysis.physical.physical_trials`).
+    (:func:`landscape.analysis.physical.outcome.physical_trials`).
 
     Raises
     ------
