@@ -95,7 +95,7 @@ def energy_cmd(data, robot, model_set, out, no_progress):
     and how often the energy margin's sign matches the outcome beside the barrier alone."""
     from landscape.analysis.physical.motion import recorded_motions
     from landscape.cli.options import load_robot, writable_dir
-    from landscape.viz.sections import ENERGY_METHOD, energy_files, energy_paragraphs
+    from landscape.viz.sections.energy import ENERGY_METHOD, energy_files, energy_paragraphs
     from sim.model_set import load_model_set
 
     writable_dir(out, "--out")
@@ -128,104 +128,18 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
 
     The model's hold is its metastable pitch with the wing joints at the measured plateau, or, for a model set
     with a measured actuation profile (--model physical), each wing servo at its own measured plateau."""
+    from landscape.analysis.physical.kinematics import kinematics
+    from landscape.viz.physical_plots import kinematics_text
 
-    from landscape.analysis.physical.cells import lateralisation
-    from landscape.analysis.physical.hold import (
-        hold_pitch_frames,
-        per_servo_hold_deg,
-        plateau_hold_deg,
-        support_links,
-    )
-    from landscape.analysis.physical.lean import cell_lean, recorded_leans
-    from landscape.analysis.physical.mounting import mounting_from_rests
-    from landscape.analysis.physical.outcome import physical_trials
-    from landscape.analysis.physical.response import protocol_phases, recorded_first_openings
-    from landscape.analysis.physical.resting import resting_pitch_table
-    from landscape.viz.physical_plots import (
-        first_openings_markdown,
-        hold_frames_markdown,
-        hold_leans_markdown,
-        rest_mounting_markdown,
-        resting_pitch_markdown,
-    )
-
-    rows = resting_pitch_table(data)
-    model = frames = None
+    model = ms = None
     if not no_model:
         from landscape.cli.options import load_robot
-        from landscape.minima import metastable_orientation
         from sim.model_set import load_model_set
 
         ms = load_model_set(model_set)
-        r = ms.robot_for(load_robot(robot, None, joints=joints))  # the set's CoM, if it moves one
-        commands = [row.theta_w_cmd_deg for row in rows]
-        rest = metastable_orientation(r, 0.0, 0.0)
-        equal = plateau_hold_deg(r, data, commands)  # every wing joint at the measured plateau
-        model = [equal[c] - rest[0] for c in commands]
-        if ms.measured is not None:
-            hold = per_servo_hold_deg(r, ms.measured, commands)
-            how = f"each wing servo at its own measured plateau (model set {ms.name})"
-        else:
-            hold, how = equal, "every wing joint at the measured plateau"
-        frames = hold_pitch_frames(data, hold, rest[0])
-        mounting = mounting_from_rests(data, r)
-        closed_on = ", ".join(support_links(r.pose(0.0, 0.0), *rest))
-        click.echo(f"model: {r.name} ({r.source}); pitch at each measured plateau minus pitch at theta_w = 0")
-    click.echo(
-        "pitch 0.5-0.95 s after each opening starts minus the rest in the 0.3 s before the first opening "
-        "(leg amplitude 0, openings before the robot first becomes upright)"
-    )
-    click.echo(resting_pitch_markdown(rows, model))
-    if frames is not None:
-        click.echo(
-            "\nfirst openings only, leg still: the recorded hold in the IMU's frame and minus each trial's rest; the "
-            f"model's hold with {how}; the IMU's mounting fitted as one constant"
-        )
-        click.echo(hold_frames_markdown(frames))
-        click.echo(f"the model rests with the wings closed on: {closed_on}")
-        click.echo(
-            "\nthe same holds in the body frame: the recorded hold minus the IMU's mounting measured from the rests "
-            "on its back (before the first opening) and upright (after righting), which the hold does not enter"
-        )
-        click.echo(rest_mounting_markdown(frames, mounting))
-    click.echo(
-        "\nfirst opening of every trial: the leg command's last rise before it (servo log, 10 Hz), the body's "
-        "roll while the leg is held at its first command before it, when the body rolled fastest before it (the "
-        "leg's swing), the pitch overshoot past the hold, the rise time to half the hold, the lateral tilt "
-        "asin(cos p sin r) of largest magnitude 0.2-0.6 s after the opening starts, the tilt when the wings start "
-        "closing (0.95-1.05 s), the openings that rolled past a tilt of 45 deg within 1.4 s, and how far the "
-        "recorded tilt strays from the tilt the gyro alone gives, -0.3 to 1.05 s (medians)"
-    )
-    click.echo(first_openings_markdown(recorded_first_openings(data)))
-    from landscape.analysis.physical.measured import MeasuredDataError, leg_crossing_lag_s
-
-    try:
-        lag = leg_crossing_lag_s(Path(data) / "vib_pulse_v2.mat")
-        phases = sorted({(leg, round(p, 3)) for (_, leg), p in protocol_phases(data).items()})
-    except MeasuredDataError as exc:  # a folder without the leg's trace still gets every other table
-        click.echo(f"the first attempt's leg phase under the protocol: not measured ({exc})")
-    else:
-        click.echo(
-            "the first attempt's leg phase under the protocol (validate --phase protocol): "
-            + ", ".join(f"leg {leg:g}° {p:.3f}" for leg, p in phases)
-            + " (the leg command's lead above minus the measured leg's lag from its command to the midline, "
-            + ", ".join(f"{lag[leg]:.3f} s" for leg, _ in phases)
-            + " (vib_pulse_v2.mat), over its 0.8 s period)"
-        )
-    click.echo(
-        "\nevery opening until the robot first rights, leg moving: the held body's median lateral tilt in each window "
-        "with the leg settled on one side (0.2 s after it gets there, 0.4-1.0 s after the opening starts; "
-        "windows in brackets) and, for the openings that roll over, when the tilt last rose through 5 deg before "
-        "passing 45 deg (median, s after the opening starts; rolled/openings)"
-    )
-    leans = recorded_leans(data)
-    click.echo(hold_leans_markdown([cell_lean(*cell, h) for cell, h in leans.items()]))
-    lat = lateralisation(physical_trials(data))
-    click.echo(
-        f"\nroll-overs to + roll: {lat.positive} of {lat.positive + lat.negative} "
-        f"(Wilson 95 % [{100 * lat.ci_low:.0f}, {100 * lat.ci_high:.0f}] %); a mirror-symmetric model "
-        "has 50 % over random phases"
-    )
+        model = load_robot(robot, None, joints=joints)
+    for block in kinematics_text(kinematics(data, robot=model, model_set=ms)):
+        click.echo(block)
 
 
 @physical.command("actuation")

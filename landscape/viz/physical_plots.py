@@ -331,3 +331,81 @@ def time_to_right_figure(v, path: str | Path) -> Path:
     ax.legend(fontsize=7)
     fig.tight_layout()
     return save(fig, path, svg_too=True)
+
+
+def kinematics_text(k) -> list[str]:
+    """The blocks ``landscape physical kinematics`` prints for a
+    :class:`~landscape.analysis.physical.kinematics.Kinematics`, captions from the analyses' constants."""
+    from landscape.analysis.physical.lean import LEAN_SETTLE_S, LEAN_WINDOW_S, LEVEL_TILT_DEG
+    from landscape.analysis.physical.measured import LEG_PERIOD_S, LEG_PULSE_FILE
+    from landscape.analysis.physical.response import (
+        CLOSING_WINDOW_S,
+        ROLLED_TILT_DEG,
+        SIM_OPENING_S,
+        TRANSIENT_WINDOW_S,
+    )
+    from landscape.analysis.physical.resting import HOLD_WINDOW_S, REST_WINDOW_S
+
+    m = k.model
+    out = []
+    if m is not None:
+        out.append(f"model: {m.name} ({m.source}); pitch at each measured plateau minus pitch at theta_w = 0")
+    out.append(
+        f"pitch {HOLD_WINDOW_S[0]:g}-{HOLD_WINDOW_S[1]:g} s after each opening starts minus the rest in the "
+        f"{REST_WINDOW_S:g} s before the first opening (leg amplitude 0, openings before the robot first becomes "
+        "upright)"
+    )
+    out.append(resting_pitch_markdown(k.resting, None if m is None else m.hold_minus_rest_deg))
+    if m is not None:
+        how = (
+            "every wing joint at the measured plateau"
+            if m.servo_model_set is None
+            else f"each wing servo at its own measured plateau (model set {m.servo_model_set})"
+        )
+        out.append(
+            "\nfirst openings only, leg still: the recorded hold in the IMU's frame and minus each trial's rest; the "
+            f"model's hold with {how}; the IMU's mounting fitted as one constant"
+        )
+        out.append(hold_frames_markdown(m.frames))
+        out.append(f"the model rests with the wings closed on: {', '.join(m.closed_on)}")
+        out.append(
+            "\nthe same holds in the body frame: the recorded hold minus the IMU's mounting measured from the rests "
+            "on its back (before the first opening) and upright (after righting), which the hold does not enter"
+        )
+        out.append(rest_mounting_markdown(m.frames, m.mounting))
+    out.append(
+        "\nfirst opening of every trial: the leg command's last rise before it (servo log, 10 Hz), the body's "
+        "roll while the leg is held at its first command before it, when the body rolled fastest before it (the "
+        "leg's swing), the pitch overshoot past the hold, the rise time to half the hold, the lateral tilt "
+        f"asin(cos p sin r) of largest magnitude {TRANSIENT_WINDOW_S[0]:g}-{TRANSIENT_WINDOW_S[1]:g} s after the "
+        "opening starts, the tilt when the wings start closing "
+        f"({CLOSING_WINDOW_S[0]:g}-{CLOSING_WINDOW_S[1]:g} s), the openings that rolled past a tilt of "
+        f"{ROLLED_TILT_DEG:g} deg within {SIM_OPENING_S:g} s, and how far the recorded tilt strays from the tilt "
+        f"the gyro alone gives, {-REST_WINDOW_S:g} to {CLOSING_WINDOW_S[1]:g} s (medians)"
+    )
+    out.append(first_openings_markdown(k.first_openings))
+    if k.leg_phases is None:
+        out.append(f"the first attempt's leg phase under the protocol: not measured ({k.leg_phase_error})")
+    else:
+        out.append(
+            "the first attempt's leg phase under the protocol (validate --phase protocol): "
+            + ", ".join(f"leg {leg:g}° {p:.3f}" for leg, p in k.leg_phases)
+            + " (the leg command's lead above minus the measured leg's lag from its command to the midline, "
+            + ", ".join(f"{k.leg_lag_s[leg]:.3f} s" for leg, _ in k.leg_phases)
+            + f" ({LEG_PULSE_FILE}), over its {LEG_PERIOD_S:g} s period)"
+        )
+    out.append(
+        "\nevery opening until the robot first rights, leg moving: the held body's median lateral tilt in each window "
+        f"with the leg settled on one side ({LEAN_SETTLE_S:g} s after it gets there, "
+        f"{LEAN_WINDOW_S[0]:.1f}-{LEAN_WINDOW_S[1]:.1f} s after the opening starts; windows in brackets) and, for "
+        f"the openings that roll over, when the tilt last rose through {LEVEL_TILT_DEG:g} deg before passing "
+        f"{ROLLED_TILT_DEG:g} deg (median, s after the opening starts; rolled/openings)"
+    )
+    out.append(hold_leans_markdown(k.leans))
+    lat = k.lateralisation
+    out.append(
+        f"\nroll-overs to + roll: {lat.positive} of {lat.positive + lat.negative} "
+        f"(Wilson 95 % [{100 * lat.ci_low:.0f}, {100 * lat.ci_high:.0f}] %); a mirror-symmetric model "
+        "has 50 % over random phases"
+    )
+    return out

@@ -370,9 +370,9 @@ def protocol_phases(data_dir: str | Path) -> dict[tuple[float, float], float]:
     PhysicalDataError
         If no recorded first opening has the leg moving.
     """
-    from landscape.analysis.physical.measured import LEG_PERIOD_S, leg_crossing_lag_s
+    from landscape.analysis.physical.measured import LEG_PERIOD_S, LEG_PULSE_FILE, leg_crossing_lag_s
 
-    lag = leg_crossing_lag_s(Path(data_dir) / "vib_pulse_v2.mat")
+    lag = leg_crossing_lag_s(Path(data_dir) / LEG_PULSE_FILE)
     leads: dict[tuple[float, float], list[float]] = defaultdict(list)
     for o in recorded_first_openings(data_dir):
         if o.theta_l_deg > 0 and np.isfinite(o.leg_lead_s):

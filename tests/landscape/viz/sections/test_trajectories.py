@@ -1,4 +1,4 @@
-"""The report's trajectories section (landscape/viz/sections.py) on a tiny trial database made here, and its
+"""The report's trajectories section (landscape/viz/sections/trajectories.py) on a tiny trial database made here, and its
 physical-robot section on the lab's recordings (skips without them)."""
 
 import csv
