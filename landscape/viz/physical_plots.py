@@ -105,7 +105,7 @@ def hold_frames_markdown(rows: Sequence) -> str:
 def rest_mounting_markdown(frames: Sequence, mounting) -> str:
     """The IMU's mounting measured from the robot's two rests (:class:`~landscape.analysis.physical.mounting.RestMounting`)
     as one line, then a Markdown table of the first openings' hold (:class:`~landscape.analysis.physical.hold.HoldFrame`
-    rows) in the body frame that mounting gives, beside the model's: issue #15's resting-pose check."""
+    rows) in the body frame that mounting gives, beside the model's: the resting-pose check."""
     m = mounting
     lines = [
         f"IMU mounting from the two rests ({m.n} righted trials; recorded on its back {m.recorded_back_deg:+.1f}°, "

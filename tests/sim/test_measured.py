@@ -1,4 +1,4 @@
-"""Measured actuation (landscape/analysis/measured.py, the measured profile of sim/actuation.py and the physical set)."""
+"""Measured actuation (landscape/analysis/physical/measured.py, the measured profile of sim/actuation.py and the physical set)."""
 
 import os
 from pathlib import Path

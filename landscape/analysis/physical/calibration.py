@@ -1,4 +1,4 @@
-"""Calibrate a model set against the physical robot's outcomes, with held-out cells (issue #15, section 3).
+"""Calibrate a model set against the physical robot's outcomes, with held-out cells.
 
 A calibration is a grid search: every combination of the ``--vary`` values (dotted keys of the model-set TOML,
 e.g. ``contact.lateral_friction=0.5,0.75,1``) is written as a candidate set derived from a base set
@@ -316,7 +316,7 @@ def calibrate(
     the lab protocol's, :func:`landscape.analysis.physical.response.protocol_phases`), in the candidates' trials and the best
     one's validation alike; None: random phases (:func:`landscape.analysis.physical.validation.validate`). With
     ``time_to_right`` it adds the log-likelihood of the robot's median time to right in each fit cell where both
-    right under the candidate's (:func:`time_log_likelihood`): the issue's secondary target.
+    right under the candidate's (:func:`time_log_likelihood`), a secondary target.
     """
     from landscape.analysis.physical.outcome import physical_trials
     from landscape.analysis.physical.recording import measured_plateaus_deg
@@ -397,8 +397,7 @@ def side_log_likelihood(side: SideComparison) -> float:
 
 TIME_SD_LOG = 0.35
 """Spread of a cell's median time to right, robot against simulation, in :func:`time_log_likelihood`: the
-standard deviation of its logarithm (a factor of about 1.4; the robot's five-trial medians at 90 deg, leg 30-45,
-spread 0.33-0.35 s, at 60-75 deg 1.06-1.39 s)."""
+standard deviation of its logarithm (a factor of exp(0.35), about 1.4)."""
 TIME_Z_CAP = 4.0
 """Largest deviation, in ``TIME_SD_LOG``, that one cell counts in :func:`time_log_likelihood`."""
 

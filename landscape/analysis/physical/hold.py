@@ -37,7 +37,7 @@ class HoldFrame:
     recorded_deg, recorded_sd_deg : float
         Median and standard deviation of the recorded hold pitch in the IMU frame, degrees.
     relative_deg, relative_sd_deg : float
-        The same minus each trial's rest before the opening (issue #15's reference), degrees.
+        The same minus each trial's rest before the opening (the reference of :mod:`landscape.analysis.physical.resting`), degrees.
     rest_sd_deg : float
         Standard deviation of that rest between trials, degrees.
     model_deg, model_rest_deg : float

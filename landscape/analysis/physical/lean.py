@@ -50,8 +50,7 @@ LEAN_MIN_WINDOW_S = 0.08
 LEVEL_TILT_DEG = 5.0
 """Lateral tilt within which the body counts as level: :func:`departure_s` times its last leaving, degrees."""
 LEG_HALF_PERIOD_S = 0.4
-"""How long the lab's leg command stays on one side, s (period 0.8 s; in the servo logs the command falls
-0.396-0.400 s after it rises)."""
+"""How long the lab's leg command stays on one side (half its period), s."""
 
 
 def hold_leans_deg(

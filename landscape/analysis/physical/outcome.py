@@ -31,8 +31,8 @@ UPRIGHT_HOLD_S = 0.3
 """Shortest upright stretch that counts as righted, s (the simulator's ``sim.trial.UPRIGHT_HOLD_S``)."""
 UPRIGHT_DEPTH = -0.5
 """An upright stretch must reach ``u_z <= UPRIGHT_DEPTH`` (body tilted more than 120 deg from lying on its back):
-near the pole the wings hold the body at u_z ~ 0 and sensor noise alone crosses 0 (run5_90_90_90_90_0_5 stays
-0.68 s at u_z > -0.3 and falls back; every righting reaches u_z < -0.95)."""
+near the pole the wings hold the body at u_z ~ 0 and sensor noise alone crosses 0, while a righting goes on to
+lie on the belly (u_z near -1)."""
 MAX_IMU_MOUNT_DEG = 45.0
 
 

@@ -356,6 +356,6 @@ def _plateau(entry) -> float:
 
 def measured_plateaus_deg(data_dir: str | Path) -> dict[float, float]:
     """Measured wing plateau per wing command, degrees: the median over attempts of the peak of the lab's
-    measured wing trace in ``robot_attempts.mat`` (about 59.1, 73.6 and 82.1 deg)."""
+    measured wing trace in ``robot_attempts.mat``."""
     att = _load_attempts(data_dir)
     return {tw: _plateau(e) for tw, e in zip(WING_COMMANDS_DEG, att, strict=True)}

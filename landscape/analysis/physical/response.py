@@ -56,9 +56,9 @@ ROLLED_TILT_DEG = 45.0
 CLOSING_WINDOW_S = (0.95, 1.05)
 """Window after an opening's start, just before the wings start closing, in which the tilt at closing is read, s."""
 PROTOCOL_PHASE = 0.17
-"""The first attempt's leg phase under the lab's protocol, one number (``landscape physical kinematics``: the leg's
-midline crossing about 0.13 s before the first opening, phi_1 about 0.16, IQR 0.14-0.17); per leg amplitude
-:func:`protocol_phases` gives 0.195, 0.166 and 0.129 at 15, 30 and 45 deg."""
+"""The first attempt's leg phase under the lab's protocol, one number for every leg amplitude, as a fraction of the
+leg period: the recordings' phase (``landscape physical kinematics`` shows it; :func:`protocol_phases` gives one
+per leg amplitude)."""
 OPENING_SD_FLOOR_DEG = 1.0
 """Smallest spread of a recorded measure in :func:`opening_log_likelihood`, degrees: five trials can agree more
 closely than the model can be asked to."""
@@ -67,8 +67,7 @@ OPENING_Z_CAP = 4.0
 :func:`opening_log_likelihood`."""
 SIM_OPENING_S = 1.4
 """Time after the opening's start that is simulated and searched for the body rolling over: the transient, the
-hold and the wings' closing (the robot's first-attempt roll-overs at 60 deg pass a tilt of 45 deg about 1.1 s after
-the opening starts) lie inside it, s."""
+hold and the wings' closing lie inside it, s."""
 
 
 @dataclass(frozen=True)

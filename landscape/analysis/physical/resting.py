@@ -29,12 +29,11 @@ from landscape.analysis.physical.recording import (
 )
 
 HOLD_WINDOW_S = (0.5, 0.95)
-"""Window after the start of an opening where the wings are held open, s (the servo stays within 5 % of its
-plateau from about 0.34 s to 1.06 s)."""
+"""Window after the start of an opening where the wings are held open (the servo near its plateau), s."""
 REST_WINDOW_S = 0.3
 """Length of the resting window before the first opening, s."""
 CLOSED_WINDOW_S = (1.7, 1.95)
-"""Window after the start of an opening where the wings are closed again (they close by about 1.3 s), s."""
+"""Window after the start of an opening where the wings are closed again, s."""
 
 
 @dataclass(frozen=True)

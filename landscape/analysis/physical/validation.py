@@ -1,4 +1,4 @@
-"""The simulation against the physical robot's recorded trials (issue #15, sections 3–4): the referee.
+"""The simulation against the physical robot's recorded trials: the referee.
 
 For each physical cell (wing command 60/75/90° simulated at its measured plateau, leg amplitude 0/15/30/45°)
 :func:`validation_specs` makes ``trials`` simulated trials, by default with random first-attempt phases (each
@@ -11,15 +11,14 @@ holds; they run through the ordinary sweep machinery (:func:`sim.sweep.run_sweep
 - per cell: success fractions with Wilson 95 % intervals, and whether each fraction lies inside the other's
   interval ("agree"); median time to right from the first wing opening, ± standard deviation, where both right;
 - per wing command: the per-attempt success rate by the lab's rule (the first five openings of each trial; an
-  attempt succeeds when the robot rights during it) against the lab's recorded 12/58, 15/42 and 17/34 (which
-  pool every leg amplitude, so a wing command is compared only when all its cells ran);
-- the side the robot rolls over to: the fraction of righting events with positive roll, against the robot's
-  43 of 46;
+  attempt succeeds when the robot rights during it) against the lab's recorded counts (``robot_attempts.mat``,
+  which pool every leg amplitude, so a wing command is compared only when all its cells ran);
+- the side the robot rolls over to: the fraction of righting events with positive roll, against the robot's;
 - the log-likelihood of the physical outcomes of a set of cells under the simulated success probabilities
   (each shrunk to ``(k + 0.5) / (n + 1)``), the objective a calibration maximises.
 
-Cells with leg amplitude 15° or 45° are the *held-out* cells of issue #15's calibration protocol (fit on 0° and
-30°); every summary reports the fit cells, the held-out cells and all cells separately.
+Cells with leg amplitude 15° or 45° are the *held-out* cells of the calibration protocol (fit on 0° and 30°);
+every summary reports the fit cells, the held-out cells and all cells separately.
 """
 
 from __future__ import annotations
@@ -40,10 +39,10 @@ from landscape.analysis.physical.recording import measured_plateaus_deg
 from landscape.analysis.trials import wilson_interval
 
 HELD_OUT_LEGS_DEG = (15.0, 45.0)
-"""Leg amplitudes of the held-out cells (issue #15: fit on 0 and 30 degrees, report 15 and 45 on their own)."""
+"""Leg amplitudes of the held-out cells (fit on 0 and 30 degrees, report 15 and 45 on their own)."""
 DEFAULT_TRIALS = 10
 DEFAULT_CV = 0.05
-"""The physical comparison's noise: Cv 5 % (issue #15's setting)."""
+"""The physical comparison's noise, Cv (sigma / Tl)."""
 PHASE_SEED = 0x9E37
 """Mixed into the seed of each cell's phase draws, so that the phases do not depend on the trial seeds."""
 
@@ -279,7 +278,7 @@ def fisher_p(k1: int, n1: int, k2: int, n2: int) -> float:
 
     Unlike the Wilson rule (:func:`fractions_agree`), a perfect model passes it in at least 95 % of cells
     whatever the robot's probability; the Wilson rule needs a simulation that rights every trial to agree with
-    a cell the robot righted 5 of 5 (``benchmarks/referee_power.py``).
+    a cell the robot righted 5 of 5 (``benchmarks/physical/referee_power.py``).
 
     Examples
     --------
@@ -292,7 +291,7 @@ def fisher_p(k1: int, n1: int, k2: int, n2: int) -> float:
 
 
 def fractions_agree(k1: int, n1: int, k2: int, n2: int) -> bool:
-    """The referee's rule (issue #15): k1 of n1 and k2 of n2 agree when each fraction lies inside the other's
+    """The referee's rule: k1 of n1 and k2 of n2 agree when each fraction lies inside the other's
     Wilson 95 % interval; a fraction of 100 % (or 0 %) therefore agrees only with another of 100 % (or 0 %).
 
     Examples

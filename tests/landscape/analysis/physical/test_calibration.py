@@ -1,4 +1,4 @@
-"""Calibration (landscape/analysis/calibration.py): --vary parsing, candidate sets derived from a base set, and
+"""Calibration (landscape/analysis/physical/calibration.py): --vary parsing, candidate sets derived from a base set, and
 `landscape physical calibrate` end to end on the built-in robot (needs ../shared's physical data)."""
 
 import json
@@ -9,7 +9,7 @@ import pytest
 from landscape.analysis.physical import calibration as ca
 from landscape.cli import main
 from sim.model_set import ModelSetError, load_model_set
-from tests.landscape.analysis.physical.test_physical import DATA, needs_data
+from tests.landscape.analysis.physical.lab import DATA, needs_data
 
 
 def test_vary_parses_and_refuses_bad_items():

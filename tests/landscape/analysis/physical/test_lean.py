@@ -1,5 +1,5 @@
 """The held body's lean with the leg on each side, and when a roll-over leaves the level
-(landscape/analysis/opening.py, issue #15): synthetic series with known leans and departures, the mirror symmetry
+(landscape/analysis/physical/lean.py): synthetic series with known leans and departures, the mirror symmetry
 of the built-in robot's simulated leans, and the robot's pattern on the lab's recordings (skipped without
 ../shared)."""
 
@@ -21,7 +21,7 @@ from landscape.analysis.physical.lean import (
     simulated_leans,
 )
 from landscape.analysis.physical.response import lateral_tilt_deg
-from tests.landscape.analysis.physical.test_physical import DATA, needs_data
+from tests.landscape.analysis.physical.lab import DATA, needs_data
 
 DT_S = 0.01
 

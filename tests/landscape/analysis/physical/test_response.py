@@ -1,15 +1,13 @@
-"""The first wing opening, recorded and simulated (landscape/analysis/opening.py): the measures on synthetic
-series with known answers, a simulated opening of the symmetric built-in robot, and the hold-pitch frames on the
-lab's recordings (skipped without ../shared)."""
+"""The first wing opening, recorded and simulated (landscape/analysis/physical/response.py): the measures on
+synthetic series with known answers, a simulated opening of the symmetric built-in robot, and the lab's recordings
+(skipped without ../shared)."""
 
 import math
 
 import numpy as np
 import pytest
 
-from landscape.analysis.physical.hold import hold_pitch_frames, plateau_hold_deg
-from landscape.analysis.physical.mounting import mounting_from_rests, nose_pitch_deg, rest_mounting_deg
-from landscape.analysis.physical.recording import PhysicalDataError, sagittal_pitch_deg
+from landscape.analysis.physical.recording import sagittal_pitch_deg
 from landscape.analysis.physical.response import (
     SWING_WINDOW_S,
     OpeningResponse,
@@ -20,8 +18,7 @@ from landscape.analysis.physical.response import (
     recorded_first_openings,
     simulated_opening,
 )
-from tests.conftest import LAB_URDF
-from tests.landscape.analysis.physical.test_physical import DATA, needs_data
+from tests.landscape.analysis.physical.lab import DATA, needs_data
 
 
 def test_tilt_is_the_roll_when_level_and_vanishes_at_the_pole():
@@ -169,30 +166,6 @@ def test_simulated_opening_of_the_symmetric_robot_holds_at_its_minimum_without_t
 
 
 @needs_data
-@pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
-def test_hold_frames_on_the_recordings():
-    """The recorded hold of first openings is steadier in the IMU frame than relative to each trial's rest
-    (the rest carries the spread), and the offset's algebra: residuals sum to zero, and each held-out residual
-    is the command's difference minus the mean of the others'."""
-    from geometry.robots import load_robot
-    from landscape.minima import metastable_orientation
-
-    robot = load_robot(LAB_URDF)
-    model = plateau_hold_deg(robot, DATA, (60.0, 75.0, 90.0))
-    rows = hold_pitch_frames(DATA, model, metastable_orientation(robot, 0.0, 0.0)[0])
-    assert [r.theta_w_cmd_deg for r in rows] == [60.0, 75.0, 90.0]
-    assert all(r.n == 5 for r in rows)
-    assert all(r.recorded_sd_deg < r.relative_sd_deg for r in rows)
-    assert sum(r.residual_deg for r in rows) == pytest.approx(0.0, abs=1e-9)
-    diff = {r.theta_w_cmd_deg: r.recorded_deg - r.model_deg for r in rows}
-    for r in rows:
-        others = [d for c, d in diff.items() if c != r.theta_w_cmd_deg]
-        assert r.residual_held_out_deg == pytest.approx(diff[r.theta_w_cmd_deg] - np.mean(others))
-    with pytest.raises(PhysicalDataError, match="leg still"):
-        hold_pitch_frames(DATA, {65.0: 60.0}, 0.0)
-
-
-@needs_data
 def test_the_protocol_fixes_the_first_attempts_phase():
     """The servo log: in every trial with the leg moving the leg command last turned positive 0.2 s (0.3 s at
     the log's 10 Hz resolution) before the first opening; with the leg still there is no lead."""
@@ -228,75 +201,6 @@ def test_the_robot_rolls_over_from_the_tilt_its_hold_built_and_the_gyro_confirms
     assert all(abs(o.response.closing_tilt_deg) < 2.0 and math.isnan(o.response.rolled_s) for o in still)
     assert all(o.gyro_deviation_deg < 1.5 for o in still)
     assert np.median([o.gyro_deviation_deg for o in moving]) < 5.0
-
-
-@needs_data
-@pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
-def test_kinematics_command_prints_both_frames_the_support_and_the_first_openings(capsys):
-    from landscape.cli import main
-
-    args = ["physical", "kinematics", "--data", str(DATA), "--robot", str(LAB_URDF), "--model", "physical"]
-    assert main(args) == 0
-    out = capsys.readouterr().out
-    assert "| 60° | 5 | 68.1° (0.3°) | 68.2° (0.9°) | 0.9° | 57.6° | -1.3° | -2.0° |" in out
-    assert "IMU mounting (recorded minus model, mean over the commands): 11.8°" in out
-    # the nose's pitch does not fold back where the robot passes vertical: at 90 deg it holds at 86.3, not 85.2,
-    # and its opening overshoots that hold by 10.9 deg
-    assert "| 90° | 5 | 86.3° (1.1°) | 86.2° (1.6°) | 1.0° | 73.1° |" in out
-    assert "| 90° | 0° | 5 | – | – | – | +10.9° | 0.23 s |" in out
-    assert "the model rests with the wings closed on: base_link, motor3, motor4" in out
-    assert "| 60° | 45° | 5 | 0.2 s |" in out and "| 60° | 0° | 5 | – |" in out
-    assert "| +8.2° [-5.3, +10.2] | +20.9° [+4.5, +38.7] | 4/5 at 1.13 s | 2.7° |" in out
-    # the lean table: to +roll with the leg on + only, and the roll-overs leave the hold before the wings close
-    assert "| 60° | 30° | +7.8° (3) | -1.0° (7) | 0.81 s (6/8) |" in out
-    assert "| 90° | 45° | – (0) | – (0) | 0.28 s (5/5) |" in out
-    assert (
-        "leg phase under the protocol (validate --phase protocol): leg 15° 0.195, leg 30° 0.166, leg 45° 0.129"
-        in out
-    )
-    # the body frame from the mounting the two rests measure: the CAD holds 8-10 deg short of the robot
-    assert "IMU mounting from the two rests (37 righted trials;" in out and "): 2.6° [1.8, 3.8]" in out
-    assert "| 60° | 68.1° | 65.5° | 57.6° | -7.9° |" in out
-    assert main(args[:-2] + ["--model", "nosuchset"]) == 2
-    # the set that rests where the robot rests: its head 17 mm further back
-    assert main(args[:-2] + ["--model", "physical-head"]) == 0
-    lines = capsys.readouterr().out.splitlines()
-    at = next(i for i, ln in enumerate(lines) if ln.startswith("IMU mounting from the two rests"))
-    body = lines[at + 4 : at + 7]  # the line, a blank, the header and its rule, then one row per command
-    errors = [float(ln.split("|")[5].strip().rstrip("°")) for ln in body]
-    assert [ln.split("|")[1].strip() for ln in body] == ["60°", "75°", "90°"]
-    assert max(abs(e) for e in errors) <= 1.2, body  # +0.3, -0.1, -1.1
-
-
-def test_the_mounting_algebra_recovers_a_pitched_imu():
-    """An IMU pitched d about the body's y axis reads the body's pitch + d on its back and - d upright (rolled
-    half a turn), so half the difference of the two rests' differences, recorded minus model, is d."""
-    from scipy.spatial.transform import Rotation
-
-    from landscape.analysis.physical.recording import pitch_roll_from_quat_deg
-
-    imu = Rotation.from_euler("y", 7.0, degrees=True)
-    back = Rotation.from_euler("ZYX", [20.0, -6.0, 0.0], degrees=True)  # body pitch -6 on its back
-    upright = Rotation.from_euler("ZYX", [-40.0, 1.5, 180.0], degrees=True)  # body pitch 1.5 upright
-    rec = [pitch_roll_from_quat_deg([(r * imu).as_quat()])[0][0] for r in (back, upright)]
-    assert rec[0] == pytest.approx(1.0) and rec[1] == pytest.approx(-5.5)
-    assert rest_mounting_deg(rec[0], rec[1], -6.0, 1.5) == pytest.approx(7.0)
-    assert nose_pitch_deg(-174.0, -180.0) == pytest.approx(-6.0)
-
-
-@needs_data
-@pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
-def test_the_two_rests_measure_a_small_mounting():
-    """37 righted trials give both rests; their mounting (median 2.6 deg) is far from the 11.5 deg the open hold
-    would need, and the head, which neither closed rest touches, does not move it."""
-    from geometry.robots import load_robot
-
-    robot = load_robot(LAB_URDF)
-    m = mounting_from_rests(DATA, robot)
-    assert m.n == 37 and 1.5 < m.mount_q25_deg < m.mount_deg < m.mount_q75_deg < 4.5
-    assert m.model_back_deg == pytest.approx(-6.34, abs=0.05) and abs(m.model_upright_deg) < 1.0
-    moved = mounting_from_rests(DATA, robot.with_joint_shift("head_mount", [-0.017, 0.0, 0.0]))
-    assert moved.mount_deg == pytest.approx(m.mount_deg, abs=0.1)
 
 
 def test_opening_log_likelihood_prefers_the_recorded_behaviour():

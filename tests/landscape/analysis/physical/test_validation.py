@@ -1,4 +1,4 @@
-"""Simulated against physical (landscape/analysis/validation.py): the statistics on hand-made trials with answers
+"""Simulated against physical (landscape/analysis/physical/validation.py): the statistics on hand-made trials with answers
 worked out by hand, then `landscape physical validate` end to end on the built-in robot (needs ../shared's
 physical data)."""
 
@@ -11,7 +11,7 @@ from landscape.analysis.physical import validation as va
 from landscape.analysis.physical.attempts import AttemptCount
 from landscape.analysis.physical.outcome import PhysicalTrial
 from landscape.cli import main
-from tests.landscape.analysis.physical.test_physical import DATA, needs_data
+from tests.landscape.analysis.physical.lab import DATA, needs_data
 
 
 def _phys(w, leg, k, n, ttr=1.0, side=1):
