@@ -7,7 +7,7 @@ import pytest
 
 from landscape.analysis.physical.recording import up_z_mounted
 from tests.conftest import load_script
-from tests.landscape.analysis.physical.test_physical import DATA, needs_data
+from tests.landscape.analysis.physical.lab import DATA, needs_data
 
 
 @pytest.fixture(scope="module")
