@@ -48,24 +48,16 @@ def physical():
 )
 def table_cmd(data, out):
     """One row per trial (trials.csv) and per (theta_w, theta_l) cell with Wilson 95 % intervals (cells.csv)."""
-    from landscape.analysis.physical.attempts import attempt_outcomes
-    from landscape.analysis.physical.cells import lateralisation, physical_cells
-    from landscape.analysis.physical.outcome import physical_trials
+    from landscape.analysis.physical.cells import outcome_tables
     from landscape.cli.options import writable_dir
-    from landscape.viz.physical_plots import cells_table, write_rows_csv
+    from landscape.viz.physical_plots import cells_table, lateralisation_text, write_rows_csv
 
     writable_dir(out, "--out")
-    trials = physical_trials(data)
-    cells = physical_cells(trials)
-    attempts = attempt_outcomes(trials)
-    click.echo(cells_table(cells, attempts))
-    lat = lateralisation(trials)
-    click.echo(
-        f"\nroll-overs to + roll: {lat.positive} of {lat.positive + lat.negative} "
-        f"(Wilson 95 % [{100 * lat.ci_low:.0f}, {100 * lat.ci_high:.0f}] %)"
-    )
-    click.echo(f"wrote {write_rows_csv(trials, Path(out) / 'trials.csv')}")
-    click.echo(f"wrote {write_rows_csv(cells, Path(out) / 'cells.csv')}")
+    t = outcome_tables(data)
+    click.echo(cells_table(t.cells, t.attempts))
+    click.echo("\n" + lateralisation_text(t.lateralisation))
+    click.echo(f"wrote {write_rows_csv(t.trials, Path(out) / 'trials.csv')}")
+    click.echo(f"wrote {write_rows_csv(t.cells, Path(out) / 'cells.csv')}")
 
 
 @physical.command("energy")
@@ -237,7 +229,7 @@ def _report_validation(out: Path, validation, tables: dict, doc_name: str, doc: 
     show_default=True,
     help="Judge the robot's uprightness (success, time to right) in a body frame pitched this many degrees below "
     "its IMU's: at 90 deg the robot stands near 90 deg of pitch, and its IMU's frame counts it upright once the "
-    "IMU's pitch passes 90 deg (landscape physical kinematics measures 2.6 from the robot's two rests).",
+    "IMU's pitch passes 90 deg (landscape physical kinematics measures it from the robot's two rests).",
 )
 @workers_option
 @click.option(

@@ -127,14 +127,17 @@ def rest_mounting_markdown(frames: Sequence, mounting) -> str:
 def first_openings_markdown(openings: Sequence) -> str:
     """Markdown table of the recorded first openings per cell (:class:`~landscape.analysis.physical.response.RecordedOpening`):
     medians of the leg command's lead, the overshoot, the rise and the lateral tilt (with its range), the tilt when
-    the wings start closing (with its range), how many rolled past a tilt of 45 deg (median time) and how far the
+    the wings start closing (with its range), how many rolled past a tilt of ``ROLLED_TILT_DEG`` (median time) and how far the
     recorded tilt strays from the gyro's (median)."""
+    from landscape.analysis.physical.response import ROLLED_TILT_DEG
+
     cells: dict[tuple[float, float], list] = {}
     for o in openings:
         cells.setdefault((o.theta_w_cmd_deg, o.theta_l_deg), []).append(o)
     lines = [
         "| wing command | leg | n | leg command's lead | roll, leg held | body's fastest roll before | overshoot "
-        "| rise | lateral tilt [range] | tilt at closing [range] | rolled past 45° | gyro against recorded tilt |",
+        f"| rise | lateral tilt [range] | tilt at closing [range] | rolled past {ROLLED_TILT_DEG:g}° "
+        "| gyro against recorded tilt |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for (w, leg), os_ in sorted(cells.items()):
@@ -402,10 +405,24 @@ def kinematics_text(k) -> list[str]:
         f"{ROLLED_TILT_DEG:g} deg (median, s after the opening starts; rolled/openings)"
     )
     out.append(hold_leans_markdown(k.leans))
-    lat = k.lateralisation
     out.append(
-        f"\nroll-overs to + roll: {lat.positive} of {lat.positive + lat.negative} "
-        f"(Wilson 95 % [{100 * lat.ci_low:.0f}, {100 * lat.ci_high:.0f}] %); a mirror-symmetric model "
-        "has 50 % over random phases"
+        "\n"
+        + lateralisation_text(k.lateralisation)
+        + "; a mirror-symmetric model has 50 % over random phases"
     )
     return out
+
+
+def lateralisation_text(lat) -> str:
+    """The side the robot rolls over to (:class:`~landscape.analysis.physical.cells.Lateralisation`), one line.
+
+    Examples
+    --------
+    >>> from landscape.analysis.physical.cells import Lateralisation
+    >>> lateralisation_text(Lateralisation(3, 1, 0.75, 0.3, 0.95))
+    'roll-overs to + roll: 3 of 4 (Wilson 95 % [30, 95] %)'
+    """
+    return (
+        f"roll-overs to + roll: {lat.positive} of {lat.positive + lat.negative} "
+        f"(Wilson 95 % [{100 * lat.ci_low:.0f}, {100 * lat.ci_high:.0f}] %)"
+    )

@@ -7,10 +7,11 @@ import math
 from collections import defaultdict
 from collections.abc import Iterable
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
-from landscape.analysis.physical.outcome import PhysicalTrial
+from landscape.analysis.physical.outcome import PhysicalTrial, physical_trials
 from landscape.analysis.trials import wilson_interval
 
 
@@ -117,3 +118,39 @@ def lateralisation(trials: Iterable[PhysicalTrial]) -> Lateralisation:
     pos, n = sum(d > 0 for d in dirs), len(dirs)
     lo, hi = wilson_interval(pos, n)
     return Lateralisation(pos, n - pos, pos / n if n else math.nan, lo, hi)
+
+
+@dataclass(frozen=True)
+class OutcomeTables:
+    """The outcome tables of a data directory (``landscape physical table``).
+
+    Attributes
+    ----------
+    trials : list of PhysicalTrial
+        One per recorded trial.
+    cells : list of PhysicalCell
+        One per (wing command, leg amplitude).
+    attempts : list of AttemptCount
+        Per-attempt outcomes per wing command by the lab's rule.
+    lateralisation : Lateralisation
+        To which side the robot rolls when it becomes upright.
+    """
+
+    trials: list[PhysicalTrial]
+    cells: list[PhysicalCell]
+    attempts: list
+    lateralisation: Lateralisation
+
+
+def outcome_tables(data_dir: str | Path) -> OutcomeTables:
+    """Every trial of a data directory, its cells, the per-attempt outcomes and the side the robot rolls to.
+
+    Raises
+    ------
+    landscape.analysis.physical.recording.PhysicalDataError
+        If the directory or a file is not in the lab's format.
+    """
+    from landscape.analysis.physical.attempts import attempt_outcomes
+
+    trials = physical_trials(data_dir)
+    return OutcomeTables(trials, physical_cells(trials), attempt_outcomes(trials), lateralisation(trials))

@@ -27,7 +27,7 @@ def section_validation(
     import json
 
     from landscape.analysis.physical.resting import resting_pitch_table
-    from landscape.analysis.physical.validation import validation_from_json
+    from landscape.analysis.physical.validation import HELD_OUT_LEGS_DEG, validation_from_json
     from landscape.viz.physical_plots import consistent_text, robot_rule_text, time_to_right_figure
 
     title = "The simulation against the physical robot"
@@ -46,8 +46,9 @@ def section_validation(
         "Simulated trials at each physical cell (the set's own actuation; first-attempt phases as each set names) "
         "beside the "
         "physical robot's recorded trials. A cell agrees when each success fraction lies inside the other's "
-        "Wilson 95 % interval; cells with leg amplitude 15° or 45° are held out of any calibration and counted "
-        "apart."
+        "Wilson 95 % interval; cells with leg amplitude "
+        + " or ".join(f"{leg:g}°" for leg in HELD_OUT_LEGS_DEG)
+        + " are held out of any calibration and counted apart."
     )
     for k, doc in enumerate(docs):
         v = validation_from_json(doc)
@@ -214,8 +215,13 @@ def _opening_tables(out: Path, data_dir, frames: list[dict]) -> list[Table]:
     """The hold pitch of first openings in the IMU's frame beside each robot model's (``frames``: rows of
     :func:`landscape.analysis.physical.hold.hold_pitch_frames` with their robot), and every recorded first opening."""
 
-    from landscape.analysis.physical.lean import cell_lean, recorded_leans
-    from landscape.analysis.physical.response import recorded_first_openings
+    from landscape.analysis.physical.lean import LEVEL_TILT_DEG, cell_lean, recorded_leans
+    from landscape.analysis.physical.response import (
+        CLOSING_WINDOW_S,
+        ROLLED_TILT_DEG,
+        TRANSIENT_WINDOW_S,
+        recorded_first_openings,
+    )
 
     first = [
         {
@@ -241,15 +247,17 @@ def _opening_tables(out: Path, data_dir, frames: list[dict]) -> list[Table]:
         Table(
             "First opening of every recorded trial: the leg command's lead, the body's roll while the leg is held "
             "and when it rolled fastest before the opening (the leg's swing), the pitch overshoot, the rise time and "
-            "the lateral tilt asin(cos p sin r) of largest magnitude 0.2-0.6 s after the opening starts, the tilt "
-            "when the wings start closing (0.95-1.05 s), when it rolled past a tilt of 45 deg and how far the "
-            "recorded tilt strays from the gyro's",
+            "the lateral tilt asin(cos p sin r) of largest magnitude "
+            f"{TRANSIENT_WINDOW_S[0]:g}-{TRANSIENT_WINDOW_S[1]:g} s after the opening starts, the tilt when the wings "
+            f"start closing ({CLOSING_WINDOW_S[0]:g}-{CLOSING_WINDOW_S[1]:g} s), when it rolled past a tilt of "
+            f"{ROLLED_TILT_DEG:g} deg and how far the recorded tilt strays from the gyro's",
             _write_csv(out / "validation" / "first_openings.csv", first),
         ),
         Table(
             "Every opening until the robot first rights, leg moving: the held body's median lateral tilt with the "
             "leg settled on + and on - (windows counted), and when the openings that roll over leave the level "
-            "(the tilt last rising through 5 deg before passing 45 deg; median, s after the opening starts)",
+            f"(the tilt last rising through {LEVEL_TILT_DEG:g} deg before passing {ROLLED_TILT_DEG:g} deg; median, s "
+            "after the opening starts)",
             _write_csv(out / "validation" / "hold_leans.csv", leans),
         ),
     ]
