@@ -7,5 +7,6 @@ the physical robot's recordings:
 - :mod:`landscape.analysis.energy`: the energy budget of simulated and recorded attempts;
 - :mod:`landscape.analysis.physical`: everything that reads the lab's recordings (outcomes, openings, leans,
   the IMU's mounting, the servo profiles, validation and calibration of model sets against them);
+- :mod:`landscape.analysis.reruns`: stored trials run again with a trace;
 - :mod:`landscape.analysis.bench`: the speed and memory of the numerics.
 """

@@ -24,6 +24,7 @@ Modules, one concept each:
 - :mod:`~landscape.analysis.physical.lean`: the held body's lean with the leg swinging;
 - :mod:`~landscape.analysis.physical.hold`: the hold pitch in the model's and the IMU's frame;
 - :mod:`~landscape.analysis.physical.mounting`: the IMU's mounting from the two rests;
+- :mod:`~landscape.analysis.physical.kinematics`: all of the above that ``landscape physical kinematics`` shows;
 - :mod:`~landscape.analysis.physical.motion`: recordings as motions for the energy budget;
 - :mod:`~landscape.analysis.physical.measured`: servo profiles fitted to the pulse recordings;
 - :mod:`~landscape.analysis.physical.validation`: simulated trials beside the recorded ones;
