@@ -21,9 +21,9 @@ from landscape.analysis.physical.recording import (
     WING_COMMANDS_DEG,
     PhysicalDataError,
     Recording,
-    _load_attempts,
-    _plateau,
+    attempt_plateau_deg,
     measured_plateaus_deg,
+    read_attempt_table,
     read_recording,
     trial_cell,
     trial_files,
@@ -62,11 +62,11 @@ def _count(tw: float, measured: float, k: int, n: int) -> AttemptCount:
 
 def recorded_attempt_counts(data_dir: str | Path) -> list[AttemptCount]:
     """The lab's per-attempt outcomes (``robot_attempts.mat``) per wing command."""
-    att = _load_attempts(data_dir)
+    att = read_attempt_table(data_dir)
     out = []
     for tw, e in zip(WING_COMMANDS_DEG, att, strict=True):
         res = np.atleast_1d(np.asarray(e.result, dtype=np.float64))
-        out.append(_count(tw, _plateau(e), int(np.sum(res == 1)), len(res)))
+        out.append(_count(tw, attempt_plateau_deg(e), int(np.sum(res == 1)), len(res)))
     return out
 
 

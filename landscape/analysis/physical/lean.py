@@ -33,7 +33,7 @@ from landscape.analysis.physical.response import (
     lateral_tilt_deg,
     simulated_openings,
 )
-from landscape.analysis.physical.resting import _median
+from landscape.analysis.physical.resting import median_or_nan
 
 LEAN_WINDOW_S = (0.4, 1.0)
 """Window after an opening's start in which the lean of the held body is read, s (the wings are open)."""
@@ -444,11 +444,11 @@ def cell_lean(theta_w_cmd_deg: float, theta_l_deg: float, leans: HoldLeans) -> C
     return CellLean(
         float(theta_w_cmd_deg),
         float(theta_l_deg),
-        _median(leans.plus_deg),
+        median_or_nan(leans.plus_deg),
         len(leans.plus_deg),
-        _median(leans.minus_deg),
+        median_or_nan(leans.minus_deg),
         len(leans.minus_deg),
-        _median(rolled),
+        median_or_nan(rolled),
         len(rolled),
         len(dep),
     )

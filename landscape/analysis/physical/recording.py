@@ -325,7 +325,14 @@ def up_z_mounted(quat_xyzw, mount_deg: float) -> NDArray[np.float64]:
     return up_in_body(quat_xyzw, mount_deg)[..., 2]
 
 
-def _load_attempts(data_dir: str | Path):
+def read_attempt_table(data_dir: str | Path):
+    """The ``attempt`` struct array of the lab's ``robot_attempts.mat``, one entry per wing command.
+
+    Raises
+    ------
+    PhysicalDataError
+        If the file is absent or not the lab's.
+    """
     from scipy.io import loadmat
 
     path = _data_dir(data_dir) / "robot_attempts.mat"
@@ -345,7 +352,9 @@ def _load_attempts(data_dir: str | Path):
     return att
 
 
-def _plateau(entry) -> float:
+def attempt_plateau_deg(entry) -> float:
+    """The median over attempts of the peak of one wing command's measured wing trace (an entry of
+    :func:`read_attempt_table`), degrees; nan without a trace."""
     vals = [
         float(np.nanmax(w))
         for w in np.atleast_1d(entry.wing_angle)
@@ -357,5 +366,5 @@ def _plateau(entry) -> float:
 def measured_plateaus_deg(data_dir: str | Path) -> dict[float, float]:
     """Measured wing plateau per wing command, degrees: the median over attempts of the peak of the lab's
     measured wing trace in ``robot_attempts.mat``."""
-    att = _load_attempts(data_dir)
-    return {tw: _plateau(e) for tw, e in zip(WING_COMMANDS_DEG, att, strict=True)}
+    att = read_attempt_table(data_dir)
+    return {tw: attempt_plateau_deg(e) for tw, e in zip(WING_COMMANDS_DEG, att, strict=True)}

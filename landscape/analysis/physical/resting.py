@@ -121,12 +121,13 @@ def resting_pitch_table(data_dir: str | Path, *, theta_l_deg: float = 0.0) -> li
                 float(q25),
                 float(q75),
                 len(a),
-                _median(first[tw]),
-                _median(closed[tw]),
+                median_or_nan(first[tw]),
+                median_or_nan(closed[tw]),
             )
         )
     return out
 
 
-def _median(v: Sequence[float]) -> float:
+def median_or_nan(v: Sequence[float]) -> float:
+    """The median of ``v``, nan when it is empty."""
     return float(np.median(v)) if len(v) else math.nan

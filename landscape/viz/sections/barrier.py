@@ -8,10 +8,10 @@ from landscape.analysis import trials as an
 from landscape.viz.report import Figure, Section, Table
 from landscape.viz.sections.data import (
     PAPER_PERIODS,
-    _paper_cells,
-    _robot_of,
-    _set_wing_joints,
-    _write_csv,
+    paper_cells,
+    trials_robot,
+    trials_wing_joints,
+    write_csv,
 )
 
 
@@ -28,16 +28,16 @@ def section_barrier(
     from landscape.viz.analysis_plots import plot_barrier_outcome
 
     title = "Barrier against outcome"
-    pc = _paper_cells(rows, phase, db)
+    pc = paper_cells(rows, phase, db)
     cells, phase = pc.cells, pc.phase
     if not cells:
         return Section("barrier", title, missing=pc.missing)
     used = [
         r for r in rows if r["attempts"] == 0 and (r["wing_period_s"], r["leg_period_s"]) == PAPER_PERIODS
     ]
-    robot = _robot_of(used, robot)
+    robot = trials_robot(used, robot)
     pairs = {(c.theta_w_deg, c.theta_l_deg) for c in cells}
-    robot, joints, posed_by = _set_wing_joints(used, robot, {w for w, _ in pairs})
+    robot, joints, posed_by = trials_wing_joints(used, robot, {w for w, _ in pairs})
     barriers = an.landscape_barriers(robot, pairs, step_deg=step_deg, progress=True, wing_joints_deg=joints)
     res = an.barrier_outcome(cells, barriers)
     recs = []
@@ -77,8 +77,8 @@ def section_barrier(
         }
         for r in res
     ]
-    table = _write_csv(out / "barrier_outcome.csv", recs)
-    stats_csv = _write_csv(out / "barrier_stats.csv", stats)
+    table = write_csv(out / "barrier_outcome.csv", recs)
+    stats_csv = write_csv(out / "barrier_stats.csv", stats)
     png = plot_barrier_outcome(
         res, out / "barrier_outcome.png", title=f"Minimal righting barrier against outcome (φ1 = {phase:g})"
     )

@@ -29,7 +29,8 @@ PAPER_SWEEP = "landscape sweep --db {db}"
 PAPER_PERIODS = (an.PAPER_WING_PERIOD_S, an.PAPER_LEG_PERIOD_S)
 
 
-def _write_csv(path: Path, rows: list[dict]) -> Path:
+def write_csv(path: Path, rows: list[dict]) -> Path:
+    """Write dict rows as CSV (floats to 6 significant digits, None as empty; an empty file without rows)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     with open(path, "w", newline="") as f:
         if not rows:
@@ -84,7 +85,7 @@ class PaperCells:
         )
 
 
-def _paper_cells(rows: list[dict], phase: float | None, db) -> PaperCells:
+def paper_cells(rows: list[dict], phase: float | None, db) -> PaperCells:
     """Probability cells of the paper protocol (Tw 2 s, Tl 0.8 s, no attempt limit) at one phi_1 (default: the
     one with most trials), of the trial protocol (duration, time step) with most trials."""
     paper = [
@@ -144,7 +145,7 @@ def _paper_cells(rows: list[dict], phase: float | None, db) -> PaperCells:
     return PaperCells(several, phase, duration_s, dt_s, len(paper) - len(kept), model_set=model_set)
 
 
-def _set_wing_joints(rows: list[dict], robot, theta_w_deg: set[float]):
+def trials_wing_joints(rows: list[dict], robot, theta_w_deg: set[float]):
     """The robot as the trials' model set models it (its CoM moved by the set's ``[mass]`` offset, if any), the
     wing joints the set holds at each theta_w (``{w: joints or None}``) and a sentence saying how the barriers
     pose the wings: each servo at its plateau for a shipped set with a measured actuation that still hashes as
@@ -179,7 +180,7 @@ def _set_wing_joints(rows: list[dict], robot, theta_w_deg: set[float]):
     )
 
 
-def _robot_of(rows: list[dict], robot: str | Path | None = None):
+def trials_robot(rows: list[dict], robot: str | Path | None = None):
     """The robot the trials ran on, for its landscapes: ``robot`` (a URDF) if given, else the stored URDF path if
     it still hashes the same, else the built-in robot if the trials ran on it; the hash must match either way."""
     from geometry import Robot
@@ -208,7 +209,7 @@ def _robot_of(rows: list[dict], robot: str | Path | None = None):
     )
 
 
-def _mixed_cell(cells: list) -> an.ProbabilityCell:
+def mixed_cell(cells: list) -> an.ProbabilityCell:
     """The setting whose trials disagree most: most trials of the minority outcome per trial, then most trials."""
     return max(
         cells,
@@ -216,7 +217,7 @@ def _mixed_cell(cells: list) -> an.ProbabilityCell:
     )
 
 
-def _both_outcomes_first(rows: list[dict], n: int) -> list[dict]:
+def both_outcomes_first(rows: list[dict], n: int) -> list[dict]:
     """Up to ``n`` rows in trial order, alternating righted and not righted while both last."""
     won = sorted((r for r in rows if r["success"]), key=lambda r: r["trial"])
     lost = sorted((r for r in rows if not r["success"]), key=lambda r: r["trial"])
@@ -228,7 +229,7 @@ def _both_outcomes_first(rows: list[dict], n: int) -> list[dict]:
     return sorted(out, key=lambda r: r["trial"])
 
 
-def _study_setting(
+def study_setting(
     rows: list[dict], maps: dict, leg_period_s: float = an.PAPER_LEG_PERIOD_S
 ) -> tuple[float, float] | None:
     """(theta_w, theta_l) of the prediction study: the mapped setting with the most multi-attempt (Tw, Tl) pairs

@@ -12,9 +12,9 @@ from landscape.analysis.reruns import RERUN_TTR_TOL_S, reproduces, rerun_trial
 from landscape.viz.report import Figure, Section, Table
 from landscape.viz.sections.data import (
     PAPER_SWEEP,
-    _both_outcomes_first,
-    _robot_of,
-    _write_csv,
+    both_outcomes_first,
+    trials_robot,
+    write_csv,
 )
 
 ENERGY_TRIALS = 8
@@ -60,8 +60,8 @@ def energy_reruns(
             f"a sample of {sample} trials is not within the {len(multi)} multi-attempt trials of '{db}'; ask for "
             f"1 to {len(multi)}"
         )
-    chosen = _both_outcomes_first(multi, min(ENERGY_TRIALS if sample is None else sample, len(multi)))
-    rb = _robot_of(chosen, robot)
+    chosen = both_outcomes_first(multi, min(ENERGY_TRIALS if sample is None else sample, len(multi)))
+    rb = trials_robot(chosen, robot)
     by_set: dict[str, list] = {}
     records = []
     for r in tqdm(chosen, desc="reruns", unit="trial", file=sys.stderr, disable=None if progress else True):
@@ -104,7 +104,7 @@ def energy_files(out: Path, groups, *, title: str, progress: bool = True):
             _, ets, attempt_rows = en.energy_budget(motions, body, progress=bar.update)
         rows += attempt_rows
         traces += list(zip(motions, ets, strict=True))
-    csv_path = _write_csv(out / "energy.csv", [r.row() for r in rows])
+    csv_path = write_csv(out / "energy.csv", [r.row() for r in rows])
     png = plot_energy_attempts(rows, out / "energy.png", title=title)
     return rows, traces, csv_path, png
 
@@ -182,11 +182,11 @@ def section_energy(
             f"(success and time to right within {RERUN_TTR_TOL_S * 1e6:g} µs)."
         )
         tables.append(
-            Table("Reruns against the stored outcomes", _write_csv(out / "energy_reruns.csv", records))
+            Table("Reruns against the stored outcomes", write_csv(out / "energy_reruns.csv", records))
         )
     if physical_dir is not None:
         ms = load_model_set(physical_set or DEFAULT_PHYSICAL_SET)
-        rec = recorded_motions(physical_dir, _robot_of(rows, robot), ms)
+        rec = recorded_motions(physical_dir, trials_robot(rows, robot), ms)
         groups = [*groups, (rec.body, rec.motions)]
         paras.append(
             f"Recorded: {len(rec.motions)} trials of the robot, posed by model set {rec.model_set}, IMU mounting "

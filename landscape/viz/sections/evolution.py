@@ -10,8 +10,8 @@ from landscape.analysis import trials as an
 from landscape.viz.report import Figure, Section, Table
 from landscape.viz.sections.data import (
     PHASE_MAP_SWEEP,
-    _study_setting,
-    _write_csv,
+    study_setting,
+    write_csv,
 )
 
 
@@ -41,7 +41,7 @@ def section_evolution(
     title = "Phase evolution over attempts"
     maps = an.phase_maps(rows)
     if theta_w_deg is None or theta_l_deg is None:
-        study = _study_setting(rows, maps, leg_period_s)
+        study = study_setting(rows, maps, leg_period_s)
         if study is None:
             return Section(
                 "evolution",
@@ -112,7 +112,7 @@ def section_evolution(
             {"noise_cv": c, "attempt": k + 1, "start_s": float(t), "phase": float(p), "good": bool(g)}
             for k, (t, p, g) in enumerate(zip(starts, phs, good, strict=True))
         ]
-    csv_path = _write_csv(out / "evolution.csv", recs)
+    csv_path = write_csv(out / "evolution.csv", recs)
     png = plot_evolution(
         pm,
         theta_l_deg,

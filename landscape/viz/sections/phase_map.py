@@ -9,7 +9,7 @@ from landscape.analysis import trials as an
 from landscape.viz.report import Figure, Section, Table
 from landscape.viz.sections.data import (
     PHASE_MAP_SWEEP,
-    _write_csv,
+    write_csv,
 )
 
 
@@ -43,7 +43,7 @@ def section_phase_map(rows: list[dict], out: Path, db: Path, *, leg_period_s: fl
                             "delay_s": float(m.delay_s[i, j]),
                         }
                     )
-    csv_path = _write_csv(out / "phase_map.csv", recs)
+    csv_path = write_csv(out / "phase_map.csv", recs)
     png = plot_phase_maps(
         sel,
         out / "phase_map.png",

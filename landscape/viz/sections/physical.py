@@ -9,10 +9,10 @@ import numpy as np
 from geometry.errors import UsageError
 from landscape.viz.report import Figure, Section, Table
 from landscape.viz.sections.data import (
-    _robot_of,
-    _write_csv,
+    trials_robot,
+    write_csv,
 )
-from landscape.viz.sections.trajectories import _three_d_note, _trajectory_figures
+from landscape.viz.sections.trajectories import three_d_note, trajectory_figures
 
 
 def section_physical(
@@ -28,7 +28,7 @@ def section_physical(
     plateau and theta_l 0 (as ``landscape render --physical`` draws them, into ``out/physical/wing_W``), and
     the physical trials' outcomes per (theta_w, theta_l) with Wilson intervals.
 
-    The landscape is the robot of the trials (``robot``, else as :func:`_robot_of` finds it); a note says so when
+    The landscape is the robot of the trials (``robot``, else as :func:`trials_robot` finds it); a note says so when
     it is not the lab robot.
 
     Raises
@@ -44,15 +44,15 @@ def section_physical(
 
     title = "The physical robot's attempts over the landscape"
     cells = physical_cells(physical_trials(data_dir))
-    csv_path = _write_csv(
+    csv_path = write_csv(
         out / "physical_cells.csv", [{k: getattr(c, k) for k in PhysicalCell.CSV_COLUMNS} for c in cells]
     )
     poses = physical_poses(data_dir, commands_deg=WING_COMMANDS_DEG, theta_l_deg=0.0)
     try:
-        rb = _robot_of(rows, robot)
+        rb = trials_robot(rows, robot)
     except UsageError as exc:
         return Section("physical", title, missing=str(exc))
-    three_d, note = _three_d_note()
+    three_d, note = three_d_note()
     paras = [
         f"Every recorded attempt (one per wing opening, up to the one that righted) of the trials with the leg "
         f"still (θl 0°), per commanded wing angle, over {rb.name}'s landscape at the measured wing plateau "
@@ -77,7 +77,7 @@ def section_physical(
             + ("" if pose.plateau_measured else ", the command: no measured plateau")
             + f"): {len(pose.attempts)} attempts of {len({a.name for a in pose.attempts})} trials, {n_ok} righted."
         )
-        figures += _trajectory_figures(files, f"Physical attempts, wing command {pose.theta_w_cmd_deg:g}°")
+        figures += trajectory_figures(files, f"Physical attempts, wing command {pose.theta_w_cmd_deg:g}°")
     if note:
         paras.append(note)
     return Section(

@@ -17,8 +17,8 @@ from landscape.viz.sections.data import (
     PHASE_MAP_SWEEP,
     PHASE_MAP_TL_SWEEP,
     PREDICTION_SWEEP,
-    _robot_of,
-    _write_csv,
+    trials_robot,
+    write_csv,
 )
 
 
@@ -68,8 +68,8 @@ def section_prediction(
             f"run `{PHASE_MAP_TL_SWEEP.format(db=db)}` and `{PREDICTION_SWEEP.format(db=db)}` (and "
             f"`{PHASE_MAP_SWEEP.format(db=db)}` for the noisy comparison)",
         )
-    _write_csv(out / "prediction_trials.csv", [{**asdict(p), "correct": p.correct} for p in pred])
-    csv_path = _write_csv(out / "prediction_accuracy.csv", [asdict(c) for c in clean + noisy])
+    write_csv(out / "prediction_trials.csv", [{**asdict(p), "correct": p.correct} for p in pred])
+    csv_path = write_csv(out / "prediction_accuracy.csv", [asdict(c) for c in clean + noisy])
     png = plot_prediction(
         clean, noisy, out / "prediction.png", title="Phase-based prediction against simulation"
     )
@@ -151,13 +151,13 @@ def section_prediction(
         tables.append(
             Table(
                 "Both predictors, held out (Wilson 95 %)",
-                _write_csv(
+                write_csv(
                     out / "prediction_scores.csv",
                     [{**x.as_json(), "ci95": f"{x.ci95[0]:.4f}-{x.ci95[1]:.4f}"} for x in res.scores],
                 ),
             )
         )
-        _write_csv(out / "prediction_state_trials.csv", res.per_trial)
+        write_csv(out / "prediction_state_trials.csv", res.per_trial)
     return Section(
         "prediction",
         title,
@@ -288,7 +288,7 @@ def prediction_scores(
     done = _read_states(path)
     todo = [r for r in trials if pr.trial_key(r) not in done]
     if todo:
-        rb = _robot_of(todo, robot)
+        rb = trials_robot(todo, robot)
         inertia = {}
         path.parent.mkdir(parents=True, exist_ok=True)
         with open(path, "a") as f:

@@ -8,8 +8,8 @@ from pathlib import Path
 from landscape.analysis import trials as an
 from landscape.viz.report import Figure, Section, Table
 from landscape.viz.sections.data import (
-    _paper_cells,
-    _write_csv,
+    paper_cells,
+    write_csv,
 )
 
 
@@ -28,11 +28,11 @@ def section_probability(rows: list[dict], out: Path, db: Path, *, phase: float |
     from landscape.viz.analysis_plots import plot_probability
 
     title = "Self-righting probability over θw × θl for each noise level Cv"
-    pc = _paper_cells(rows, phase, db)
+    pc = paper_cells(rows, phase, db)
     cells, phase = pc.cells, pc.phase
     if not cells:
         return Section("probability", title, missing=pc.missing)
-    csv_path = _write_csv(out / "probability.csv", [asdict(c) for c in cells])
+    csv_path = write_csv(out / "probability.csv", [asdict(c) for c in cells])
     png = plot_probability(
         cells,
         out / "probability.png",

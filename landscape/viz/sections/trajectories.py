@@ -11,18 +11,18 @@ from landscape.analysis.reruns import RERUN_TTR_TOL_S, reproduces, rerun_trial
 from landscape.viz.report import Figure, Section, Table
 from landscape.viz.sections.data import (
     PAPER_PERIODS,
-    _both_outcomes_first,
-    _mixed_cell,
-    _paper_cells,
-    _robot_of,
-    _write_csv,
+    both_outcomes_first,
+    mixed_cell,
+    paper_cells,
+    trials_robot,
+    write_csv,
 )
 
 TRAJECTORY_TRIALS = 8
 """How many trials of the chosen setting the trajectories section reruns with a trace, by default."""
 
 
-def _three_d_note() -> tuple[bool, str | None]:
+def three_d_note() -> tuple[bool, str | None]:
     """Whether 3-D rendering runs here, and if not, the sentence that says why."""
     from landscape.viz import render as rd
 
@@ -32,7 +32,7 @@ def _three_d_note() -> tuple[bool, str | None]:
     return False, f"3-D rendering is unavailable here ({problem}), so only the contour map is drawn."
 
 
-def _trajectory_figures(files: list[Path], caption: str) -> tuple[Figure, ...]:
+def trajectory_figures(files: list[Path], caption: str) -> tuple[Figure, ...]:
     """The contour map (PNG with its SVG) and, if drawn, the 3-D landscape of :func:`render_trajectories`."""
     figs = [Figure(files[0], f"{caption}: contour map", files[1])]
     if len(files) > 2:
@@ -64,10 +64,10 @@ def section_trajectories(
     title = "Trajectories of simulated trials over the landscape"
     if max_trials < 1:
         raise UsageError(f"max_trials must be at least 1; got {max_trials}")
-    pc = _paper_cells(rows, None, db)
+    pc = paper_cells(rows, None, db)
     if not pc.cells:
         return Section("trajectories", title, missing=pc.missing)
-    cell = _mixed_cell(pc.cells)
+    cell = mixed_cell(pc.cells)
     at = [
         r
         for r in rows
@@ -80,10 +80,10 @@ def section_trajectories(
         == (cell.theta_w_deg, cell.theta_l_deg, cell.cv, cell.phase)
     ]
     try:
-        rb = _robot_of(at, robot)
+        rb = trials_robot(at, robot)
     except UsageError as exc:
         return Section("trajectories", title, missing=str(exc))
-    chosen = _both_outcomes_first(at, max_trials)
+    chosen = both_outcomes_first(at, max_trials)
     results = [rerun_trial(r, robot_urdf=rb.source) for r in chosen]
     recs = []
     for r, res in zip(chosen, results, strict=True):
@@ -101,9 +101,9 @@ def section_trajectories(
             }
         )
     same = sum(x["reproduced"] for x in recs)
-    csv_path = _write_csv(out / "trajectories.csv", recs)
+    csv_path = write_csv(out / "trajectories.csv", recs)
     c = compute(rb, theta_w_deg=cell.theta_w_deg, theta_l_deg=cell.theta_l_deg, step_deg=step_deg)
-    three_d, note = _three_d_note()
+    three_d, note = three_d_note()
     files = render_trajectories(
         c,
         [np.column_stack([res.trace.pitch_deg, res.trace.roll_deg]) for res in results],
@@ -138,7 +138,7 @@ def section_trajectories(
         "trajectories",
         title,
         tuple(paras),
-        _trajectory_figures(
+        trajectory_figures(
             files, f"{len(results)} simulated trials at θw {cell.theta_w_deg:g}°, θl {cell.theta_l_deg:g}°"
         ),
         (Table("Reruns against the stored outcomes", csv_path),),

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from landscape.viz.report import Figure, Section, Table
 from landscape.viz.sections.data import (
-    _write_csv,
+    write_csv,
 )
 
 
@@ -73,8 +73,8 @@ def section_validation(
             + "".join(f" {t[0].upper()}{t[1:]}." for t in (consistent_text(v), robot_rule_text(v)) if t)
         )
         d = out / "validation" / f"{k}_{v.model_set}"
-        cells = _write_csv(d / "cells.csv", [{c: getattr(x, c) for c in x.CSV_COLUMNS} for x in v.cells])
-        att = _write_csv(
+        cells = write_csv(d / "cells.csv", [{c: getattr(x, c) for c in x.CSV_COLUMNS} for x in v.cells])
+        att = write_csv(
             d / "attempts.csv",
             [
                 {
@@ -137,7 +137,7 @@ def section_validation(
             Table(
                 "Resting pitch while the wings are held open (leg still): robot and model, relative to their rest "
                 "before the first opening",
-                _write_csv(out / "validation" / "resting_pitch.csv", out_rows),
+                write_csv(out / "validation" / "resting_pitch.csv", out_rows),
             )
         )
         tables += _opening_tables(out, data_dir, frames)
@@ -159,7 +159,7 @@ def section_validation(
                 Table(
                     "Hold pitch of first openings (leg still) in the body frame (the IMU's reading minus the mounting "
                     "the two rests measure), robot beside each model set",
-                    _write_csv(out / "validation" / "hold_body_frame.csv", body_rows),
+                    write_csv(out / "validation" / "hold_body_frame.csv", body_rows),
                 )
             )
     return Section("validation", title, tuple(paras), tuple(figures), tuple(tables))
@@ -242,7 +242,7 @@ def _opening_tables(out: Path, data_dir, frames: list[dict]) -> list[Table]:
             "Hold pitch of first openings (leg still) in the IMU's frame and relative to each trial's rest, beside "
             "the model's; the IMU's mounting fitted as one constant (residuals also with it fitted on the other "
             "commands)",
-            _write_csv(out / "validation" / "hold_frames.csv", frames),
+            write_csv(out / "validation" / "hold_frames.csv", frames),
         ),
         Table(
             "First opening of every recorded trial: the leg command's lead, the body's roll while the leg is held "
@@ -251,13 +251,13 @@ def _opening_tables(out: Path, data_dir, frames: list[dict]) -> list[Table]:
             f"{TRANSIENT_WINDOW_S[0]:g}-{TRANSIENT_WINDOW_S[1]:g} s after the opening starts, the tilt when the wings "
             f"start closing ({CLOSING_WINDOW_S[0]:g}-{CLOSING_WINDOW_S[1]:g} s), when it rolled past a tilt of "
             f"{ROLLED_TILT_DEG:g} deg and how far the recorded tilt strays from the gyro's",
-            _write_csv(out / "validation" / "first_openings.csv", first),
+            write_csv(out / "validation" / "first_openings.csv", first),
         ),
         Table(
             "Every opening until the robot first rights, leg moving: the held body's median lateral tilt with the "
             "leg settled on + and on - (windows counted), and when the openings that roll over leave the level "
             f"(the tilt last rising through {LEVEL_TILT_DEG:g} deg before passing {ROLLED_TILT_DEG:g} deg; median, s "
             "after the opening starts)",
-            _write_csv(out / "validation" / "hold_leans.csv", leans),
+            write_csv(out / "validation" / "hold_leans.csv", leans),
         ),
     ]

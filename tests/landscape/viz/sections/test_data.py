@@ -1,6 +1,6 @@
 """What every section reads (landscape/viz/sections/data.py): the model set's wing poses for the barriers."""
 
-from landscape.viz.sections.data import _set_wing_joints
+from landscape.viz.sections.data import trials_wing_joints
 
 
 def test_barriers_pose_the_wings_as_the_trials_model_set_did():
@@ -12,7 +12,7 @@ def test_barriers_pose_the_wings_as_the_trials_model_set_did():
     robot = load_robot(None)
     phys = load_model_set("physical")
     rows = [{"model_set": "physical", "model_set_hash": phys.model_set_hash}]
-    posed, joints, text = _set_wing_joints(rows, robot, {60.0, 75.0})
+    posed, joints, text = trials_wing_joints(rows, robot, {60.0, 75.0})
     assert posed is robot  # physical moves no mass
     assert joints[75.0] == phys.wing_joints_deg(robot.joint_map.wing, 75.0) and set(joints) == {60.0, 75.0}
     assert "measured plateau (model set physical)" in text
@@ -22,6 +22,6 @@ def test_barriers_pose_the_wings_as_the_trials_model_set_did():
         ([{"model_set": "physical", "model_set_hash": "old"}], "changed since the trials ran"),
         ([{"model_set": "physical", "model_set_hash": phys.model_set_hash}, {"model_set": "paper"}], "mix"),
     ):
-        posed, joints, text = _set_wing_joints(rows, robot, {75.0})
+        posed, joints, text = trials_wing_joints(rows, robot, {75.0})
         assert posed is robot
         assert joints is None and why in text, (rows, text)
