@@ -1,4 +1,5 @@
-"""The phase-evolution section: how the phase of each attempt evolves over a multi-attempt trial."""
+"""The phase-evolution section: the phases a multi-attempt trial visits over its attempts, without and with noise,
+over the phase map."""
 
 from __future__ import annotations
 

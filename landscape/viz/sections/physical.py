@@ -1,4 +1,5 @@
-"""The physical-robot section: the lab's recorded trials beside the simulated ones."""
+"""The physical-robot section: the recorded attempts over the landscape at each wing command, and the recorded
+outcomes per cell."""
 
 from __future__ import annotations
 
