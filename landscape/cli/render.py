@@ -160,7 +160,7 @@ def _render_physical(ctx, robot, data_dir, theta_w, theta_l, step, method, exit_
     import numpy as np
     from click.core import ParameterSource
 
-    from landscape.analysis.physical.measured import WING_COMMANDS_DEG
+    from landscape.analysis.physical.recording import WING_COMMANDS_DEG
     from landscape.computation import compute as run
     from landscape.viz.scene import render_computation
     from landscape.viz.trajectory import physical_poses, physical_robot_note, render_trajectories

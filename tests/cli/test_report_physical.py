@@ -42,8 +42,8 @@ def test_report_refuses_a_physical_directory_that_does_not_exist(capsys, db, tmp
 )
 def test_report_with_physical_adds_the_attempts_and_the_cells(capsys, db, tmp_path):
     from landscape.analysis.physical.cells import physical_cells
-    from landscape.analysis.physical.measured import WING_COMMANDS_DEG
     from landscape.analysis.physical.outcome import physical_trials
+    from landscape.analysis.physical.recording import WING_COMMANDS_DEG
 
     out = tmp_path / "r"
     code, stdout, err = run(capsys, "report", "--db", db, "--out", out, "--physical", PHYSICAL)

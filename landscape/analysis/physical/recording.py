@@ -33,9 +33,9 @@ _TRIAL_STEM = r"run5_(\d+)_(\d+)_(\d+)_(\d+)_(\d+)_(\d+)"
 TRIAL_RE = re.compile(_TRIAL_STEM + r"\.bag\.mat$")
 """Name of the lab's trial files: wing command of the four servos, leg amplitude (degrees) and trial number."""
 QUAT_NORM_TOL = 0.01
-
-
+"""Samples whose quaternion norm differs from 1 by more than this are dropped."""
 WING_COMMANDS_DEG = (60.0, 75.0, 90.0)
+"""The wing commands the lab recorded, degrees, in the order of ``robot_attempts.mat``'s entries."""
 
 
 class PhysicalDataError(UsageError):

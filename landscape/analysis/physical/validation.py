@@ -33,9 +33,8 @@ import numpy as np
 from geometry.errors import UsageError
 from landscape.analysis.physical.attempts import LAB_ATTEMPTS_PER_TRIAL, AttemptCount, recorded_attempt_counts
 from landscape.analysis.physical.cells import lateralisation
-from landscape.analysis.physical.measured import WING_COMMANDS_DEG
 from landscape.analysis.physical.outcome import PhysicalTrial, physical_trials
-from landscape.analysis.physical.recording import measured_plateaus_deg
+from landscape.analysis.physical.recording import WING_COMMANDS_DEG, measured_plateaus_deg
 from landscape.analysis.trials import wilson_interval
 
 HELD_OUT_LEGS_DEG = (15.0, 45.0)

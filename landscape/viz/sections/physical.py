@@ -38,8 +38,8 @@ def section_physical(
         If ``data_dir`` is not the lab's data directory.
     """
     from landscape.analysis.physical.cells import PhysicalCell, physical_cells
-    from landscape.analysis.physical.measured import WING_COMMANDS_DEG
     from landscape.analysis.physical.outcome import physical_trials
+    from landscape.analysis.physical.recording import WING_COMMANDS_DEG
     from landscape.computation import compute
     from landscape.viz.trajectory import physical_poses, physical_robot_note, render_trajectories
 

@@ -11,9 +11,9 @@ from landscape.analysis.physical.attempts import (
     recorded_attempt_counts,
     recording_attempts,
 )
-from landscape.analysis.physical.measured import WING_COMMANDS_DEG
 from landscape.analysis.physical.outcome import UPRIGHT_HOLD_S, PhysicalTrial, physical_trials
 from landscape.analysis.physical.recording import (
+    WING_COMMANDS_DEG,
     PhysicalDataError,
 )
 from tests.landscape.analysis.physical.lab import DATA, _recording, needs_data

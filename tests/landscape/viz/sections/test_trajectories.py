@@ -154,8 +154,8 @@ needs_physical = pytest.mark.skipif(
 def test_physical_section_draws_each_wing_command_and_tables_the_cells(tmp_path, monkeypatch):
     from landscape.analysis.physical.attempts import physical_attempts
     from landscape.analysis.physical.cells import PhysicalCell
-    from landscape.analysis.physical.measured import WING_COMMANDS_DEG
     from landscape.analysis.physical.outcome import physical_trials
+    from landscape.analysis.physical.recording import WING_COMMANDS_DEG
 
     monkeypatch.setattr(rd, "off_screen_problem", lambda: "no OpenGL (test)")  # contour maps only: quick
     sec = sections.section_physical([], tmp_path, tmp_path / "x.sqlite", data_dir=PHYSICAL, robot=LAB_URDF)
