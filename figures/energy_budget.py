@@ -31,6 +31,7 @@ def main(argv=None) -> int:
     from geometry.builtin import load_builtin_robot
     from geometry.robots import load_robot
     from landscape.analysis import energy as en
+    from landscape.analysis.physical.motion import DEFAULT_PHYSICAL_SET, recorded_motions
     from landscape.viz.energy_plots import plot_energy_time
     from sim.model_set import load_model_set
     from sim.trial import run_trial
@@ -42,9 +43,9 @@ def main(argv=None) -> int:
     items = [(f"simulated (built-in robot, paper): rights in attempt {res.attempt}", sim, sim_et)]
     rows = list(sim_rows)
     if (DATA / RECORDED).is_file() and LAB.is_file():
-        ms = load_model_set(en.DEFAULT_PHYSICAL_SET)
+        ms = load_model_set(DEFAULT_PHYSICAL_SET)
         lab = load_robot(str(LAB))
-        rm = en.recorded_motions(DATA, lab, ms)  # every trial, for the mounting the two rests measure
+        rm = recorded_motions(DATA, lab, ms)  # every trial, for the mounting the two rests measure
         rec = next(m for m in rm.motions if m.trial == RECORDED)
         _, (rec_et,), rec_rows = en.energy_budget([rec], rm.body)
         won = [r.attempt for r in rec_rows if r.success]

@@ -35,7 +35,7 @@ from .protocol import PAPER_LEG_PERIOD_S, PAPER_WING_PERIOD_S
 
 @dataclass(frozen=True)
 class MeasuredActuation:
-    """Piecewise-linear per-joint profiles fitted to the physical robot (:mod:`landscape.analysis.measured`).
+    """Piecewise-linear per-joint profiles fitted to the physical robot (:mod:`landscape.analysis.physical.measured`).
 
     Attributes
     ----------

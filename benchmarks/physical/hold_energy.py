@@ -6,7 +6,7 @@ the leg's second swing, and rolls on while its wings are still open; the model s
 answered from the recordings:
 
 First table, *energy along the robot's roll-overs*: for every first opening that leaves the level
-(``landscape.analysis.opening.departure_s``: the tilt's last rise through 5 deg before it passes 45 deg) in the
+(``landscape.analysis.physical.lean.departure_s``: the tilt's last rise through 5 deg before it passes 45 deg) in the
 hold (at or after 0.35 s), from its departure to the earlier of the wings' closing (``WING_CLOSE_S``) and a tilt
 of 40 deg, on a model set's rigid landscape (its wing joints at the command, the leg held where the servo log
 puts it then; ``landscape.energy.height_at``) along the recorded orientation (the IMU's, turned into the body
@@ -24,7 +24,7 @@ the tilt (deg; both from the orientation, the same measure for the robot and the
 ``SWING_WINDOW_S`` after each change of the leg's side ``HOLD_SWINGS_S`` after the opening starts, until the body
 tilts past 40 deg; the median over the swings of the robot's first openings (its leg's side from the servo log,
 ``LEG_LAG_S`` late) beside each set's in one simulated first opening at the protocol's phase (its leg's side
-from its own leg angle, once a swing reaches half the amplitude: ``landscape.analysis.opening.leg_sides``), no
+from its own leg angle, once a swing reaches half the amplitude: ``landscape.analysis.physical.lean.leg_sides``), no
 noise.
 
 With ``--vary TABLE.KEY=V1,V2`` (repeatable) each value is also tried on its own in a copy of the first set, with
@@ -48,8 +48,14 @@ import numpy as np
 
 from geometry.errors import UsageError
 from geometry.frames import pitch_roll_from_up
-from landscape.analysis.calibration import add_set_options
-from landscape.analysis.physical import imu_to_body, read_recording, trial_cell, trial_files, up_in_body
+from landscape.analysis.physical.calibration import add_set_options
+from landscape.analysis.physical.recording import (
+    imu_to_body,
+    read_recording,
+    trial_cell,
+    trial_files,
+    up_in_body,
+)
 
 ROOT = Path(__file__).resolve().parents[2]
 WING_CLOSE_S = 1.04
@@ -128,19 +134,16 @@ def main(argv=None) -> int:
 
 def _run(a, tmp: Path) -> int:
     from geometry.robots import load_robot
-    from landscape.analysis.calibration import sets_and_variants
-    from landscape.analysis.opening import (
-        LEG_LAG_S,
+    from landscape.analysis.physical.calibration import sets_and_variants
+    from landscape.analysis.physical.lean import LEG_LAG_S, departure_s, leg_command_changes, leg_sides
+    from landscape.analysis.physical.mounting import mounting_from_rests
+    from landscape.analysis.physical.response import (
         PROTOCOL_PHASE,
-        departure_s,
         lateral_tilt_deg,
-        leg_command_changes,
-        leg_sides,
-        mounting_from_rests,
         protocol_phases,
         simulated_openings,
     )
-    from landscape.analysis.validation import parse_cells
+    from landscape.analysis.physical.validation import parse_cells
     from landscape.computation import compute, posed, start_orientation
     from landscape.energy import G_M_S2, height_at
     from sim.model_set import load_model_set

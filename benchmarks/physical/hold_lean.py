@@ -21,9 +21,10 @@ import sys
 from pathlib import Path
 
 from geometry.errors import UsageError
-from landscape.analysis.opening import PROTOCOL_PHASE, cell_lean, recorded_leans, simulated_leans
-from landscape.analysis.physical import measured_plateaus_deg
-from landscape.analysis.validation import parse_cells, simulates_commands
+from landscape.analysis.physical.lean import cell_lean, recorded_leans, simulated_leans
+from landscape.analysis.physical.recording import measured_plateaus_deg
+from landscape.analysis.physical.response import PROTOCOL_PHASE
+from landscape.analysis.physical.validation import parse_cells, simulates_commands
 from landscape.viz.physical_plots import departure_text as departure
 from landscape.viz.physical_plots import lean_text as lean
 

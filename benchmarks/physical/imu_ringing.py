@@ -31,7 +31,7 @@ from scipy.io import loadmat
 from scipy.optimize import curve_fit
 
 from geometry.errors import UsageError
-from landscape.analysis.physical import read_recording, trial_files
+from landscape.analysis.physical.recording import read_recording, trial_files
 
 ROOT = Path(__file__).resolve().parents[2]
 FS_HZ = 60.0

@@ -26,7 +26,12 @@ from pathlib import Path
 import numpy as np
 
 from geometry.errors import UsageError
-from landscape.analysis.opening import PROTOCOL_PHASE, lateral_tilt_deg, opening_response, simulated_openings
+from landscape.analysis.physical.response import (
+    PROTOCOL_PHASE,
+    lateral_tilt_deg,
+    opening_response,
+    simulated_openings,
+)
 from sim.protocol import PAPER_LEG_PERIOD_S
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -51,8 +56,8 @@ def main(argv=None) -> int:
     if not Path(args.robot).is_file():
         ap.exit(2, f"{ap.prog}: error: --robot {args.robot} not found; give the lab robot's URDF\n")
     try:
-        from landscape.analysis.physical import read_recording, trial_files
-        from landscape.analysis.validation import parse_cells
+        from landscape.analysis.physical.recording import read_recording, trial_files
+        from landscape.analysis.physical.validation import parse_cells
         from sim.model_set import load_model_set
 
         names = args.models.split(",")
@@ -148,7 +153,7 @@ def free_body_table(urdf: str, model_set, hold_deg: dict[float, float]) -> str:
 
 def tilt_table(recs, urdf: str, sets: list[str], cells, phase: float) -> str:
     """The second table (see the module docstring) from the recordings ``recs``
-    (:func:`landscape.analysis.physical.read_recording`) and the model sets ``sets`` (names or files, as given)."""
+    (:func:`landscape.analysis.physical.recording.read_recording`) and the model sets ``sets`` (names or files, as given)."""
 
     ts = np.asarray(TIMES_S)
     head = " | ".join(f"{t:g} s" for t in ts)

@@ -1,7 +1,7 @@
 """How far does the first wing opening throw the body's nose? (issue #15: the time to right at 90 deg)
 
 At the 90 deg command the robot holds its body about 7 deg short of vertical, standing on its head. Its opening
-throws it further: the nose's pitch (``landscape.analysis.physical.sagittal_pitch_deg``, which goes on past
+throws it further: the nose's pitch (``landscape.analysis.physical.recording.sagittal_pitch_deg``, which goes on past
 90 deg where the ZYX pitch folds back) peaks past vertical, and then the leg's swing turns the body about its
 own z axis, which there lies level: it falls to its side. This script puts, per cell, the robot's peak nose
 pitch 0.2-0.6 s after its first opening starts, in the body frame (the IMU's reading minus the mounting the two
@@ -15,7 +15,7 @@ against each set (in brackets the set minus the robot's median): a set whose sup
 physical kinematics`` does not show.
 
 With ``--vary TABLE.KEY=V1,V2`` (repeatable) each value is also tried on its own in a copy of the first set
-(``landscape.analysis.calibration.variant_sets``), e.g. wing springs, friction or contact damping;
+(``landscape.analysis.physical.calibration.variant_sets``), e.g. wing springs, friction or contact damping;
 ``--with TABLE.KEY=V`` (repeatable) sets a key in every variant (a damping while the stiffness varies).
 
 Run:  PYTHONPATH=. .venv/bin/python benchmarks/physical/nose_over.py [--data DIR] [--robot URDF]
@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from geometry.errors import UsageError
-from landscape.analysis.calibration import add_set_options
+from landscape.analysis.physical.calibration import add_set_options
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -57,15 +57,15 @@ def main(argv=None) -> int:
 
 def _run(a, tmp: Path) -> int:
     from geometry.robots import load_robot
-    from landscape.analysis.calibration import sets_and_variants
-    from landscape.analysis.opening import (
+    from landscape.analysis.physical.calibration import sets_and_variants
+    from landscape.analysis.physical.mounting import mounting_from_rests
+    from landscape.analysis.physical.response import (
         PROTOCOL_PHASE,
-        mounting_from_rests,
         protocol_phases,
         recorded_first_openings,
         simulated_opening,
     )
-    from landscape.analysis.validation import parse_cells
+    from landscape.analysis.physical.validation import parse_cells
 
     try:
         names, labels = sets_and_variants(a.models, a.vary, a.fixed, tmp)

@@ -25,7 +25,7 @@ import numpy as np
 from geometry.errors import UsageError
 from geometry.frames import up_vector
 from geometry.robots import load_robot
-from landscape.analysis.opening import support_links
+from landscape.analysis.physical.hold import support_links
 from landscape.barriers import _flood_kernels
 from landscape.computation import compute, posed, start_orientation
 from landscape.energy import G_M_S2, energy_landscape, height_at

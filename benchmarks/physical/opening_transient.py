@@ -2,7 +2,7 @@
 
 Per physical cell (wing command x leg amplitude), the first opening of each recorded trial beside simulated
 first openings of each model set (random first-attempt phases, the validation's, no noise), measured by the same
-code (``landscape.analysis.opening``): the pitch overshoot past the hold, the rise time, and the lateral tilt of
+code (``landscape.analysis.physical.response``): the pitch overshoot past the hold, the rise time, and the lateral tilt of
 largest magnitude 0.2-0.6 s after the opening starts (``asin(cos p sin r)``, degrees; positive towards positive
 roll). Medians over the trials; in brackets, the median |tilt|. A second table gives the hold's wobble: the
 standard deviations of pitch and tilt 0.5-0.95 s after the opening starts, while the wings are held open. A
@@ -18,7 +18,7 @@ physical kinematics`` times it at about 0.17) instead of the validation's random
 openings of a cell are then alike: ``--trials 1``).
 
 With ``--vary TABLE.KEY=V1,V2`` (repeatable) each value is also tried on its own in a copy of the first set
-(``landscape.analysis.calibration.variant_sets``), one key at a time, and a last table gives each variant's
+(``landscape.analysis.physical.calibration.variant_sets``), one key at a time, and a last table gives each variant's
 median |tilt| and hold wobble per cell beside the robot's; ``--with TABLE.KEY=V`` (repeatable) sets a key in
 every variant (e.g. a damping while the stiffness varies); ``--cells 60:30,60:45`` limits the cells.
 
@@ -39,10 +39,10 @@ import numpy as np
 from tqdm import tqdm
 
 from geometry.errors import UsageError
-from landscape.analysis.calibration import add_set_options, variant_sets
-from landscape.analysis.opening import recorded_first_openings, simulated_opening
-from landscape.analysis.physical import measured_plateaus_deg
-from landscape.analysis.validation import cell_phases, parse_cells, simulates_commands
+from landscape.analysis.physical.calibration import add_set_options, variant_sets
+from landscape.analysis.physical.recording import measured_plateaus_deg
+from landscape.analysis.physical.response import recorded_first_openings, simulated_opening
+from landscape.analysis.physical.validation import cell_phases, parse_cells, simulates_commands
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -70,7 +70,7 @@ def saddle_tilt_deg(robot: str, theta_w_deg: float) -> float:
     """The rigid model's roll-wise saddle as a lateral tilt, degrees (every wing joint at ``theta_w_deg``)."""
     import landscape
     from geometry.robots import load_robot
-    from landscape.analysis.opening import lateral_tilt_deg
+    from landscape.analysis.physical.response import lateral_tilt_deg
 
     b = landscape.compute(load_robot(robot), theta_w_deg=theta_w_deg, method="exact").barrier.righting
     return float(lateral_tilt_deg(b.saddle_pitch_deg, b.saddle_roll_deg))

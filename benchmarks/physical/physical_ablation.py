@@ -30,7 +30,7 @@ from pathlib import Path
 import tomli_w
 
 from geometry.errors import UsageError
-from landscape.analysis.validation import validate
+from landscape.analysis.physical.validation import validate
 from sim.model_set import OPTIONAL_TABLES, load_model_set, read_toml
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -3,7 +3,7 @@ cell as agreeing when the simulation's true success probability equals the robot
 at least 11 of 12 cells).
 
 A cell agrees when each success fraction lies inside the other's Wilson 95 % interval
-(``landscape.analysis.validation``). The robot's true probability in a cell is not known; given its k of n
+(``landscape.analysis.physical.validation``). The robot's true probability in a cell is not known; given its k of n
 recorded successes it is taken either as exactly k / n (the plug-in: the robot's fractions are the truth) or as
 Beta(k + 1, n - k + 1) (uniform prior). Per cell and number of simulated trials, exactly (no sampling):
 
@@ -56,7 +56,8 @@ def main(argv=None) -> int:
             2, f"{ap.prog}: error: --trials must be whole numbers >= 1, e.g. 10,20; got {args.trials!r}\n"
         )
     try:
-        from landscape.analysis.physical import physical_cells, physical_trials
+        from landscape.analysis.physical.cells import physical_cells
+        from landscape.analysis.physical.outcome import physical_trials
 
         cells = [(c.successes, c.n) for c in physical_cells(physical_trials(args.data))]
     except UsageError as exc:  # bad data: one line, as the landscape command does
@@ -72,7 +73,7 @@ def main(argv=None) -> int:
 def agreeing_counts(k: int, n: int, n_sim: int, rule: str = "wilson") -> np.ndarray:
     """The simulated success counts (0..n_sim) that agree with k of n: by the validation's Wilson rule, or
     (``rule="fisher"``) those Fisher's exact test cannot tell apart (p >= ``CONSISTENT_P``)."""
-    from landscape.analysis.validation import CONSISTENT_P, fisher_p, fractions_agree
+    from landscape.analysis.physical.validation import CONSISTENT_P, fisher_p, fractions_agree
 
     if rule == "fisher":
         return np.array([m for m in range(n_sim + 1) if fisher_p(k, n, m, n_sim) >= CONSISTENT_P], dtype=int)

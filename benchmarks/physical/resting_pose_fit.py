@@ -3,7 +3,7 @@
 
 The robot's hold: first openings with the leg still, 0.5-0.95 s after the opening starts, in the body frame, i.e.
 its IMU's reading minus the mounting the two rests measure (on its back before the first opening and upright after
-righting: ``landscape.analysis.opening.mounting_from_rests``, 2.6 deg on the lab's data). For each candidate the
+righting: ``landscape.analysis.physical.mounting.mounting_from_rests``, 2.6 deg on the lab's data). For each candidate the
 model's hold at the three wing commands (each wing servo at its own measured plateau, the ``physical`` set's), its
 error against the robot's and the minimal (righting) barrier at each command (``landscape compute``'s exact
 method). Candidates: the head moved back along the body (``[geometry] shift_joint = "head_mount"``, mm) crossed
@@ -26,7 +26,8 @@ import numpy as np
 
 from geometry.errors import UsageError
 from geometry.robots import load_robot
-from landscape.analysis import opening as op
+from landscape.analysis.physical.hold import hold_pitch_frames, per_servo_hold_deg
+from landscape.analysis.physical.mounting import mounting_from_rests
 from landscape.computation import compute
 from landscape.minima import metastable_orientation
 from sim.model_set import load_model_set
@@ -86,9 +87,9 @@ def main(argv=None) -> int:
             )
         base = load_robot(a.robot)
         measured = load_model_set("physical").measured
-        mount = op.mounting_from_rests(a.data, base)
+        mount = mounting_from_rests(a.data, base)
         rest = metastable_orientation(base, 0.0, 0.0)[0]
-        frames = op.hold_pitch_frames(a.data, op.per_servo_hold_deg(base, measured, COMMANDS), rest)
+        frames = hold_pitch_frames(a.data, per_servo_hold_deg(base, measured, COMMANDS), rest)
     except UsageError as exc:  # a missing file, a bad list: one line
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -99,7 +100,7 @@ def main(argv=None) -> int:
         + ", ".join(f"{c:g}° {h:.1f}°" for c, h in zip(COMMANDS, robot_deg, strict=True))
     )
     others = [
-        op.mounting_from_rests(a.data, base, settle_s=s, up_z_below=z).mount_deg
+        mounting_from_rests(a.data, base, settle_s=s, up_z_below=z).mount_deg
         for s in (0.3, 0.5, 1.0)
         for z in (-0.8, -0.85, -0.9)
     ]

@@ -10,7 +10,7 @@ measures 2.6 deg from the robot's two rests (on its back and upright); the 11.5 
 of the lab's CAD is a pose, not the IMU. This script reapplies
 the rule to every recording with world-up turned about the body's y axis by each ``--mount`` angle (a body
 pitched that much less than its IMU reads) and prints, per cell, the median time to right from the first opening
-(and successes) for each angle (``landscape.analysis.physical.up_z_mounted``, as ``landscape physical
+(and successes) for each angle (``landscape.analysis.physical.recording.up_z_mounted``, as ``landscape physical
 validate --imu-mounting`` judges them); with ``--validation DIR`` (``landscape physical validate --out DIR``) the
 simulated median beside them.
 
@@ -42,7 +42,7 @@ def main(argv=None) -> int:
     )
     ap.add_argument("--validation", default=None, help="a `landscape physical validate --out` directory")
     args = ap.parse_args(argv)
-    from landscape.analysis.physical import MAX_IMU_MOUNT_DEG
+    from landscape.analysis.physical.outcome import MAX_IMU_MOUNT_DEG
 
     try:
         mounts = [float(x) for x in args.mount.split(",")]
@@ -53,7 +53,7 @@ def main(argv=None) -> int:
                 f"got {args.mount!r}\n")  # fmt: skip
     sim = {}
     if args.validation is not None:
-        from landscape.analysis.validation import validation_from_json
+        from landscape.analysis.physical.validation import validation_from_json
 
         f = Path(args.validation) / "validation.json"
         try:
@@ -73,7 +73,8 @@ def main(argv=None) -> int:
 
 
 def frame_table(data: str, mounts: list[float], sim: dict) -> str:
-    from landscape.analysis.physical import read_recording, trial_files, trial_outcome, up_z_mounted
+    from landscape.analysis.physical.outcome import trial_outcome
+    from landscape.analysis.physical.recording import read_recording, trial_files, up_z_mounted
 
     cells: dict[tuple[float, float], list[list]] = defaultdict(lambda: [[] for _ in mounts])
     for f in trial_files(data):

@@ -142,14 +142,16 @@ def prediction_cmd(db, out, as_json, states, robot, no_progress):
     """Prediction of the first righting attempt against simulation (Fig. 8): the paper's phase map and a predictor
     that also knows the state each attempt starts from, both scored on held-out trials with 95 % intervals
     (reruns the study's trials with a trace once, resumably)."""
-    s = _sections()
-    rows = s.load_rows(db)
+    from landscape.viz.sections.data import load_rows
+    from landscape.viz.sections.prediction import prediction_scores, section_prediction
+
+    rows = load_rows(db)
     kw = dict(states_path=states, robot=_robot_file(robot), progress=not no_progress)
     if as_json:
-        res = s.prediction_scores(rows, db, **kw)
+        res = prediction_scores(rows, db, **kw)
         click.echo(json.dumps([x.as_json() for x in res.scores], indent=1))
         return
-    _echo_section(s.section_prediction(rows, _out(out), db, **kw))
+    _echo_section(section_prediction(rows, _out(out), db, **kw))
 
 
 @analyze.command("energy")

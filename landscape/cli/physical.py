@@ -48,22 +48,16 @@ def physical():
 )
 def table_cmd(data, out):
     """One row per trial (trials.csv) and per (theta_w, theta_l) cell with Wilson 95 % intervals (cells.csv)."""
-    from landscape.analysis import physical as ph
+    from landscape.analysis.physical.cells import outcome_tables
     from landscape.cli.options import writable_dir
-    from landscape.viz.physical_plots import cells_table, write_rows_csv
+    from landscape.viz.physical_plots import cells_table, lateralisation_text, write_rows_csv
 
     writable_dir(out, "--out")
-    trials = ph.physical_trials(data)
-    cells = ph.physical_cells(trials)
-    attempts = ph.attempt_outcomes(trials)
-    click.echo(cells_table(cells, attempts))
-    lat = ph.lateralisation(trials)
-    click.echo(
-        f"\nroll-overs to + roll: {lat.positive} of {lat.positive + lat.negative} "
-        f"(Wilson 95 % [{100 * lat.ci_low:.0f}, {100 * lat.ci_high:.0f}] %)"
-    )
-    click.echo(f"wrote {write_rows_csv(trials, Path(out) / 'trials.csv')}")
-    click.echo(f"wrote {write_rows_csv(cells, Path(out) / 'cells.csv')}")
+    t = outcome_tables(data)
+    click.echo(cells_table(t.cells, t.attempts))
+    click.echo("\n" + lateralisation_text(t.lateralisation))
+    click.echo(f"wrote {write_rows_csv(t.trials, Path(out) / 'trials.csv')}")
+    click.echo(f"wrote {write_rows_csv(t.cells, Path(out) / 'cells.csv')}")
 
 
 @physical.command("energy")
@@ -91,13 +85,13 @@ def table_cmd(data, out):
 def energy_cmd(data, robot, model_set, out, no_progress):
     """Kinetic energy against the barrier in every recorded attempt: energy.csv (one row per attempt), energy.png,
     and how often the energy margin's sign matches the outcome beside the barrier alone."""
-    from landscape.analysis import energy as en
+    from landscape.analysis.physical.motion import recorded_motions
     from landscape.cli.options import load_robot, writable_dir
-    from landscape.viz.sections import ENERGY_METHOD, energy_files, energy_paragraphs
+    from landscape.viz.sections.energy import ENERGY_METHOD, energy_files, energy_paragraphs
     from sim.model_set import load_model_set
 
     writable_dir(out, "--out")
-    rec = en.recorded_motions(data, load_robot(robot, None), load_model_set(model_set))
+    rec = recorded_motions(data, load_robot(robot, None), load_model_set(model_set))
     rows, _, csv_path, png = energy_files(
         Path(out),
         [(rec.body, rec.motions)],
@@ -126,94 +120,18 @@ def kinematics_cmd(data, robot, joints, model_set, no_model):
 
     The model's hold is its metastable pitch with the wing joints at the measured plateau, or, for a model set
     with a measured actuation profile (--model physical), each wing servo at its own measured plateau."""
+    from landscape.analysis.physical.kinematics import kinematics
+    from landscape.viz.physical_plots import kinematics_text
 
-    from landscape.analysis import opening as op
-    from landscape.analysis import physical as ph
-    from landscape.viz.physical_plots import (
-        first_openings_markdown,
-        hold_frames_markdown,
-        hold_leans_markdown,
-        rest_mounting_markdown,
-        resting_pitch_markdown,
-    )
-
-    rows = ph.resting_pitch_table(data)
-    model = frames = None
+    model = ms = None
     if not no_model:
         from landscape.cli.options import load_robot
-        from landscape.minima import metastable_orientation
         from sim.model_set import load_model_set
 
         ms = load_model_set(model_set)
-        r = ms.robot_for(load_robot(robot, None, joints=joints))  # the set's CoM, if it moves one
-        commands = [row.theta_w_cmd_deg for row in rows]
-        rest = metastable_orientation(r, 0.0, 0.0)
-        equal = op.plateau_hold_deg(r, data, commands)  # every wing joint at the measured plateau
-        model = [equal[c] - rest[0] for c in commands]
-        if ms.measured is not None:
-            hold = op.per_servo_hold_deg(r, ms.measured, commands)
-            how = f"each wing servo at its own measured plateau (model set {ms.name})"
-        else:
-            hold, how = equal, "every wing joint at the measured plateau"
-        frames = op.hold_pitch_frames(data, hold, rest[0])
-        mounting = op.mounting_from_rests(data, r)
-        closed_on = ", ".join(op.support_links(r.pose(0.0, 0.0), *rest))
-        click.echo(f"model: {r.name} ({r.source}); pitch at each measured plateau minus pitch at theta_w = 0")
-    click.echo(
-        "pitch 0.5-0.95 s after each opening starts minus the rest in the 0.3 s before the first opening "
-        "(leg amplitude 0, openings before the robot first becomes upright)"
-    )
-    click.echo(resting_pitch_markdown(rows, model))
-    if frames is not None:
-        click.echo(
-            "\nfirst openings only, leg still: the recorded hold in the IMU's frame and minus each trial's rest; the "
-            f"model's hold with {how}; the IMU's mounting fitted as one constant"
-        )
-        click.echo(hold_frames_markdown(frames))
-        click.echo(f"the model rests with the wings closed on: {closed_on}")
-        click.echo(
-            "\nthe same holds in the body frame: the recorded hold minus the IMU's mounting measured from the rests "
-            "on its back (before the first opening) and upright (after righting), which the hold does not enter"
-        )
-        click.echo(rest_mounting_markdown(frames, mounting))
-    click.echo(
-        "\nfirst opening of every trial: the leg command's last rise before it (servo log, 10 Hz), the body's "
-        "roll while the leg is held at its first command before it, when the body rolled fastest before it (the "
-        "leg's swing), the pitch overshoot past the hold, the rise time to half the hold, the lateral tilt "
-        "asin(cos p sin r) of largest magnitude 0.2-0.6 s after the opening starts, the tilt when the wings start "
-        "closing (0.95-1.05 s), the openings that rolled past a tilt of 45 deg within 1.4 s, and how far the "
-        "recorded tilt strays from the tilt the gyro alone gives, -0.3 to 1.05 s (medians)"
-    )
-    click.echo(first_openings_markdown(op.recorded_first_openings(data)))
-    from landscape.analysis.measured import MeasuredDataError, leg_crossing_lag_s
-
-    try:
-        lag = leg_crossing_lag_s(Path(data) / "vib_pulse_v2.mat")
-        phases = sorted({(leg, round(p, 3)) for (_, leg), p in op.protocol_phases(data).items()})
-    except MeasuredDataError as exc:  # a folder without the leg's trace still gets every other table
-        click.echo(f"the first attempt's leg phase under the protocol: not measured ({exc})")
-    else:
-        click.echo(
-            "the first attempt's leg phase under the protocol (validate --phase protocol): "
-            + ", ".join(f"leg {leg:g}° {p:.3f}" for leg, p in phases)
-            + " (the leg command's lead above minus the measured leg's lag from its command to the midline, "
-            + ", ".join(f"{lag[leg]:.3f} s" for leg, _ in phases)
-            + " (vib_pulse_v2.mat), over its 0.8 s period)"
-        )
-    click.echo(
-        "\nevery opening until the robot first rights, leg moving: the held body's median lateral tilt in each window "
-        "with the leg settled on one side (0.2 s after it gets there, 0.4-1.0 s after the opening starts; "
-        "windows in brackets) and, for the openings that roll over, when the tilt last rose through 5 deg before "
-        "passing 45 deg (median, s after the opening starts; rolled/openings)"
-    )
-    leans = op.recorded_leans(data)
-    click.echo(hold_leans_markdown([op.cell_lean(*cell, h) for cell, h in leans.items()]))
-    lat = ph.lateralisation(ph.physical_trials(data))
-    click.echo(
-        f"\nroll-overs to + roll: {lat.positive} of {lat.positive + lat.negative} "
-        f"(Wilson 95 % [{100 * lat.ci_low:.0f}, {100 * lat.ci_high:.0f}] %); a mirror-symmetric model "
-        "has 50 % over random phases"
-    )
+        model = load_robot(robot, None, joints=joints)
+    for block in kinematics_text(kinematics(data, robot=model, model_set=ms)):
+        click.echo(block)
 
 
 @physical.command("actuation")
@@ -236,7 +154,7 @@ def actuation_cmd(data, out, servo_sides):
     """The measured actuation profile: piecewise-linear knots fitted to each wing servo's and the leg's recorded
     traces (motor_pulse_v2.mat, vib_pulse_v2.mat), printed as the [actuation] block of a model set (the block
     sim/models/physical.toml ships, with --servo-sides mirrored), with each fit's largest error as comments."""
-    from landscape.analysis.measured import measured_actuation_toml
+    from landscape.analysis.physical.measured import measured_actuation_toml
 
     if out is not None:
         from landscape.cli.options import writable_file
@@ -250,7 +168,7 @@ def actuation_cmd(data, out, servo_sides):
 
 
 def _report_validation(out: Path, validation, tables: dict, doc_name: str, doc: dict) -> None:
-    """Print ``validation`` (:class:`landscape.analysis.validation.Validation`) as a table, then write into
+    """Print ``validation`` (:class:`landscape.analysis.physical.validation.Validation`) as a table, then write into
     ``out`` each of ``tables`` (file name -> rows) as CSV, ``doc`` as JSON to ``doc_name`` and the time-to-right
     figure, naming each file on stdout as it is written."""
     from landscape.viz.files import json_text
@@ -311,7 +229,7 @@ def _report_validation(out: Path, validation, tables: dict, doc_name: str, doc: 
     show_default=True,
     help="Judge the robot's uprightness (success, time to right) in a body frame pitched this many degrees below "
     "its IMU's: at 90 deg the robot stands near 90 deg of pitch, and its IMU's frame counts it upright once the "
-    "IMU's pitch passes 90 deg (landscape physical kinematics measures 2.6 from the robot's two rests).",
+    "IMU's pitch passes 90 deg (landscape physical kinematics measures it from the robot's two rests).",
 )
 @workers_option
 @click.option(
@@ -345,7 +263,7 @@ def validate_cmd(
     cells leg 0/30 and held-out cells leg 15/45 apart), per-attempt rates, righting side, time to right."""
     from dataclasses import asdict
 
-    from landscape.analysis.validation import validate
+    from landscape.analysis.physical.validation import validate
     from landscape.cli.options import robot_urdf, robot_urdf_arg, writable_dir
     from sim.model_set import load_model_set
 
@@ -400,11 +318,11 @@ def _phase_doc(phase) -> dict:
 
 def _phase_arg(text: str | None, data):
     """``--phase``: None, a number in [0, 1), or ``protocol`` (each cell's phase under the lab's protocol,
-    :func:`landscape.analysis.opening.protocol_phases`, printed as it is used)."""
+    :func:`landscape.analysis.physical.response.protocol_phases`, printed as it is used)."""
     if text is None:
         return None
     if text.strip().lower() == "protocol":
-        from landscape.analysis.opening import protocol_phases
+        from landscape.analysis.physical.response import protocol_phases
 
         phases = protocol_phases(data)
         shown = sorted({(leg, round(p, 3)) for (_, leg), p in phases.items()})
@@ -517,7 +435,7 @@ def calibrate_cmd(
     from dataclasses import asdict
 
     from geometry.errors import UsageError
-    from landscape.analysis.calibration import calibrate, format_value, parse_vary
+    from landscape.analysis.physical.calibration import calibrate, format_value, parse_vary
     from landscape.cli.options import robot_urdf_arg, writable_dir
     from landscape.params import parse_values
     from landscape.viz.files import json_text

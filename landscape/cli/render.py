@@ -160,20 +160,20 @@ def _render_physical(ctx, robot, data_dir, theta_w, theta_l, step, method, exit_
     import numpy as np
     from click.core import ParameterSource
 
-    from landscape.analysis import physical as ph
+    from landscape.analysis.physical.recording import WING_COMMANDS_DEG
     from landscape.computation import compute as run
     from landscape.viz.scene import render_computation
     from landscape.viz.trajectory import physical_poses, physical_robot_note, render_trajectories
 
     one = ctx.get_parameter_source("theta_w") is not ParameterSource.DEFAULT
-    if one and theta_w not in ph.WING_COMMANDS_DEG:
+    if one and theta_w not in WING_COMMANDS_DEG:
         raise UsageError(
             f"--theta-w {theta_w:g} with --physical picks the trials' commanded wing angle; the physical robot ran "
-            f"at {', '.join(f'{w:g}' for w in ph.WING_COMMANDS_DEG)} degrees"
+            f"at {', '.join(f'{w:g}' for w in WING_COMMANDS_DEG)} degrees"
         )
     # read every attempt first: a data problem is refused before any note or computation
     poses = physical_poses(
-        data_dir, commands_deg=[theta_w] if one else list(ph.WING_COMMANDS_DEG), theta_l_deg=theta_l
+        data_dir, commands_deg=[theta_w] if one else list(WING_COMMANDS_DEG), theta_l_deg=theta_l
     )
     for note in physical_robot_note(robot, theta_l):
         click.echo(f"landscape: note: {note}", err=True)

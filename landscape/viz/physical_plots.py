@@ -37,7 +37,7 @@ def _pct(x: float) -> str:
 
 
 def cells_table(cells: Sequence, attempts: Sequence = ()) -> str:
-    """Markdown table of :class:`~landscape.analysis.physical.PhysicalCell` (and per-attempt rates)."""
+    """Markdown table of :class:`~landscape.analysis.physical.cells.PhysicalCell` (and per-attempt rates)."""
     lines = [
         "| wing cmd (measured) | leg | righted | Wilson 95 % | median time to right |",
         "|---|---|---|---|---|",
@@ -63,7 +63,7 @@ def cells_table(cells: Sequence, attempts: Sequence = ()) -> str:
 
 
 def resting_pitch_markdown(rows: Sequence, model_deg: Sequence[float] | None = None) -> str:
-    """Markdown table of :class:`~landscape.analysis.physical.RestingPitch`, beside the model's pitch."""
+    """Markdown table of :class:`~landscape.analysis.physical.resting.RestingPitch`, beside the model's pitch."""
     head = "| wing command | measured plateau | robot, median [IQR] (n) | first openings | closed again |"
     rule = "|---|---|---|---|---|"
     if model_deg is not None:
@@ -82,7 +82,7 @@ def resting_pitch_markdown(rows: Sequence, model_deg: Sequence[float] | None = N
 
 
 def hold_frames_markdown(rows: Sequence) -> str:
-    """Markdown table of :class:`~landscape.analysis.opening.HoldFrame` rows (first openings, leg still)."""
+    """Markdown table of :class:`~landscape.analysis.physical.hold.HoldFrame` rows (first openings, leg still)."""
     lines = [
         "| wing command | n | robot, IMU frame (sd) | robot, minus its rest (sd) | rest sd | model | "
         "robot - mounting - model | same, mounting fitted on the other commands |",
@@ -103,9 +103,9 @@ def hold_frames_markdown(rows: Sequence) -> str:
 
 
 def rest_mounting_markdown(frames: Sequence, mounting) -> str:
-    """The IMU's mounting measured from the robot's two rests (:class:`~landscape.analysis.opening.RestMounting`)
-    as one line, then a Markdown table of the first openings' hold (:class:`~landscape.analysis.opening.HoldFrame`
-    rows) in the body frame that mounting gives, beside the model's: issue #15's resting-pose check."""
+    """The IMU's mounting measured from the robot's two rests (:class:`~landscape.analysis.physical.mounting.RestMounting`)
+    as one line, then a Markdown table of the first openings' hold (:class:`~landscape.analysis.physical.hold.HoldFrame`
+    rows) in the body frame that mounting gives, beside the model's: the resting-pose check."""
     m = mounting
     lines = [
         f"IMU mounting from the two rests ({m.n} righted trials; recorded on its back {m.recorded_back_deg:+.1f}°, "
@@ -125,16 +125,19 @@ def rest_mounting_markdown(frames: Sequence, mounting) -> str:
 
 
 def first_openings_markdown(openings: Sequence) -> str:
-    """Markdown table of the recorded first openings per cell (:class:`~landscape.analysis.opening.RecordedOpening`):
+    """Markdown table of the recorded first openings per cell (:class:`~landscape.analysis.physical.response.RecordedOpening`):
     medians of the leg command's lead, the overshoot, the rise and the lateral tilt (with its range), the tilt when
-    the wings start closing (with its range), how many rolled past a tilt of 45 deg (median time) and how far the
+    the wings start closing (with its range), how many rolled past a tilt of ``ROLLED_TILT_DEG`` (median time) and how far the
     recorded tilt strays from the gyro's (median)."""
+    from landscape.analysis.physical.response import ROLLED_TILT_DEG
+
     cells: dict[tuple[float, float], list] = {}
     for o in openings:
         cells.setdefault((o.theta_w_cmd_deg, o.theta_l_deg), []).append(o)
     lines = [
         "| wing command | leg | n | leg command's lead | roll, leg held | body's fastest roll before | overshoot "
-        "| rise | lateral tilt [range] | tilt at closing [range] | rolled past 45° | gyro against recorded tilt |",
+        f"| rise | lateral tilt [range] | tilt at closing [range] | rolled past {ROLLED_TILT_DEG:g}° "
+        "| gyro against recorded tilt |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for (w, leg), os_ in sorted(cells.items()):
@@ -170,7 +173,7 @@ def lean_text(value_deg: float, n: int) -> str:
 
 
 def departure_text(cell) -> str:
-    """A :class:`~landscape.analysis.opening.CellLean`'s median departure and rolled/openings, e.g.
+    """A :class:`~landscape.analysis.physical.lean.CellLean`'s median departure and rolled/openings, e.g.
     ``0.81 s (6/8)``; ``(0/3)`` if none rolled over."""
     at = f"{cell.departure_s:.2f} s " if cell.n_rolled else ""
     return f"{at}({cell.n_rolled}/{cell.n_openings})"
@@ -178,11 +181,11 @@ def departure_text(cell) -> str:
 
 def hold_leans_markdown(cells: Sequence) -> str:
     """Markdown table of the recorded held body's lean with the leg on each side and the departure of the
-    openings that roll over, per cell (:class:`~landscape.analysis.opening.CellLean`).
+    openings that roll over, per cell (:class:`~landscape.analysis.physical.lean.CellLean`).
 
     Examples
     --------
-    >>> from landscape.analysis.opening import CellLean
+    >>> from landscape.analysis.physical.lean import CellLean
     >>> print(hold_leans_markdown([CellLean(60.0, 30.0, 7.8, 3, -1.0, 7, 0.81, 6, 8),
     ...                            CellLean(90.0, 45.0, math.nan, 0, math.nan, 0, 0.28, 5, 5)]))
     | wing command | leg | lean, leg on + | lean, leg on − | roll-overs leave the level |
@@ -226,7 +229,7 @@ def robot_rule_text(v) -> str:
 def consistent_text(v) -> str:
     """How many cells the trials cannot tell apart (Fisher's exact test, :data:`validation.CONSISTENT_P`), all and
     per split, and the cells that differ with their p-values; '' for a validation stored without the test."""
-    from landscape.analysis.validation import CONSISTENT_P
+    from landscape.analysis.physical.validation import CONSISTENT_P
 
     cells = [c for c in v.cells if math.isfinite(c.fisher_p)]
     if not cells or len(cells) < len(v.cells):
@@ -260,7 +263,7 @@ def _ttr(med: float, sd: float) -> str:
 
 
 def validation_markdown(v) -> str:
-    """Markdown tables of a :class:`~landscape.analysis.validation.Validation`: cells by split, the per-attempt
+    """Markdown tables of a :class:`~landscape.analysis.physical.validation.Validation`: cells by split, the per-attempt
     rates, the side and the totals."""
     lines = [f"model set: {v.model_set} ({v.model_set_hash})", ""]
     head = (
@@ -309,7 +312,7 @@ def validation_markdown(v) -> str:
 
 def time_to_right_figure(v, path: str | Path) -> Path:
     """Median time to right ± s.d. per cell, physical beside simulated (the source paper's Fig. 4(c) analogue),
-    PNG and SVG; held-out cells hatched. ``v``: a :class:`~landscape.analysis.validation.Validation`."""
+    PNG and SVG; held-out cells hatched. ``v``: a :class:`~landscape.analysis.physical.validation.Validation`."""
     from landscape.viz._mpl import plt, save
 
     cells = list(v.cells)
@@ -331,3 +334,95 @@ def time_to_right_figure(v, path: str | Path) -> Path:
     ax.legend(fontsize=7)
     fig.tight_layout()
     return save(fig, path, svg_too=True)
+
+
+def kinematics_text(k) -> list[str]:
+    """The blocks ``landscape physical kinematics`` prints for a
+    :class:`~landscape.analysis.physical.kinematics.Kinematics`, captions from the analyses' constants."""
+    from landscape.analysis.physical.lean import LEAN_SETTLE_S, LEAN_WINDOW_S, LEVEL_TILT_DEG
+    from landscape.analysis.physical.measured import LEG_PERIOD_S, LEG_PULSE_FILE
+    from landscape.analysis.physical.response import (
+        CLOSING_WINDOW_S,
+        ROLLED_TILT_DEG,
+        SIM_OPENING_S,
+        TRANSIENT_WINDOW_S,
+    )
+    from landscape.analysis.physical.resting import HOLD_WINDOW_S, REST_WINDOW_S
+
+    m = k.model
+    out = []
+    if m is not None:
+        out.append(f"model: {m.name} ({m.source}); pitch at each measured plateau minus pitch at theta_w = 0")
+    out.append(
+        f"pitch {HOLD_WINDOW_S[0]:g}-{HOLD_WINDOW_S[1]:g} s after each opening starts minus the rest in the "
+        f"{REST_WINDOW_S:g} s before the first opening (leg amplitude 0, openings before the robot first becomes "
+        "upright)"
+    )
+    out.append(resting_pitch_markdown(k.resting, None if m is None else m.hold_minus_rest_deg))
+    if m is not None:
+        how = (
+            "every wing joint at the measured plateau"
+            if m.servo_model_set is None
+            else f"each wing servo at its own measured plateau (model set {m.servo_model_set})"
+        )
+        out.append(
+            "\nfirst openings only, leg still: the recorded hold in the IMU's frame and minus each trial's rest; the "
+            f"model's hold with {how}; the IMU's mounting fitted as one constant"
+        )
+        out.append(hold_frames_markdown(m.frames))
+        out.append(f"the model rests with the wings closed on: {', '.join(m.closed_on)}")
+        out.append(
+            "\nthe same holds in the body frame: the recorded hold minus the IMU's mounting measured from the rests "
+            "on its back (before the first opening) and upright (after righting), which the hold does not enter"
+        )
+        out.append(rest_mounting_markdown(m.frames, m.mounting))
+    out.append(
+        "\nfirst opening of every trial: the leg command's last rise before it (servo log, 10 Hz), the body's "
+        "roll while the leg is held at its first command before it, when the body rolled fastest before it (the "
+        "leg's swing), the pitch overshoot past the hold, the rise time to half the hold, the lateral tilt "
+        f"asin(cos p sin r) of largest magnitude {TRANSIENT_WINDOW_S[0]:g}-{TRANSIENT_WINDOW_S[1]:g} s after the "
+        "opening starts, the tilt when the wings start closing "
+        f"({CLOSING_WINDOW_S[0]:g}-{CLOSING_WINDOW_S[1]:g} s), the openings that rolled past a tilt of "
+        f"{ROLLED_TILT_DEG:g} deg within {SIM_OPENING_S:g} s, and how far the recorded tilt strays from the tilt "
+        f"the gyro alone gives, {-REST_WINDOW_S:g} to {CLOSING_WINDOW_S[1]:g} s (medians)"
+    )
+    out.append(first_openings_markdown(k.first_openings))
+    if k.leg_phases is None:
+        out.append(f"the first attempt's leg phase under the protocol: not measured ({k.leg_phase_error})")
+    else:
+        out.append(
+            "the first attempt's leg phase under the protocol (validate --phase protocol): "
+            + ", ".join(f"leg {leg:g}° {p:.3f}" for leg, p in k.leg_phases)
+            + " (the leg command's lead above minus the measured leg's lag from its command to the midline, "
+            + ", ".join(f"{k.leg_lag_s[leg]:.3f} s" for leg, _ in k.leg_phases)
+            + f" ({LEG_PULSE_FILE}), over its {LEG_PERIOD_S:g} s period)"
+        )
+    out.append(
+        "\nevery opening until the robot first rights, leg moving: the held body's median lateral tilt in each window "
+        f"with the leg settled on one side ({LEAN_SETTLE_S:g} s after it gets there, "
+        f"{LEAN_WINDOW_S[0]:.1f}-{LEAN_WINDOW_S[1]:.1f} s after the opening starts; windows in brackets) and, for "
+        f"the openings that roll over, when the tilt last rose through {LEVEL_TILT_DEG:g} deg before passing "
+        f"{ROLLED_TILT_DEG:g} deg (median, s after the opening starts; rolled/openings)"
+    )
+    out.append(hold_leans_markdown(k.leans))
+    out.append(
+        "\n"
+        + lateralisation_text(k.lateralisation)
+        + "; a mirror-symmetric model has 50 % over random phases"
+    )
+    return out
+
+
+def lateralisation_text(lat) -> str:
+    """The side the robot rolls over to (:class:`~landscape.analysis.physical.cells.Lateralisation`), one line.
+
+    Examples
+    --------
+    >>> from landscape.analysis.physical.cells import Lateralisation
+    >>> lateralisation_text(Lateralisation(3, 1, 0.75, 0.3, 0.95))
+    'roll-overs to + roll: 3 of 4 (Wilson 95 % [30, 95] %)'
+    """
+    return (
+        f"roll-overs to + roll: {lat.positive} of {lat.positive + lat.negative} "
+        f"(Wilson 95 % [{100 * lat.ci_low:.0f}, {100 * lat.ci_high:.0f}] %)"
+    )

@@ -576,7 +576,7 @@ class PhysicalPose:
         Whether ``theta_w_deg`` is the measured plateau (False: none was recorded, it is the command).
     theta_l_deg : float
         The trials' leg amplitude, degrees (the landscape is drawn at theta_l 0, the leg's mean position).
-    attempts : tuple of landscape.analysis.physical.PhysicalAttempt
+    attempts : tuple of landscape.analysis.physical.attempts.PhysicalAttempt
     """
 
     theta_w_cmd_deg: float
@@ -596,7 +596,7 @@ class PhysicalPose:
 def physical_poses(
     data_dir: str | Path, *, commands_deg: Sequence[float], theta_l_deg: float = 0.0
 ) -> list[PhysicalPose]:
-    """The recorded attempts at each commanded wing angle (:func:`landscape.analysis.physical.physical_attempts`),
+    """The recorded attempts at each commanded wing angle (:func:`landscape.analysis.physical.attempts.physical_attempts`),
     all read before anything is drawn, with the landscape pose of each (``landscape render --physical`` and the
     report's physical section).
 
@@ -606,11 +606,11 @@ def physical_poses(
         If the directory or a file is not in the lab's format, or no trial has a wing command and leg amplitude
         asked for (the message lists those recorded).
     """
-    from landscape.analysis import physical as ph
+    from landscape.analysis.physical.attempts import physical_attempts
 
     out = []
     for cmd in commands_deg:
-        attempts = ph.physical_attempts(data_dir, theta_w_cmd_deg=cmd, theta_l_deg=theta_l_deg)
+        attempts = physical_attempts(data_dir, theta_w_cmd_deg=cmd, theta_l_deg=theta_l_deg)
         plateau = round(attempts[0].theta_w_measured_deg, 1)  # the servo's plateau, to 0.1 deg
         measured = math.isfinite(plateau)
         out.append(

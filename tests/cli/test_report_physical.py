@@ -41,7 +41,9 @@ def test_report_refuses_a_physical_directory_that_does_not_exist(capsys, db, tmp
     not (PHYSICAL / "robot_attempts.mat").is_file(), reason=f"{PHYSICAL} is absent (set LANDSCAPE_SHARED)"
 )
 def test_report_with_physical_adds_the_attempts_and_the_cells(capsys, db, tmp_path):
-    from landscape.analysis import physical as ph
+    from landscape.analysis.physical.cells import physical_cells
+    from landscape.analysis.physical.outcome import physical_trials
+    from landscape.analysis.physical.recording import WING_COMMANDS_DEG
 
     out = tmp_path / "r"
     code, stdout, err = run(capsys, "report", "--db", db, "--out", out, "--physical", PHYSICAL)
@@ -49,11 +51,11 @@ def test_report_with_physical_adds_the_attempts_and_the_cells(capsys, db, tmp_pa
     html = (out / "index.html").read_text()
     assert "The physical robot&#x27;s attempts over the landscape" in html
     assert "The recorded attempts are of the lab&#x27;s robot, drawn over builtin_robot" in html
-    for cmd in ph.WING_COMMANDS_DEG:
+    for cmd in WING_COMMANDS_DEG:
         assert (out / "physical" / f"wing_{cmd:g}" / "trajectories_contour.svg").is_file()
     with open(out / "physical_cells.csv", newline="") as f:
         cells = list(csv.DictReader(f))
-    assert len(cells) == len(ph.physical_cells(ph.physical_trials(PHYSICAL)))
+    assert len(cells) == len(physical_cells(physical_trials(PHYSICAL)))
     assert "physical_cells.csv" in html and str(PHYSICAL.resolve()) in html
     with open(out / "energy.csv", newline="") as f:
         energy = list(csv.DictReader(f))

@@ -11,8 +11,8 @@ import pybullet as pb
 import pytest
 
 from geometry.errors import RobotDescriptionError, UnknownJointError
-from landscape.analysis.calibration import candidate_set
-from landscape.analysis.opening import simulated_opening
+from landscape.analysis.physical.calibration import candidate_set
+from landscape.analysis.physical.response import simulated_opening
 from sim.compliance import ComplianceError
 from sim.head_compliance import HeadCompliance, check_head_stability
 from sim.model import sim_model

@@ -1,4 +1,4 @@
-"""Measured actuation (landscape/analysis/measured.py, the measured profile of sim/actuation.py and the physical set)."""
+"""Measured actuation (landscape/analysis/physical/measured.py, the measured profile of sim/actuation.py and the physical set)."""
 
 import os
 from pathlib import Path
@@ -191,7 +191,7 @@ def test_the_measured_profile_drives_the_joints():
 
 @needs_data
 def test_the_shipped_knots_reproduce_the_traces_and_regenerate():
-    from landscape.analysis.measured import (
+    from landscape.analysis.physical.measured import (
         _loadmat,
         _wing_samples,
         fit_leg_profiles,
@@ -225,7 +225,7 @@ def test_the_legs_lag_to_the_midline_is_read_modulo_the_half_period(tmp_path):
     lags, whatever its shape."""
     from scipy.io import savemat
 
-    from landscape.analysis.measured import leg_crossing_lag_s
+    from landscape.analysis.physical.measured import leg_crossing_lag_s
 
     t = np.arange(0.0, 4.0, 0.002)
     traces = {
@@ -245,8 +245,8 @@ def test_the_legs_lag_to_the_midline_is_read_modulo_the_half_period(tmp_path):
     not (DATA / "vib_pulse_v2.mat").is_file(), reason="../shared/ref/physical_robot is absent"
 )
 def test_the_robots_leg_takes_longer_to_the_midline_the_wider_it_swings():
-    from landscape.analysis.measured import leg_crossing_lag_s
-    from landscape.analysis.opening import protocol_phases
+    from landscape.analysis.physical.measured import leg_crossing_lag_s
+    from landscape.analysis.physical.response import protocol_phases
 
     lag = leg_crossing_lag_s(DATA / "vib_pulse_v2.mat")
     assert lag == {

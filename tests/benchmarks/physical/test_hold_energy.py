@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from tests.conftest import LAB_URDF, load_script
-from tests.landscape.analysis.test_physical import DATA, needs_data
+from tests.landscape.analysis.physical.lab import DATA, needs_data
 
 
 @pytest.fixture(scope="module")

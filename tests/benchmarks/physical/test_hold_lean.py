@@ -4,7 +4,7 @@ the hold, robot against model sets."""
 import pytest
 
 from tests.conftest import LAB_URDF, load_script
-from tests.landscape.analysis.test_physical import DATA, needs_data
+from tests.landscape.analysis.physical.lab import DATA, needs_data
 
 
 @pytest.mark.shared

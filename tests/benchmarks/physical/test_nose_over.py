@@ -5,7 +5,7 @@ neither comes near; and the hold, where the set that rests like the robot holds 
 import pytest
 
 from tests.conftest import LAB_URDF, load_script
-from tests.landscape.analysis.test_physical import DATA, needs_data
+from tests.landscape.analysis.physical.lab import DATA, needs_data
 
 
 @pytest.fixture(scope="module")

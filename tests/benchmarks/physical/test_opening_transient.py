@@ -4,7 +4,7 @@ code."""
 import pytest
 
 from tests.conftest import LAB_URDF, load_script
-from tests.landscape.analysis.test_physical import DATA, needs_data
+from tests.landscape.analysis.physical.lab import DATA, needs_data
 
 
 @needs_data

@@ -5,7 +5,7 @@ where the wings opened further lower it but cannot match all three holds."""
 import pytest
 
 from tests.conftest import LAB_URDF, load_script
-from tests.landscape.analysis.test_physical import DATA, needs_data
+from tests.landscape.analysis.physical.lab import DATA, needs_data
 
 
 @pytest.fixture(scope="module")

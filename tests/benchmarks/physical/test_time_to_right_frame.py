@@ -5,9 +5,9 @@ to right at 90 deg moving later once its body is pitched below its IMU."""
 import numpy as np
 import pytest
 
-from landscape.analysis.physical import up_z_mounted
+from landscape.analysis.physical.recording import up_z_mounted
 from tests.conftest import load_script
-from tests.landscape.analysis.test_physical import DATA, needs_data
+from tests.landscape.analysis.physical.lab import DATA, needs_data
 
 
 @pytest.fixture(scope="module")
@@ -38,7 +38,8 @@ def test_the_robots_rightings_at_90_deg_come_later_in_a_body_pitched_below_its_i
 
 @needs_data
 def test_physical_trials_judge_uprightness_in_the_mounted_frame():
-    from landscape.analysis.physical import PhysicalDataError, physical_trials
+    from landscape.analysis.physical.outcome import physical_trials
+    from landscape.analysis.physical.recording import PhysicalDataError
 
     imu, body = physical_trials(DATA), physical_trials(DATA, imu_mount_deg=11.5)
     assert [t.name for t in imu] == [t.name for t in body]

@@ -231,13 +231,13 @@ def test_render_physical_bad_input_is_one_line(tmp_path):
     reason="../shared/ref/physical_robot or lab_robot is absent",
 )
 def test_render_physical_draws_every_recorded_attempt_of_the_wing_angle(tmp_path):
-    from landscape.analysis import physical as ph
+    from landscape.analysis.physical.attempts import physical_attempts
 
     r = invoke(
         "render", "--physical", PHYSICAL, "--theta-w", 70, "--robot", CONF_LAB_URDF, "--out", tmp_path / "o"
     )
     assert (r.exit_code, r.stderr.count("\n")) == (2, 1) and "ran at 60, 75, 90" in r.stderr
-    attempts = ph.physical_attempts(PHYSICAL, theta_w_cmd_deg=90.0, theta_l_deg=0.0)  # the default leg: still
+    attempts = physical_attempts(PHYSICAL, theta_w_cmd_deg=90.0, theta_l_deg=0.0)  # the default leg: still
     n_ok = sum(a.righted for a in attempts)
     assert 0 < n_ok < len(attempts)  # both colours are drawn
     if rd.off_screen_problem() is not None:

@@ -1,4 +1,4 @@
-"""Simulated against physical (landscape/analysis/validation.py): the statistics on hand-made trials with answers
+"""Simulated against physical (landscape/analysis/physical/validation.py): the statistics on hand-made trials with answers
 worked out by hand, then `landscape physical validate` end to end on the built-in robot (needs ../shared's
 physical data)."""
 
@@ -7,10 +7,11 @@ import math
 
 import pytest
 
-from landscape.analysis import validation as va
-from landscape.analysis.physical import AttemptCount, PhysicalTrial
+from landscape.analysis.physical import validation as va
+from landscape.analysis.physical.attempts import AttemptCount
+from landscape.analysis.physical.outcome import PhysicalTrial
 from landscape.cli import main
-from tests.landscape.analysis.test_physical import DATA, needs_data
+from tests.landscape.analysis.physical.lab import DATA, needs_data
 
 
 def _phys(w, leg, k, n, ttr=1.0, side=1):
@@ -182,7 +183,7 @@ def test_a_fixed_phase_gives_every_trial_that_phase_and_its_own_seed():
 
 
 def test_a_phase_per_cell_gives_each_cell_its_own_and_the_leg_still_the_protocols():
-    from landscape.analysis.opening import PROTOCOL_PHASE
+    from landscape.analysis.physical.response import PROTOCOL_PHASE
 
     cells = [(75.0, 15.0), (75.0, 45.0), (60.0, 0.0)]
     specs = va.validation_specs(
@@ -264,7 +265,7 @@ def test_validate_command_bad_input_is_one_line(tmp_path, capsys):
 
 @needs_data
 def test_actuation_command_prints_the_shipped_block(tmp_path, capsys):
-    from landscape.analysis.measured import measured_actuation_toml
+    from landscape.analysis.physical.measured import measured_actuation_toml
 
     assert main(["physical", "actuation", "--data", str(DATA), "--out", str(tmp_path / "a.toml")]) == 0
     out = capsys.readouterr().out

@@ -1,4 +1,4 @@
-"""The report's trajectories section (landscape/viz/sections.py) on a tiny trial database made here, and its
+"""The report's trajectories section (landscape/viz/sections/trajectories.py) on a tiny trial database made here, and its
 physical-robot section on the lab's recordings (skips without them)."""
 
 import csv
@@ -152,15 +152,18 @@ needs_physical = pytest.mark.skipif(
 @pytest.mark.shared
 @needs_physical
 def test_physical_section_draws_each_wing_command_and_tables_the_cells(tmp_path, monkeypatch):
-    from landscape.analysis import physical as ph
+    from landscape.analysis.physical.attempts import physical_attempts
+    from landscape.analysis.physical.cells import PhysicalCell
+    from landscape.analysis.physical.outcome import physical_trials
+    from landscape.analysis.physical.recording import WING_COMMANDS_DEG
 
     monkeypatch.setattr(rd, "off_screen_problem", lambda: "no OpenGL (test)")  # contour maps only: quick
     sec = sections.section_physical([], tmp_path, tmp_path / "x.sqlite", data_dir=PHYSICAL, robot=LAB_URDF)
-    assert sec.missing is None and len(sec.figures) == len(ph.WING_COMMANDS_DEG)
+    assert sec.missing is None and len(sec.figures) == len(WING_COMMANDS_DEG)
     text = " ".join(sec.paragraphs)
     assert "of the lab's robot, drawn over" not in text  # the landscape is the lab robot's
-    for cmd, fig in zip(ph.WING_COMMANDS_DEG, sec.figures, strict=True):
-        attempts = ph.physical_attempts(PHYSICAL, theta_w_cmd_deg=cmd, theta_l_deg=0.0)
+    for cmd, fig in zip(WING_COMMANDS_DEG, sec.figures, strict=True):
+        attempts = physical_attempts(PHYSICAL, theta_w_cmd_deg=cmd, theta_l_deg=0.0)
         n_ok = sum(a.righted for a in attempts)
         assert fig.png == tmp_path / "physical" / f"wing_{cmd:g}" / "trajectories_contour.png"
         assert f"Wing command {cmd:g}°" in text and f"{len(attempts)} attempts of" in text
@@ -169,7 +172,7 @@ def test_physical_section_draws_each_wing_command_and_tables_the_cells(tmp_path,
         assert _colour_pixels(fig.png, tj.RIGHTED_COLOUR)[1] > 30
     assert "wing 82.1°" in sec.figures[-1].svg.read_text()  # 90 deg command: the measured plateau
     cells = _csv(sec.tables[0].csv)
-    trials = ph.physical_trials(PHYSICAL)
+    trials = physical_trials(PHYSICAL)
     assert sum(int(c["n"]) for c in cells) == len(trials)
     assert sum(int(c["successes"]) for c in cells) == sum(t.success for t in trials)
-    assert list(cells[0]) == list(ph.PhysicalCell.CSV_COLUMNS)
+    assert list(cells[0]) == list(PhysicalCell.CSV_COLUMNS)

@@ -1,4 +1,4 @@
-"""Calibration (landscape/analysis/calibration.py): --vary parsing, candidate sets derived from a base set, and
+"""Calibration (landscape/analysis/physical/calibration.py): --vary parsing, candidate sets derived from a base set, and
 `landscape physical calibrate` end to end on the built-in robot (needs ../shared's physical data)."""
 
 import json
@@ -6,10 +6,10 @@ import math
 
 import pytest
 
-from landscape.analysis import calibration as ca
+from landscape.analysis.physical import calibration as ca
 from landscape.cli import main
 from sim.model_set import ModelSetError, load_model_set
-from tests.landscape.analysis.test_physical import DATA, needs_data
+from tests.landscape.analysis.physical.lab import DATA, needs_data
 
 
 def test_vary_parses_and_refuses_bad_items():
@@ -118,7 +118,7 @@ def test_calibrate_command_picks_the_likeliest_candidate_and_holds_cells_out(tmp
     doc = json.loads((tmp_path / "calibration.json").read_text())
     assert doc["phase"] == "protocol" and doc["cell_phases"]["60:30"] == pytest.approx(0.166, abs=1e-3)
     # the candidates' trials themselves ran at those phases (leg still: the protocol's one number)
-    from landscape.analysis.opening import PROTOCOL_PHASE
+    from landscape.analysis.physical.response import PROTOCOL_PHASE
     from sim.store import read_rows
 
     rows = [r for db in tmp_path.glob("trials_candidate*.sqlite") for r in read_rows(db)]
@@ -173,7 +173,7 @@ def test_calibrate_with_openings_and_side_ranks_by_their_sum(tmp_path, capsys):
 def test_the_side_score_favours_the_robots_side():
     """The robot's fit-cell roll-overs (17 of 18 to +roll) are likelier under a candidate that rolls to +roll
     more often; no roll-overs on either side are no evidence (0)."""
-    from landscape.analysis.validation import SideComparison
+    from landscape.analysis.physical.validation import SideComparison
 
     def side(pos, n):
         return ca.side_log_likelihood(SideComparison(17, 18, 0, 0, pos, n, 0, 0, False))

@@ -1,9 +1,9 @@
-"""Calibrate a model set against the physical robot's outcomes, with held-out cells (issue #15, section 3).
+"""Calibrate a model set against the physical robot's outcomes, with held-out cells.
 
 A calibration is a grid search: every combination of the ``--vary`` values (dotted keys of the model-set TOML,
 e.g. ``contact.lateral_friction=0.5,0.75,1``) is written as a candidate set derived from a base set
 (:func:`candidate_set`), each candidate is simulated on the *fit* cells only (by default leg amplitudes 0° and
-30°) through :func:`landscape.analysis.validation.validate`, and scored by the log-likelihood of the physical
+30°) through :func:`landscape.analysis.physical.validation.validate`, and scored by the log-likelihood of the physical
 outcomes under its simulated success probabilities. The best candidate is then validated on every cell, so the
 held-out cells (15° and 45°), which took no part in the choice, are reported on their own. Each candidate has its
 own trial store in the output directory: an interrupted calibration resumes where it stopped.
@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from geometry.errors import UsageError
-from landscape.analysis.validation import (
+from landscape.analysis.physical.validation import (
     DEFAULT_CV,
     HELD_OUT_LEGS_DEG,
     SideComparison,
@@ -241,7 +241,7 @@ def variant_sets(
 @dataclass(frozen=True)
 class Candidate:
     """One candidate's score on the fit cells: the log-likelihood of the recorded outcomes and, when openings
-    are scored, of the recorded first openings (``landscape.analysis.opening.opening_log_likelihood``; nan
+    are scored, of the recorded first openings (``landscape.analysis.physical.response.opening_log_likelihood``; nan
     otherwise), and when the side is scored, of the side the robot's roll-overs on the fit cells went to under
     the candidate's simulated side fraction (nan otherwise), and when the time to right is scored, of the robot's
     median times to right under the candidate's (:func:`time_log_likelihood`; nan otherwise). Candidates rank by
@@ -308,18 +308,19 @@ def calibrate(
     ``trials`` simulated trials per fit cell and candidate; ``validate_trials`` per cell for the final
     validation. ``on_candidate(candidate, index, total)`` is called as each candidate finishes. With
     ``openings`` each candidate also simulates one first opening per fit cell at ``opening_phase`` (default:
-    the protocol's, ``landscape.analysis.opening.PROTOCOL_PHASE``; no noise) and adds its log-likelihood under
+    the protocol's, ``landscape.analysis.physical.response.PROTOCOL_PHASE``; no noise) and adds its log-likelihood under
     the cell's recorded first openings to the score: how the body moves, not only whether it rights. With
     ``side`` it adds the log-likelihood of the side of the robot's roll-overs on the fit cells (how many went to
     +roll, of how many) under the candidate's simulated fraction on the same cells (:func:`side_log_likelihood`).
     ``phase`` puts every simulated trial's first attempt at that phase, or at each cell's own (a mapping such as
-    the lab protocol's, :func:`landscape.analysis.opening.protocol_phases`), in the candidates' trials and the best
-    one's validation alike; None: random phases (:func:`landscape.analysis.validation.validate`). With
+    the lab protocol's, :func:`landscape.analysis.physical.response.protocol_phases`), in the candidates' trials and the best
+    one's validation alike; None: random phases (:func:`landscape.analysis.physical.validation.validate`). With
     ``time_to_right`` it adds the log-likelihood of the robot's median time to right in each fit cell where both
-    right under the candidate's (:func:`time_log_likelihood`): the issue's secondary target.
+    right under the candidate's (:func:`time_log_likelihood`), a secondary target.
     """
-    from landscape.analysis.opening import PROTOCOL_PHASE, recorded_first_openings
-    from landscape.analysis.physical import measured_plateaus_deg, physical_trials
+    from landscape.analysis.physical.outcome import physical_trials
+    from landscape.analysis.physical.recording import measured_plateaus_deg
+    from landscape.analysis.physical.response import PROTOCOL_PHASE, recorded_first_openings
 
     out_dir = Path(out_dir)
     fit_legs = {float(x) for x in fit_legs_deg}
@@ -380,12 +381,12 @@ def calibrate(
 
 def side_log_likelihood(side: SideComparison) -> float:
     """Log-likelihood of the robot's roll-overs to +roll (``side.phys_positive`` of ``side.phys_events``) under
-    the simulated fraction, shrunk as the outcomes' are (:func:`landscape.analysis.validation.log_likelihood`);
+    the simulated fraction, shrunk as the outcomes' are (:func:`landscape.analysis.physical.validation.log_likelihood`);
     0 when either side has no roll-overs (no evidence either way).
 
     Examples
     --------
-    >>> from landscape.analysis.validation import SideComparison
+    >>> from landscape.analysis.physical.validation import SideComparison
     >>> round(side_log_likelihood(SideComparison(17, 18, 0, 0, 30, 40, 0, 0, False)), 2)
     -6.39
     """
@@ -396,8 +397,7 @@ def side_log_likelihood(side: SideComparison) -> float:
 
 TIME_SD_LOG = 0.35
 """Spread of a cell's median time to right, robot against simulation, in :func:`time_log_likelihood`: the
-standard deviation of its logarithm (a factor of about 1.4; the robot's five-trial medians at 90 deg, leg 30-45,
-spread 0.33-0.35 s, at 60-75 deg 1.06-1.39 s)."""
+standard deviation of its logarithm (a factor of exp(0.35), about 1.4)."""
 TIME_Z_CAP = 4.0
 """Largest deviation, in ``TIME_SD_LOG``, that one cell counts in :func:`time_log_likelihood`."""
 
@@ -427,7 +427,7 @@ def time_log_likelihood(cells) -> float:
 
 def _openings_log_likelihood(model_set, cells, recorded, plateau, phase, seed, robot) -> float:
     """Sum over ``cells`` of one simulated first opening's log-likelihood under the cell's recorded ones."""
-    from landscape.analysis.opening import opening_log_likelihood, simulated_opening
+    from landscape.analysis.physical.response import opening_log_likelihood, simulated_opening
 
     measured = simulates_commands(model_set)
     total = 0.0

@@ -1,25 +1,24 @@
-"""The simulation against the physical robot's recorded trials (issue #15, sections 3–4): the referee.
+"""The simulation against the physical robot's recorded trials: the referee.
 
 For each physical cell (wing command 60/75/90° simulated at its measured plateau, leg amplitude 0/15/30/45°)
 :func:`validation_specs` makes ``trials`` simulated trials, by default with random first-attempt phases (each
 trial draws phi_1 uniformly from its seed), or all at one given phase: the lab's protocol starts the leg 0.2 s
 (the servo log's 10 Hz resolution) before every trial's first opening, so on the robot phi_1 is the same in every
-trial (:mod:`landscape.analysis.opening`); the model set's own actuation and the given noise Cv on the closed
+trial (:mod:`landscape.analysis.physical.response`); the model set's own actuation and the given noise Cv on the closed
 holds; they run through the ordinary sweep machinery (:func:`sim.sweep.run_sweep`, a resumable store).
 :func:`compare` then puts simulated beside physical:
 
 - per cell: success fractions with Wilson 95 % intervals, and whether each fraction lies inside the other's
   interval ("agree"); median time to right from the first wing opening, ± standard deviation, where both right;
 - per wing command: the per-attempt success rate by the lab's rule (the first five openings of each trial; an
-  attempt succeeds when the robot rights during it) against the lab's recorded 12/58, 15/42 and 17/34 (which
-  pool every leg amplitude, so a wing command is compared only when all its cells ran);
-- the side the robot rolls over to: the fraction of righting events with positive roll, against the robot's
-  43 of 46;
+  attempt succeeds when the robot rights during it) against the lab's recorded counts (``robot_attempts.mat``,
+  which pool every leg amplitude, so a wing command is compared only when all its cells ran);
+- the side the robot rolls over to: the fraction of righting events with positive roll, against the robot's;
 - the log-likelihood of the physical outcomes of a set of cells under the simulated success probabilities
   (each shrunk to ``(k + 0.5) / (n + 1)``), the objective a calibration maximises.
 
-Cells with leg amplitude 15° or 45° are the *held-out* cells of issue #15's calibration protocol (fit on 0° and
-30°); every summary reports the fit cells, the held-out cells and all cells separately.
+Cells with leg amplitude 15° or 45° are the *held-out* cells of the calibration protocol (fit on 0° and 30°);
+every summary reports the fit cells, the held-out cells and all cells separately.
 """
 
 from __future__ import annotations
@@ -32,23 +31,17 @@ from pathlib import Path
 import numpy as np
 
 from geometry.errors import UsageError
-from landscape.analysis.physical import (
-    LAB_ATTEMPTS_PER_TRIAL,
-    WING_COMMANDS_DEG,
-    AttemptCount,
-    PhysicalTrial,
-    lateralisation,
-    measured_plateaus_deg,
-    physical_trials,
-    recorded_attempt_counts,
-)
+from landscape.analysis.physical.attempts import LAB_ATTEMPTS_PER_TRIAL, AttemptCount, recorded_attempt_counts
+from landscape.analysis.physical.cells import lateralisation
+from landscape.analysis.physical.outcome import PhysicalTrial, physical_trials
+from landscape.analysis.physical.recording import WING_COMMANDS_DEG, measured_plateaus_deg
 from landscape.analysis.trials import wilson_interval
 
 HELD_OUT_LEGS_DEG = (15.0, 45.0)
-"""Leg amplitudes of the held-out cells (issue #15: fit on 0 and 30 degrees, report 15 and 45 on their own)."""
+"""Leg amplitudes of the held-out cells (fit on 0 and 30 degrees, report 15 and 45 on their own)."""
 DEFAULT_TRIALS = 10
 DEFAULT_CV = 0.05
-"""The physical comparison's noise: Cv 5 % (issue #15's setting)."""
+"""The physical comparison's noise, Cv (sigma / Tl)."""
 PHASE_SEED = 0x9E37
 """Mixed into the seed of each cell's phase draws, so that the phases do not depend on the trial seeds."""
 
@@ -124,7 +117,7 @@ def validation_specs(
 ):
     """The simulated trials of the cells: ``trials`` random phases each (or ``trials`` seeds at the one first-attempt
     ``phase`` in [0, 1), or at each cell's own phase from a mapping ``{(wing command, leg): phase}``, cells it lacks,
-    e.g. the leg still, at ``landscape.analysis.opening.PROTOCOL_PHASE``), at the cell's measured plateau (or at its
+    e.g. the leg still, at ``landscape.analysis.physical.response.PROTOCOL_PHASE``), at the cell's measured plateau (or at its
     command for a set with a measured actuation profile, :func:`simulates_commands`).
 
     Returns a list of :class:`sim.sweep.TrialSpec` for :func:`sim.sweep.run_sweep`.
@@ -137,7 +130,7 @@ def validation_specs(
     if not cells:
         raise ValidationError("no cells to simulate; give --cells WING:LEG,... from the recorded cells")
     if isinstance(phase, Mapping):
-        from landscape.analysis.opening import PROTOCOL_PHASE
+        from landscape.analysis.physical.response import PROTOCOL_PHASE
 
         per_cell = {(float(w), float(leg)): float(p) for (w, leg), p in phase.items()}
         phases = {c: per_cell.get((float(c[0]), float(c[1])), PROTOCOL_PHASE) for c in cells}
@@ -284,7 +277,7 @@ def fisher_p(k1: int, n1: int, k2: int, n2: int) -> float:
 
     Unlike the Wilson rule (:func:`fractions_agree`), a perfect model passes it in at least 95 % of cells
     whatever the robot's probability; the Wilson rule needs a simulation that rights every trial to agree with
-    a cell the robot righted 5 of 5 (``benchmarks/referee_power.py``).
+    a cell the robot righted 5 of 5 (``benchmarks/physical/referee_power.py``).
 
     Examples
     --------
@@ -297,7 +290,7 @@ def fisher_p(k1: int, n1: int, k2: int, n2: int) -> float:
 
 
 def fractions_agree(k1: int, n1: int, k2: int, n2: int) -> bool:
-    """The referee's rule (issue #15): k1 of n1 and k2 of n2 agree when each fraction lies inside the other's
+    """The referee's rule: k1 of n1 and k2 of n2 agree when each fraction lies inside the other's
     Wilson 95 % interval; a fraction of 100 % (or 0 %) therefore agrees only with another of 100 % (or 0 %).
 
     Examples
@@ -483,10 +476,10 @@ def validate(
 ) -> tuple[Validation, object]:
     """Simulate the physical cells with a model set (resuming ``db``) and compare: ``(Validation, SweepSummary)``.
     ``phase``: every trial's first attempt at this phase, or at each cell's (a mapping, e.g. the lab protocol's,
-    :func:`landscape.analysis.opening.protocol_phases`); None: random phases (:func:`validation_specs`).
+    :func:`landscape.analysis.physical.response.protocol_phases`); None: random phases (:func:`validation_specs`).
     ``robot_attempts``: count the robot's rightings within its first that many openings only (:func:`compare`).
     ``imu_mount_deg``: judge the robot's uprightness in a body frame pitched that much below its IMU's
-    (:func:`landscape.analysis.physical.physical_trials`).
+    (:func:`landscape.analysis.physical.outcome.physical_trials`).
 
     Raises
     ------
