@@ -1,4 +1,8 @@
-"""One call from a robot and its joint angles to landscape, start minimum and barriers."""
+"""One call from a robot and its joint angles to landscape, start minimum and barriers.
+
+It is one concept, the call from a robot and its joint angles to a landscape and its barriers (one pose, a map
+of poses, the start continuation), hence its length.
+"""
 
 from __future__ import annotations
 

@@ -10,6 +10,8 @@ Nothing but a trial store is written to: a new store is marked (``PRAGMA applica
 file, the description hash it was swept with and refuses to add trials of a changed file. Every SQLite error
 (a damaged file, a read-only file, a lock held too long) becomes a one-line :class:`StoreError` naming the file
 and what to do. ``TrialStore(path, readonly=True)`` and :func:`read_rows` read without writing anything.
+
+It is one concept, the trial database (schema, writes, reads, resume), hence its length.
 """
 
 from __future__ import annotations

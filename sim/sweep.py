@@ -10,6 +10,8 @@ same trial at another ``dt`` sees the same noise (common random numbers).
 Resuming: trials whose key is already in the database are skipped. At most ``window`` trials (2 per worker)
 are submitted at a time and each result is committed when it arrives, so an interrupted sweep loses at most
 those in flight.
+
+It is one concept, running a sweep (specs, seeds, the pool or cluster, resuming), hence its length.
 """
 
 from __future__ import annotations
@@ -657,6 +659,22 @@ class _Sweep:
                 self.executor.shutdown(wait=True)
             else:
                 _stop_local(self.executor)
+
+
+def stored_rows(db: str | Path, specs: Iterable[TrialSpec]) -> list[dict]:
+    """The stored rows of these specs' trials (by their keys), in the database's order.
+
+    Parameters
+    ----------
+    db : path
+        The sweep's SQLite file.
+    specs : iterable of TrialSpec
+        The trials asked for; rows of other trials in the same database are left out.
+    """
+    from .store import read_rows
+
+    keys = {s.key() for s in specs}
+    return [r for r in read_rows(db) if tuple(r[c] for c in KEY_COLUMNS) in keys]
 
 
 def success_table(rows: Iterable[dict]) -> dict[tuple[float, float, float], tuple[int, int]]:

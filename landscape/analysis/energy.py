@@ -30,6 +30,9 @@ the whole kinetic energy). Energies in the rows are mJ.
 The module is longer than the others because it is one computation, the budget, with the types it passes along
 (body, barrier table, motion, trace, per-attempt rows); the recordings' side is
 :mod:`landscape.analysis.physical.motion`.
+
+It is one concept, the energy budget of an attempt (barrier, height, kinetic energy, per-attempt rows), hence
+its length.
 """
 
 from __future__ import annotations

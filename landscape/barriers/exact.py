@@ -60,6 +60,9 @@ level, equal within the tolerance, the one with the largest canonical roll is re
 canonical pitch (coordinates within ``TIE_DEG`` equal). For a body symmetric left to right that is the
 mirror-image saddle on the positive-roll side. Escape prefers a pass that is a saddle between the start's
 basin and another. The rule is on geometry alone, not on Qhull's face numbering or the vertices' order.
+
+It is one concept, the exact method (the face-edge graph, its critical points and its bottleneck searches),
+hence its length; its compiled kernels are in :mod:`landscape.barriers._exact_kernels`.
 """
 
 from __future__ import annotations

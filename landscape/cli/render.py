@@ -155,15 +155,10 @@ def _traces_pose(ctx, read, theta_w, theta_l):
 def _render_physical(ctx, robot, data_dir, theta_w, theta_l, step, method, exit_kind, out) -> None:
     """``render --physical``: per commanded wing angle, the landscape at the measured wing plateau and theta_l 0,
     with the recorded attempts of the trials at that wing angle and leg amplitude ``theta_l`` drawn on it."""
-    from pathlib import Path
-
-    import numpy as np
     from click.core import ParameterSource
 
     from landscape.analysis.physical.recording import WING_COMMANDS_DEG
-    from landscape.computation import compute as run
-    from landscape.viz.scene import render_computation
-    from landscape.viz.trajectory import physical_poses, physical_robot_note, render_trajectories
+    from landscape.viz.trajectory import physical_poses, physical_robot_note, render_physical
 
     one = ctx.get_parameter_source("theta_w") is not ParameterSource.DEFAULT
     if one and theta_w not in WING_COMMANDS_DEG:
@@ -177,39 +172,20 @@ def _render_physical(ctx, robot, data_dir, theta_w, theta_l, step, method, exit_
     )
     for note in physical_robot_note(robot, theta_l):
         click.echo(f"landscape: note: {note}", err=True)
-    written, notes = [], []
     for pose in poses:
-        cmd, plateau, attempts = pose.theta_w_cmd_deg, pose.theta_w_deg, pose.attempts
-        if pose.note:
-            notes.append(pose.note)
         if robot.drives("theta_w"):
-            check_theta_w(plateau, robot.theta_limits_deg(), robot.name, opening=False)
-        c = run(
-            robot,
-            theta_w_deg=plateau,
-            theta_l_deg=0.0,
-            step_deg=step,
-            method=method,
-            memory_budget_bytes=memory_budget_bytes(),
-        )
-        od = Path(out) if one else Path(out) / f"wing_{cmd:g}"
-        files, more = render_computation(c, od, robot_name=robot.name, exit_kind=exit_kind)
-        notes += more
-        files += render_trajectories(
-            c,
-            [np.column_stack([a.pitch_deg, a.roll_deg]) for a in attempts],
-            [a.righted for a in attempts],
-            od,
-            robot_name=robot.name,
-            exit_kind=exit_kind,
-            what="physical",
-        )
-        n_ok = sum(a.righted for a in attempts)
-        click.echo(
-            f"wing {cmd:g}° (measured plateau {plateau:.1f}°), leg {theta_l:g}°: {len(attempts)} attempts of "
-            f"{len({a.name for a in attempts})} trials, {n_ok} righted; wrote "
-            f"{', '.join(p.name for p in files)} in {od}"
-        )
-        written += files
-    for note in dict.fromkeys(notes):
+            check_theta_w(pose.theta_w_deg, robot.theta_limits_deg(), robot.name, opening=False)
+    done = render_physical(
+        robot,
+        poses,
+        out,
+        step_deg=step,
+        method=method,
+        exit_kind=exit_kind,
+        one_dir=one,
+        memory_budget_bytes=memory_budget_bytes(),
+    )
+    for r in done:
+        click.echo(r.summary)
+    for note in dict.fromkeys(n for r in done for n in r.notes):
         click.echo(f"landscape: note: {note}", err=True)

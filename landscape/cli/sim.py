@@ -349,8 +349,7 @@ def sweep(
     from dataclasses import asdict
 
     from landscape.viz.files import json_text
-    from sim.store import KEY_COLUMNS, read_rows
-    from sim.sweep import run_sweep, success_table, sweep_specs
+    from sim.sweep import run_sweep, stored_rows, success_table, sweep_specs
 
     if workers is not None and scheduler is not None:
         raise UsageError("give either --workers N (local processes) or --scheduler ADDRESS (Dask), not both")
@@ -397,10 +396,8 @@ def sweep(
         + (f"; {summary.duplicates} repeated settings dropped" if summary.duplicates else "")
         + (f"; {summary.pool_restarts} lost workers replaced" if summary.pool_restarts else "")
     )
-    keys = {s.key() for s in specs}
-    rows = [r for r in read_rows(db) if tuple(r[c] for c in KEY_COLUMNS) in keys]
     click.echo("success   theta_w  theta_l  cv     rate")
-    for (w, l_, c), (k, n) in success_table(rows).items():
+    for (w, l_, c), (k, n) in success_table(stored_rows(db, specs)).items():
         click.echo(f"          {w:7g}  {l_:7g}  {c:5g}  {k:3d}/{n:<3d}")
 
 

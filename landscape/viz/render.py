@@ -11,6 +11,9 @@ Off-screen rendering without an X server works through the vtk wheel's EGL or OS
 loads the system's libraries at run time (Debian: ``libegl1 libegl-mesa0 libgl1-mesa-dri`` for EGL, or
 ``libosmesa6``). Where none is present vtk crashes the process, so :func:`off_screen_problem` tries it in a
 child process first.
+
+It is one concept, drawing one landscape and its posed robot (3-D, contour, robot views, VTK, HTML), hence its
+length.
 """
 
 from __future__ import annotations

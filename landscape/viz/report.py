@@ -22,6 +22,8 @@ as ``INFO``, whatever its level::
 
 so ``console.error`` and ``console.log`` cannot be told apart there: ``console.error`` is caught by the page's
 self-check, and uncaught exceptions (``"Uncaught …"``, ``"Uncaught (in promise) …"``) are read from both.
+
+It is one concept, the report page (layout, embedding, browser check), hence its length.
 """
 
 from __future__ import annotations

@@ -7,6 +7,9 @@ each, so simulated traces (:func:`read_trace_csv`, written by ``landscape simula
 attempts plug in alike. An attempt's orientations may be on any branch (a trace reports ``|pitch| <= 90``): each
 path is laid on the pitch-roll torus continuously, starting on the copy of the double cover nearest the drawn
 start minimum, and broken where it wraps round +-180 (:func:`attempt_path_deg`).
+
+It is one concept, attempts drawn over a landscape (traces read, paths drawn, simulated and recorded), hence
+its length.
 """
 
 from __future__ import annotations
@@ -635,3 +638,95 @@ def physical_robot_note(robot, theta_l_deg: float = 0.0) -> list[str]:
             f"the trials' leg oscillates by ±{theta_l_deg:g}°; the landscape is at theta_l 0, the leg's mean position"
         )
     return notes
+
+
+@dataclass(frozen=True)
+class PhysicalRender:
+    """What :func:`render_physical` drew for one commanded wing angle.
+
+    Attributes
+    ----------
+    pose : PhysicalPose
+        The command, the landscape's wing angle and the recorded attempts drawn.
+    out_dir : pathlib.Path
+        Where its files are.
+    files : list of pathlib.Path
+        The landscape's files, then the attempts' paths over it.
+    notes : list of str
+        What the reader should know about this landscape.
+    """
+
+    pose: PhysicalPose
+    out_dir: Path
+    files: list
+    notes: list
+
+    @property
+    def summary(self) -> str:
+        """One line: the command, the plateau, the attempts and trials drawn, and the files written."""
+        a = self.pose.attempts
+        return (
+            f"wing {self.pose.theta_w_cmd_deg:g}° (measured plateau {self.pose.theta_w_deg:.1f}°), leg "
+            f"{self.pose.theta_l_deg:g}°: {len(a)} attempts of {len({x.name for x in a})} trials, "
+            f"{sum(x.righted for x in a)} righted; wrote {', '.join(p.name for p in self.files)} in {self.out_dir}"
+        )
+
+
+def render_physical(
+    robot,
+    poses: Sequence[PhysicalPose],
+    out: str | Path,
+    *,
+    step_deg: float,
+    method: str,
+    exit_kind: str,
+    one_dir: bool,
+    memory_budget_bytes: int | None = None,
+) -> list[PhysicalRender]:
+    """Per commanded wing angle, the landscape at the pose's wing angle (the measured plateau) and theta_l 0, its
+    files, and the recorded attempts drawn over it (``landscape render --physical``).
+
+    Parameters
+    ----------
+    robot : geometry.Robot
+    poses : sequence of PhysicalPose
+        From :func:`physical_poses`, read before anything is drawn.
+    out : path
+        Output directory; with ``one_dir`` False each command gets ``out/wing_<command>``.
+    step_deg, method, exit_kind :
+        As :func:`landscape.computation.compute` and :func:`landscape.viz.scene.render_computation`.
+    one_dir : bool
+        Write into ``out`` itself (one command asked for).
+    memory_budget_bytes : int, optional
+        Passed to :func:`landscape.computation.compute`.
+
+    Returns
+    -------
+    list of PhysicalRender
+    """
+    from landscape.computation import compute
+    from landscape.viz.scene import render_computation
+
+    done = []
+    for pose in poses:
+        c = compute(
+            robot,
+            theta_w_deg=pose.theta_w_deg,
+            theta_l_deg=0.0,
+            step_deg=step_deg,
+            method=method,
+            memory_budget_bytes=memory_budget_bytes,
+        )
+        od = Path(out) if one_dir else Path(out) / f"wing_{pose.theta_w_cmd_deg:g}"
+        files, notes = render_computation(c, od, robot_name=robot.name, exit_kind=exit_kind)
+        files += render_trajectories(
+            c,
+            [np.column_stack([a.pitch_deg, a.roll_deg]) for a in pose.attempts],
+            [a.righted for a in pose.attempts],
+            od,
+            robot_name=robot.name,
+            exit_kind=exit_kind,
+            what="physical",
+        )
+        done.append(PhysicalRender(pose, od, files, ([pose.note] if pose.note else []) + list(notes)))
+    return done
