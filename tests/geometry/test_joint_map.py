@@ -3,7 +3,7 @@
 import pytest
 
 from geometry import GeometryError, JointMap, Robot, UnknownJointError
-from tests.geometry.conftest import export, rename_joints
+from tests.robot_files import export, rename_joints
 
 
 def test_joint_map_parse():

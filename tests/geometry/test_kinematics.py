@@ -7,7 +7,7 @@ import pytest
 from geometry import JointMap, Robot, RobotDescriptionError
 from geometry.builtin import URDF_NAME, builtin_description, builtin_urdf_path
 from tests.conftest import HAVE_LAB, LAB_URDF
-from tests.geometry.conftest import export
+from tests.robot_files import export
 
 ANGLES = [(0.0, 0.0), (74.0, 30.0), (-10.0, -90.0), (95.0, 90.0), (33.3, -12.5)]
 URDFS = [builtin_urdf_path(), *([LAB_URDF] if HAVE_LAB else [])]

@@ -3,7 +3,7 @@
 import pytest
 
 from geometry import GeometryError, Robot, RobotDescriptionError
-from tests.geometry.conftest import export
+from tests.robot_files import export
 
 
 def test_nan_vertex_in_a_urdf_mesh_is_refused(tmp_path):

@@ -12,7 +12,7 @@ from geometry import JointMap, Robot, RobotDescriptionError
 from geometry.builtin import URDF_NAME, builtin_description, builtin_urdf_path
 from geometry.frames import rpy_from_matrix, rpy_matrix
 from geometry.urdf import read_urdf
-from tests.geometry.conftest import DEFAULT_JOINTS, export, rename_joints
+from tests.robot_files import DEFAULT_JOINTS, export, rename_joints
 
 
 # ---------------------------------------------------------------------------------------------- the hash

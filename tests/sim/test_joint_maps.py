@@ -10,30 +10,15 @@ import pytest
 pytest.importorskip("pybullet")
 
 from geometry import JointMap, Robot, UnknownJointError  # noqa: E402
-from geometry.builtin import URDF_NAME, builtin_description  # noqa: E402
+from geometry.builtin import URDF_NAME  # noqa: E402
 from geometry.errors import RobotDescriptionError  # noqa: E402
 from sim.model import sim_model  # noqa: E402
 from sim.sweep import run_spec, sweep_specs  # noqa: E402
 from sim.trial import DEFAULT_DT_S, OTHER_ROBOT_DT_S, default_dt_s, run_trial  # noqa: E402
+from tests.robot_files import export  # noqa: E402
+from tests.robot_files import rename_joints as rename  # noqa: E402
 
-DEFAULT_JOINTS = ("wing_pitch_left", "wing_pitch_right", "wing_roll_left", "wing_roll_right", "leg")
 RENAMED_MAP = "wing=j_wing_pitch_left,j_wing_pitch_right,j_wing_roll_left,j_wing_roll_right;leg=j_leg"
-
-
-def export(directory: Path, edit=None) -> Path:
-    directory.mkdir(parents=True, exist_ok=True)
-    for name, data in builtin_description().items():
-        (directory / name).write_bytes(data)
-    urdf = directory / URDF_NAME
-    if edit is not None:
-        urdf.write_text(edit(urdf.read_text()))
-    return urdf
-
-
-def rename(text: str, names=DEFAULT_JOINTS, prefix="j_") -> str:
-    for n in names:
-        text = text.replace(f'joint name="{n}"', f'joint name="{prefix}{n}"')
-    return text
 
 
 @pytest.fixture(scope="module")

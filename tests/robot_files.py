@@ -1,6 +1,6 @@
-"""Copies of the built-in robot's files to edit, for the tests of geometry (no ../shared needed).
+"""Copies of the built-in robot's files to edit, for tests that need a URDF of their own (no ../shared needed).
 
-Test modules import these helpers (``from tests.geometry.conftest import export``).
+Test modules import these helpers (``from tests.robot_files import export, rename_joints``).
 """
 
 from pathlib import Path
@@ -23,6 +23,7 @@ def export(directory: Path, edit=None) -> Path:
 
 
 def rename_joints(text: str, names=DEFAULT_JOINTS, prefix="j_") -> str:
+    """The URDF text with each joint of ``names`` renamed ``prefix + name``."""
     for n in names:
         text = text.replace(f'joint name="{n}"', f'joint name="{prefix}{n}"')
     return text
