@@ -48,6 +48,7 @@ import numpy as np
 
 from geometry.errors import UsageError
 from geometry.frames import pitch_roll_from_up
+from landscape.analysis.energy import rotational_shares_j, translational_energy_j
 from landscape.analysis.physical.calibration import add_set_options
 from landscape.analysis.physical.recording import (
     imu_to_body,
@@ -83,8 +84,8 @@ def kinetic_energy_j(pose, omega_body, up_body) -> float:
     pts = pose.hull_points_m
     pivot = pts[np.argmin(pts @ np.asarray(up_body))]
     w = np.asarray(omega_body, dtype=np.float64)
-    v = np.cross(w, pose.com_m - pivot)
-    return float(0.5 * w @ pose.inertia_kg_m2 @ w + 0.5 * pose.mass_kg * v @ v)
+    rotation = rotational_shares_j(w, pose.inertia_kg_m2).sum()
+    return float(rotation + translational_energy_j(pose.mass_kg, np.cross(w, pose.com_m - pivot)))
 
 
 def recorded_kinetic_energy_j(rec, time_s: float, pose, up_body, mount_deg: float) -> tuple[float, float]:
@@ -93,7 +94,7 @@ def recorded_kinetic_energy_j(rec, time_s: float, pose, up_body, mount_deg: floa
     and the rotation about the CoM alone (its lower bound, whatever the CoM does), J."""
     near = np.argsort(np.abs(rec.gyro_t_s - time_s))[:GYRO_SAMPLES]
     omega = imu_to_body(np.median(rec.gyro_rad_s[near], axis=0), mount_deg)
-    return kinetic_energy_j(pose, omega, up_body), float(0.5 * omega @ pose.inertia_kg_m2 @ omega)
+    return kinetic_energy_j(pose, omega, up_body), float(rotational_shares_j(omega, pose.inertia_kg_m2).sum())
 
 
 def swing_throws(t_s, tilt_deg, start_s: float, changes_s) -> list[tuple[float, float]]:

@@ -46,6 +46,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from geometry.errors import UsageError
+from geometry.frames import up_vector
 from landscape.energy import G_M_S2, height_at
 
 WING_STEP_DEG = 5.0
@@ -436,8 +437,7 @@ def energy_trace(motion: Motion, body: BodyModel, table: BarrierTable) -> Energy
     keys: dict[tuple[float, float], list[int]] = {}
     for k, (w, leg) in enumerate(zip(motion.wing_deg, motion.leg_deg, strict=True)):
         keys.setdefault((_round(w), _round(leg)), []).append(k)
-    p_rad, r_rad = np.deg2rad(motion.pitch_deg), np.deg2rad(motion.roll_deg)
-    up = np.stack([-np.sin(p_rad), np.cos(p_rad) * np.sin(r_rad), np.cos(p_rad) * np.cos(r_rad)], axis=1)
+    up = up_vector(np.deg2rad(motion.pitch_deg), np.deg2rad(motion.roll_deg))
     for (w, leg), idx in keys.items():
         idx = np.asarray(idx)
         pose = body.pose(w, leg)
