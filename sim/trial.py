@@ -112,6 +112,8 @@ class Trace:
         ``COLUMNS``: a trace file holds the ten columns only).
     com_velocity_m_s : ndarray of shape (N, 3) or None
         Velocity of the whole robot's mass-weighted CoM in the world frame, m/s, from the engine.
+    heading_deg : ndarray of shape (N,) or None
+        The base link's heading on the ground (:meth:`sim.world.World.heading_rad`), degrees.
     """
 
     t_s: NDArray[np.float64]
@@ -126,6 +128,7 @@ class Trace:
     leg_deg: NDArray[np.float64]
     omega_body_rad_s: NDArray[np.float64] | None = field(default=None, repr=False)
     com_velocity_m_s: NDArray[np.float64] | None = field(default=None, repr=False)
+    heading_deg: NDArray[np.float64] | None = field(default=None, repr=False)
 
     COLUMNS = (
         "t_s",
@@ -444,6 +447,10 @@ class Trial:
     actuation : Actuation, optional
         Profile timing instead of the model set's; its theta fields are replaced by ``theta_w_deg`` and
         ``theta_l_deg``.
+    heading_deg : float
+        The robot's heading on the ground when it is placed, degrees about world z (0: its x axis along world
+        x). On an isotropic floor it would not matter; pybullet's friction is not isotropic (:mod:`sim.world`),
+        so it can change the outcome (``benchmarks/studies/heading.py``).
     """
 
     theta_w_deg: float
@@ -458,6 +465,7 @@ class Trial:
     attempts: int | None = None
     trace: bool = False
     actuation: Actuation | None = None
+    heading_deg: float = 0.0
 
 
 def run_trial(
@@ -478,6 +486,7 @@ def run_trial(
     model_set=None,
     numerics: Numerics = Numerics(),
     compliance=None,
+    heading_deg: float = 0.0,
 ) -> TrialResult:
     """Run one self-righting trial in a fresh pybullet DIRECT client: the keyword form of :func:`simulate_trial`.
 
@@ -509,6 +518,8 @@ def run_trial(
         Hulls, servo period and sub-stepping (defaults: the converged configuration).
     compliance : sim.compliance.Compliance, optional
         Compliant wing joints instead of the model set's (None in most shipped sets: rigid wings).
+    heading_deg : float
+        The robot's heading on the ground, degrees (:class:`Trial`).
 
     Returns
     -------
@@ -540,6 +551,7 @@ def run_trial(
         attempts=attempts,
         trace=trace,
         actuation=actuation,
+        heading_deg=heading_deg,
     )
     return simulate_trial(trial, model_set=model_set, numerics=numerics)
 
@@ -590,6 +602,9 @@ def simulate_trial(trial: Trial, *, model_set=None, numerics: Numerics = Numeric
     )
     theta_w_deg, theta_l_deg = float(trial.theta_w_deg), float(trial.theta_l_deg)
     phase, cv, dt_s = float(trial.phase), float(trial.cv), trial.dt_s
+    heading_deg = float(trial.heading_deg)
+    if not np.isfinite(heading_deg):
+        raise TrialInputError(f"the heading must be a finite number of degrees; got {trial.heading_deg!r}")
     duration_s, dt_s = float(trial.duration_s), float(default_dt_s(model.source) if dt_s is None else dt_s)
     _check_inputs(
         theta_w_deg,
@@ -635,15 +650,20 @@ def simulate_trial(trial: Trial, *, model_set=None, numerics: Numerics = Numeric
     with world:
         for m in modifiers:
             m.check_stability(world, cmd.ctrl_s)
-        _settle(world, model, cmd)
+        _settle(world, model, cmd, heading_rad=np.deg2rad(heading_deg))
         run = _run(world, cmd, trace=trial.trace)
     started = starts[starts <= run.t_end]
     attempt = int(np.searchsorted(starts, run.t_right, side="right")) if run.success else None
     tr = None
     if trial.trace:
         n = len(Trace.COLUMNS)
-        a = np.asarray(run.rows, dtype=np.float64).reshape(-1, n + 6)
-        tr = Trace(*(a[:, k].copy() for k in range(n)), a[:, n : n + 3].copy(), a[:, n + 3 :].copy())
+        a = np.asarray(run.rows, dtype=np.float64).reshape(-1, n + 7)
+        tr = Trace(
+            *(a[:, k].copy() for k in range(n)),
+            a[:, n : n + 3].copy(),
+            a[:, n + 3 : n + 6].copy(),
+            a[:, n + 6].copy(),
+        )
     return TrialResult(
         theta_w_deg=theta_w_deg,
         theta_l_deg=theta_l_deg,
@@ -778,10 +798,11 @@ def _servo_commands(
     )
 
 
-def _settle(world: World, model, cmd: _Commands) -> None:
-    """Place the robot on its back with the joints at zero and let it settle for ``SETTLE_S``."""
+def _settle(world: World, model, cmd: _Commands, *, heading_rad: float = 0.0) -> None:
+    """Place the robot on its back with the joints at zero, turned by ``heading_rad``, and let it settle for
+    ``SETTLE_S``."""
     zeros = np.zeros(len(world.driven))
-    world.place(np.deg2rad(model.rest_pitch_deg), 0.0, joints_rad=zeros)
+    world.place(np.deg2rad(model.rest_pitch_deg), 0.0, joints_rad=zeros, heading_rad=heading_rad)
     world.drive(zeros, zeros, kp=min(1.0, cmd.dt_s / SERVO_TAU_S), kd=1.0)
     world.advance(cmd.sub * int(round(SETTLE_S / cmd.ctrl_s)))
     v, w = world.base_velocity()
@@ -859,4 +880,5 @@ def _trace_row(world: World, t_s: float, wing_cmd_deg: float, leg_cmd_deg: float
         float(q[n_wing:].mean()),
         *world.angular_velocity_in_body().tolist(),
         *world.com_velocity_m_s().tolist(),
+        float(np.rad2deg(world.heading_rad())),
     ]

@@ -12,6 +12,9 @@ Physics settings (measured in ``benchmarks/sim_convergence.py``; see ``docs/sim.
   0 on every body; with its default pybullet drops the restitution term. :class:`Contact` can also make the
   contact soft (``contactStiffness``/``contactDamping``). Bullet then computes ERP/CFM from the spring, and
   restitution no longer enters.
+- Bullet's friction is not isotropic: its two friction directions per contact are fixed in the world (from the
+  ground's normal), so the same trial turned about world z can end differently; turning it by 90 degrees does not
+  change it. ``benchmarks/studies/heading.py`` measures how much; :class:`sim.trial.Trial` takes the heading.
 - ``numSolverIterations`` 20 (pybullet's default is 50) and a fixed time step ``dt_s``. With ``substeps`` > 1 one
   ``stepSimulation`` call advances ``substeps`` physics steps (``fixedTimeStep = substeps * dt_s``,
   ``numSubSteps = substeps``), and the motor force limits are divided by ``substeps``, because pybullet caps a
@@ -345,12 +348,20 @@ class World:
 
     # ------------------------------------------------------------------ state
     def place(
-        self, pitch_rad: float, roll_rad: float, *, joints_rad: NDArray[np.float64], clearance_m: float = 1e-4
+        self,
+        pitch_rad: float,
+        roll_rad: float,
+        *,
+        joints_rad: NDArray[np.float64],
+        clearance_m: float = 1e-4,
+        heading_rad: float = 0.0,
     ) -> None:
-        """Put the robot at rest at (pitch, roll), joints at ``joints_rad``, its lowest point ``clearance_m`` above
-        the ground (by pybullet's own bounding boxes, which include the collision margin)."""
+        """Put the robot at rest at (pitch, roll), turned by ``heading_rad`` about world z (the yaw of its ZYX
+        Euler angles), joints at ``joints_rad``, its lowest point ``clearance_m`` above the ground (by pybullet's
+        own bounding boxes, which include the collision margin)."""
         cid = self.cid
-        pos, q = [0.0, 0.0, 0.5], pb.getQuaternionFromEuler([roll_rad, pitch_rad, 0.0], physicsClientId=cid)
+        pos = [0.0, 0.0, 0.5]
+        q = pb.getQuaternionFromEuler([roll_rad, pitch_rad, heading_rad], physicsClientId=cid)
         if self._base_inertial is not None:  # place the base link's frame, not its inertial frame
             pos, q = pb.multiplyTransforms(pos, q, *self._base_inertial, physicsClientId=cid)
         for j, v in zip(self.driven, joints_rad, strict=True):
@@ -513,6 +524,15 @@ class World:
         m = pb.getMatrixFromQuaternion(q, physicsClientId=self.cid)
         u = np.array([m[6], m[7], m[8]])  # in the base's inertial frame
         return u if self._inertial_rot is None else self._inertial_rot @ u
+
+    def heading_rad(self) -> float:
+        """The base link's heading: the yaw of its ZYX Euler angles, the angle about world z from world x to its
+        x axis projected on the ground, rad in (-pi, pi]."""
+        _, q = self.base_pose()
+        m = np.array(pb.getMatrixFromQuaternion(q, physicsClientId=self.cid)).reshape(3, 3)
+        if self._inertial_rot is not None:  # world-from-inertial times inertial-from-link
+            m = m @ self._inertial_rot.T
+        return float(math.atan2(m[1, 0], m[0, 0]))
 
     def angular_velocity_in_body(self) -> NDArray[np.float64]:
         """The base link's angular velocity expressed in the base link's frame (the body frame), rad/s."""

@@ -4,7 +4,8 @@ Reads the opening states `landscape analyze prediction` wrote (its ``--states`` 
 maps, and prints: how many attempts after a failed one start with the body nearly still (rotational kinetic
 energy below 0.1 and 0.01 mJ), how often the single-attempt map from rest gets those attempts wrong, and, per
 trial that fails its first attempt, the pairs of its attempts that open at the same phase from the same state
-(roll, pitch within 0.01 deg, angular velocity within 0.001 rad/s) and end differently.
+(roll, pitch within 0.01 deg, angular velocity within 0.001 rad/s) and end differently, with the robot's heading on
+the ground at each (modulo 90 degrees: pybullet's friction, benchmarks/studies/heading.py).
 
 Run:  PYTHONPATH=. .venv/bin/python benchmarks/studies/prediction_states.py --db DB [--states DB.opening-states.jsonl]
 """
@@ -54,7 +55,7 @@ def main(argv=None) -> int:
                     and all(abs(s[k] - u[k]) <= SAME_RAD_S for k in ("omega_x", "omega_y", "omega_z"))
                     and s["success"] != u["success"]
                 ):
-                    same_state.append((t["key"], s["attempt"], u["attempt"]))
+                    same_state.append((t["key"], s, u))
     print(f"{len(trials)} trials, {len(later)} attempts after a failed one")
     for lim in STILL_MJ:
         still = [(s, good) for s, good in later if s["ke_rot_mj"] < lim]
@@ -70,9 +71,19 @@ def main(argv=None) -> int:
     )
     print(f"pairs of attempts of one trial opening at the same phase from the same state, ending differently: "
           f"{len(same_state)}")  # fmt: skip
-    for key, i, j in same_state[:10]:
-        print(f"  {key}: attempts {i} and {j}")
+    turned = [_turn(s, u) for _, s, u in same_state if "heading_deg" in s and "heading_deg" in u]
+    if turned:
+        print(f"  of them, headings (modulo 90 deg) more than 1 deg apart: {sum(t > 1.0 for t in turned)} of "
+              f"{len(turned)}")  # fmt: skip
+    for key, s, u in same_state[:10]:
+        hd = f" (headings {_turn(s, u):.1f} deg apart)" if "heading_deg" in s and "heading_deg" in u else ""
+        print(f"  {key}: attempts {s['attempt']} and {u['attempt']}{hd}")
     return 0
+
+
+def _turn(s: dict, u: dict) -> float:
+    """How far apart two attempts' headings are, modulo 90 degrees."""
+    return abs((s["heading_deg"] - u["heading_deg"] + 45.0) % 90.0 - 45.0)
 
 
 if __name__ == "__main__":

@@ -15,9 +15,10 @@ RERUN_TTR_TOL_S = 1e-6
 """A rerun reproduces a stored time to right if they differ by at most this, s (far below any time step)."""
 
 
-def rerun_trial(row: dict, *, robot_urdf: str | Path):
+def rerun_trial(row: dict, *, robot_urdf: str | Path, heading_deg: float = 0.0, trace: bool = True):
     """A stored trial run again with a trace, with every parameter of its row (as :func:`sim.sweep.run_spec` runs
-    it): same seed, protocol, model set and robot.
+    it): same seed, protocol, model set and robot; ``heading_deg`` turns it on the ground (a sweep runs every
+    trial at 0, :class:`sim.trial.Trial`).
 
     Raises
     ------
@@ -55,7 +56,8 @@ def rerun_trial(row: dict, *, robot_urdf: str | Path):
         actuation=act,
         attempts=row["attempts"] or None,
         model_set=ms,
-        trace=True,
+        trace=trace,
+        heading_deg=heading_deg,
     )
 
 

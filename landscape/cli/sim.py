@@ -165,6 +165,14 @@ def _human(r, robot: str) -> str:
     show_default=True,
     help="At most this many wing openings (1: a single attempt, ending one Tw after it); 0: no limit.",
 )
+@click.option(
+    "--heading",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="The robot's heading on the ground, degrees about the vertical. It matters only because pybullet's "
+    "friction is not isotropic (a quarter turn never changes a trial; see docs/sim.md).",
+)
 @model_set_option
 def simulate(
     theta_w,
@@ -182,6 +190,7 @@ def simulate(
     wing_period,
     leg_period,
     attempts,
+    heading,
     model_set,
 ):
     """Run one self-righting trial in pybullet and report its outcome."""
@@ -219,6 +228,7 @@ def simulate(
             actuation=act,
             attempts=attempts or None,
             model_set=ms,
+            heading_deg=heading,
         )
     except SimulationDiverged as exc:
         raise click.ClickException(str(exc).splitlines()[0]) from None

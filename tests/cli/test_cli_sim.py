@@ -93,6 +93,7 @@ def test_simulate_human_summary(sim_robot):
         (["--theta-w", "120", "--theta-l", "30"], "--theta-w 120 deg is outside [0, 95] deg"),
         (["--theta-w", "80", "--theta-l", "30", "--robot", "/nonexistent.urdf"], "not found"),
         (["--theta-w", "80", "--theta-l", "30", "--dt", "0"], "dt must be in"),
+        (["--theta-w", "80", "--theta-l", "30", "--heading", "nan"], "heading must be a finite number"),
     ],
 )
 def test_simulate_bad_input_one_line_exit_2(sim_robot, args, message):

@@ -52,4 +52,12 @@ def test_counts_still_starts_map_misses_and_same_state_pairs(tmp_path, capsys):
     assert f"below 0.1 mJ: 2; the map from rest gets {still_wrong} of them wrong" in out
     assert f"0.1 mJ or more: 1; the map gets {int(good5)} wrong" in out  # attempt 2 failed
     assert "ending differently: 1\n" in out and "attempts 1 and 3" in out
+    assert "headings" not in out  # states without a heading (older files) say nothing of it
+    trial["states"] = [
+        {**st, "heading_deg": 10.0 * st["attempt"] + 90.0 * (st["attempt"] == 3)} for st in trial["states"]
+    ]
+    states.write_text(json.dumps(trial) + "\n")
+    assert bench.main(["--db", str(db), "--states", str(states)]) == 0
+    out = capsys.readouterr().out
+    assert "more than 1 deg apart: 1 of 1" in out and "attempts 1 and 3 (headings 20.0 deg apart)" in out
     assert bench.main(["--db", str(db), "--states", str(tmp_path / "absent.jsonl")]) == 2

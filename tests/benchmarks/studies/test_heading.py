@@ -1,0 +1,24 @@
+"""benchmarks/studies/heading.py: pybullet's friction turns a pushed box's path unless it is pushed along a world
+axis, and the study's tables run end to end on one trial."""
+
+import pytest
+
+from tests.conftest import load_script
+
+pytest.importorskip("pybullet")
+
+
+def test_a_box_pushed_off_a_world_axis_turns_and_the_study_prints_its_tables(capsys):
+    bench = load_script("benchmarks/studies/heading.py")
+    rows = {deg: (mm, turn) for deg, mm, turn in bench.friction_table()}
+    assert abs(rows[0.0][1]) < 0.1 and rows[45.0][1] > 1.0  # isotropic friction would not turn it
+    assert rows[0.0][0] == pytest.approx(1e3 / (2 * 9.81), rel=0.05)  # v^2 / (2 mu g)
+    args = ["--phases", "1", "--leg-periods", "0.8", "--wing-periods", "2.0", "--workers", "1"]
+    assert bench.main(args) == 0
+    out = capsys.readouterr().out
+    assert "(1 single attempts, 1 trials)" in out
+    for h in ("0.0001", "5", "45", "90"):
+        assert f"\n{h:>12} " in out
+    assert "at each attempt's own opening heading" in out
+    with pytest.raises(SystemExit):
+        bench.main(["--phases", "0"])
