@@ -24,8 +24,10 @@ picks a shipped set, ``--model FILE.toml`` any other. Each optional table switch
     stiffness_n_m = 1e4          # both omitted: pybullet's rigid contact
     damping_n_s_m = 100.0
     solver_iterations = 20
+    friction_axes = "world"      # optional: "body" keeps the robot at heading 0 (sim.world)
 
-Every key is required except the two soft-contact keys (omit both for rigid contact); an unknown key is refused,
+Every key is required except the two soft-contact keys (omit both for rigid contact) and the optional keys
+(:data:`OPTIONAL_KEYS`); an unknown key is refused,
 so a typo cannot silently leave a parameter at its default. The set's ``model_set_hash`` hashes its parsed
 content (not the file's bytes: comments and formatting do not change it), so two files with the same parameters
 are the same model.
@@ -52,7 +54,7 @@ from .mass import MAX_COM_OFFSET_MM
 from .modifier import ModelSetError, Modifier, registered
 from .modifier import check_keys as _check_keys
 from .modifier import number as _number
-from .world import MAX_ROLLING_FRICTION, Contact
+from .world import FRICTION_AXES, MAX_ROLLING_FRICTION, Contact
 
 __all__ = [
     "MAX_COM_OFFSET_MM",
@@ -93,12 +95,13 @@ OPTIONAL_KEYS = frozenset(
         "contact.spinning_friction",
         "contact.wing_stiffness_n_m",
         "contact.wing_damping_n_s_m",
+        "contact.friction_axes",
         "actuation.wing_extra_deg",
         *(f"{table}.{key}" for table, cls in registered().items() for key in cls.KEYS),
     }
 )
 """Dotted keys a set may omit (and a calibration candidate may add): rolling and spinning friction and the wings'
-own soft contact (both of its keys); the wing pose correction; and every key of every modifier's table
+own soft contact (both of its keys); where the friction directions are fixed; the wing pose correction; and every key of every modifier's table
 (:data:`OPTIONAL_TABLES`; what each requires once its table is there is the modifier's own rule)."""
 _CONTACT = {
     "lateral_friction",
@@ -110,6 +113,7 @@ _CONTACT = {
     "spinning_friction",
     "wing_stiffness_n_m",
     "wing_damping_n_s_m",
+    "friction_axes",
 }
 
 
@@ -407,6 +411,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
             "spinning_friction",
             "wing_stiffness_n_m",
             "wing_damping_n_s_m",
+            "friction_axes",
         },
         f"{where} [contact]",
     )
@@ -432,8 +437,12 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
             if v > MAX_ROLLING_FRICTION:
                 raise ModelSetError(f"{w}: {k} must be in [0, {MAX_ROLLING_FRICTION:g}]; got {v!r}")
             rolling[k] = v
+    axes = con.get("friction_axes", FRICTION_AXES[0])
+    if axes not in FRICTION_AXES:
+        raise ModelSetError(f"{w}: friction_axes must be one of {', '.join(FRICTION_AXES)}; got {axes!r}")
     contact = Contact(
         **rolling,
+        friction_axes=axes,
         friction=_number(con, "lateral_friction", w, allow_zero=True),
         restitution=_number(con, "restitution", w, allow_zero=True),
         stiffness_n_m=_number(con, "stiffness_n_m", w) if soft else None,
@@ -496,6 +505,8 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     if wing_soft:
         con_canon["wing_stiffness_n_m"] = contact.wing_stiffness_n_m
         con_canon["wing_damping_n_s_m"] = contact.wing_damping_n_s_m
+    if axes != FRICTION_AXES[0]:
+        con_canon["friction_axes"] = axes
     canonical = {
         "name": data["name"],
         "version": data["version"],

@@ -15,6 +15,9 @@ Physics settings (measured in ``benchmarks/sim_convergence.py``; see ``docs/sim.
 - Bullet's friction is not isotropic: its two friction directions per contact are fixed in the world (from the
   ground's normal), so the same trial turned about world z can end differently; turning it by 90 degrees does not
   change it. ``benchmarks/studies/heading.py`` measures how much; :class:`sim.trial.Trial` takes the heading.
+  ``Contact(friction_axes="body")`` turns the whole robot back to heading 0 about the vertical through its base's
+  CoM after every ``stepSimulation`` call (positions, orientation and velocities rotated together, an exact
+  symmetry of a flat floor), so the friction directions follow the robot and no trial depends on its heading.
 - ``numSolverIterations`` 20 (pybullet's default is 50) and a fixed time step ``dt_s``. With ``substeps`` > 1 one
   ``stepSimulation`` call advances ``substeps`` physics steps (``fixedTimeStep = substeps * dt_s``,
   ``numSubSteps = substeps``), and the motor force limits are divided by ``substeps``, because pybullet caps a
@@ -72,6 +75,10 @@ MAX_ROLLING_FRICTION = 0.1
 on a hard floor, about 0.01)."""
 
 
+FRICTION_AXES = ("world", "body")
+"""Where the friction directions are fixed (:class:`Contact`)."""
+
+
 class SimulationDiverged(RuntimeError):
     """The physics blew up: a state became non-finite or left any plausible range."""
 
@@ -100,6 +107,10 @@ class Contact:
         Soft contact spring and damper of the links the wing joints carry (the wing plates and their roll
         motors), N/m and N s/m, instead of ``stiffness_n_m`` and ``damping_n_s_m`` there: a thin wing that bends
         where it touches the ground. None (the default): the wings touch like every other link.
+    friction_axes : {"world", "body"}
+        Where pybullet's two friction directions are fixed (module docstring): "world" (the default, pybullet's
+        own: a trial's outcome depends on the robot's heading modulo 90 degrees) or "body" (the robot is kept at
+        heading 0, so the directions turn with it and the heading no longer matters).
     """
 
     friction: float = 1.0
@@ -111,8 +122,13 @@ class Contact:
     spinning_friction: float = 0.0
     wing_stiffness_n_m: float | None = None
     wing_damping_n_s_m: float | None = None
+    friction_axes: str = "world"
 
     def __post_init__(self) -> None:
+        if self.friction_axes not in FRICTION_AXES:
+            raise ValueError(
+                f"friction_axes must be one of {', '.join(FRICTION_AXES)}; got {self.friction_axes!r}"
+            )
         k, c = self.wing_stiffness_n_m, self.wing_damping_n_s_m
         if (k is None) != (c is None):
             raise ValueError("give both wing_stiffness_n_m and wing_damping_n_s_m, or neither")
@@ -509,6 +525,25 @@ class World:
             for k, c, joint in self._springs:
                 self._drive_spring(joint, k, c)
             pb.stepSimulation(physicsClientId=self.cid)
+            if self.contact.friction_axes == "body":
+                self._turn_to_heading_zero()
+
+    def _turn_to_heading_zero(self) -> None:
+        """Turn the whole robot about the vertical through its base's CoM to heading 0: the base's orientation
+        and both its velocities rotated by the same turn (the joints follow), its CoM kept in place."""
+        psi = self.heading_rad()
+        if psi == 0.0:
+            return
+        cid = self.cid
+        pos, q = self.base_pose()
+        v, w = self.base_velocity()
+        turn = pb.getQuaternionFromEuler([0.0, 0.0, -psi], physicsClientId=cid)
+        _, q = pb.multiplyTransforms([0.0, 0.0, 0.0], turn, [0.0, 0.0, 0.0], q, physicsClientId=cid)
+        c, s = math.cos(psi), math.sin(psi)
+        v = [c * v[0] + s * v[1], -s * v[0] + c * v[1], v[2]]
+        w = [c * w[0] + s * w[1], -s * w[0] + c * w[1], w[2]]
+        pb.resetBasePositionAndOrientation(self.body, pos, q, physicsClientId=cid)
+        pb.resetBaseVelocity(self.body, v, w, physicsClientId=cid)
 
     def base_pose(self) -> tuple[tuple[float, float, float], tuple[float, float, float, float]]:
         """Position (m) and orientation quaternion (x, y, z, w) of the base's inertial frame (its CoM)."""

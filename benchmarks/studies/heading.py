@@ -14,7 +14,10 @@ matters, modulo 90 degrees. This study measures it on the prediction protocol of
    the robot had when that attempt opened; how often the first attempt that rights them is the trial's (an
    upper bound of any phase-and-heading map), beside the phase map (heading 0).
 
-Run:  PYTHONPATH=. .venv/bin/python benchmarks/studies/heading.py [--workers 2] [--phases 20]
+``--friction-axes body`` runs tables 2 and 3 with ``Contact(friction_axes="body")`` (sim.world: the robot is
+kept at heading 0, so the friction directions turn with it).
+
+Run:  PYTHONPATH=. .venv/bin/python benchmarks/studies/heading.py [--workers 2] [--phases 20] [--friction-axes body]
 (the full protocol, 300 trials each at five headings and about 600 single attempts, takes about 8 minutes on
 2 cores).
 """
@@ -36,12 +39,16 @@ DT_S, DURATION_S = 5e-4, 10.0
 
 
 def _trial(job):
-    """(tw, tl, phase, heading, attempts, trace) -> (job, first righting attempt or 0, phases, opening headings)."""
+    """(tw, tl, phase, heading, attempts, trace, friction axes) -> (job, first righting attempt or 0, phases,
+    opening headings)."""
+    from dataclasses import replace
+
     from sim.model_set import load_model_set
     from sim.trial import Trial, simulate_trial
 
-    tw, tl, phase, heading, attempts, trace = job
+    tw, tl, phase, heading, attempts, trace, axes = job
     ms = load_model_set()
+    ms = replace(ms, contact=replace(ms.contact, friction_axes=axes))
     act = ms.actuation(THETA_W_DEG, THETA_L_DEG, wing_period_s=tw, leg_period_s=tl)
     r = simulate_trial(
         Trial(THETA_W_DEG, THETA_L_DEG, phase, 0.0, rng=0, duration_s=DURATION_S, dt_s=DT_S, attempts=attempts,
@@ -93,6 +100,7 @@ def main(argv=None) -> int:
     )
     ap.add_argument("--leg-periods", type=float, nargs="+", default=LEG_PERIODS_S)
     ap.add_argument("--wing-periods", type=float, nargs="+", default=WING_PERIODS_S)
+    ap.add_argument("--friction-axes", choices=("world", "body"), default="world")
     a = ap.parse_args(argv)
     if a.phases < 1 or a.workers < 1:
         ap.error("--phases and --workers must be at least 1")
@@ -104,14 +112,15 @@ def main(argv=None) -> int:
 
     phases = [k / a.phases for k in range(a.phases)]
     cells = [(tw, tl, ph) for tw in a.wing_periods for tl in a.leg_periods for ph in phases]
-    jobs = [(tw, tl, ph, h, None, h == 0.0) for h in HEADINGS_DEG for tw, tl, ph in cells]
+    ax = a.friction_axes
+    jobs = [(tw, tl, ph, h, None, h == 0.0, ax) for h in HEADINGS_DEG for tw, tl, ph in cells]
     with ProcessPoolExecutor(a.workers) if a.workers > 1 else _Inline() as ex:
         res = {job[:4]: (att, phs, heads) for job, att, phs, heads in ex.map(_trial, jobs, chunksize=4)}
         base = {c: res[(*c, 0.0)] for c in cells}
         singles = sorted({(tl, ph) for _, tl, ph in cells})
         first = [c for c in cells if c[0] == a.wing_periods[0]]  # attempt 1 is the same at every Tw
-        print(f"\n2. Turned on the ground: changes against heading 0 ({len(singles)} single attempts, "
-              f"{len(cells)} trials)")  # fmt: skip
+        print(f"\n2. Turned on the ground, friction axes fixed in the {ax}: changes against heading 0 "
+              f"({len(singles)} single attempts, {len(cells)} trials)")  # fmt: skip
         print(f"{'heading deg':>12} {'single attempt':>15} {'first righting attempt':>23}")
         for h in HEADINGS_DEG[1:]:
             n1 = sum((res[(*c, h)][0] == 1) != (base[c][0] == 1) for c in first)
@@ -119,7 +128,7 @@ def main(argv=None) -> int:
             print(f"{h:12g} {n1:>9}/{len(first):<5} {nk:>15}/{len(cells):<7}")
 
         oracle_jobs = [
-            (2.0, c[1], ph, hd, 1, False)
+            (2.0, c[1], ph, hd, 1, False, ax)
             for c in cells
             for ph, hd in zip(base[c][1], base[c][2], strict=True)
         ]

@@ -50,6 +50,20 @@ def test_the_hash_follows_the_values_not_the_comments(tmp_path):
     assert load_model_set(tmp_path / "b.toml").model_set_hash != paper.model_set_hash
 
 
+def test_friction_axes_in_the_body_are_read_and_change_the_hash_world_is_the_default(tmp_path):
+    (tmp_path / "w.toml").write_text(
+        PAPER_TEXT.replace("solver_iterations = 20", 'solver_iterations = 20\nfriction_axes = "world"')
+    )
+    (tmp_path / "b.toml").write_text(
+        PAPER_TEXT.replace("solver_iterations = 20", 'solver_iterations = 20\nfriction_axes = "body"')
+    )
+    paper = load_model_set("paper")
+    assert paper.contact.friction_axes == "world"
+    assert load_model_set(tmp_path / "w.toml").model_set_hash == paper.model_set_hash
+    body = load_model_set(tmp_path / "b.toml")
+    assert body.contact.friction_axes == "body" and body.model_set_hash != paper.model_set_hash
+
+
 @pytest.mark.parametrize(
     "edit,match",
     [
@@ -66,6 +80,10 @@ def test_the_hash_follows_the_values_not_the_comments(tmp_path):
         (
             ("solver_iterations = 20", "solver_iterations = 20\nrolling_friction = -0.1"),
             "rolling_friction must be",
+        ),
+        (
+            ("solver_iterations = 20", 'solver_iterations = 20\nfriction_axes = "ground"'),
+            "friction_axes must be one of world, body",
         ),
         (("[contact]", "[contact"), "not valid TOML"),
     ],

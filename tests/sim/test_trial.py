@@ -373,3 +373,22 @@ def test_a_quarter_turn_leaves_a_single_attempt_unchanged_a_few_degrees_may_not(
     kw = dict(phase=0.25, cv=0.0, duration_s=10.0, dt_s=FAST_DT, robot=sim_robot.urdf, attempts=1)
     a, b = run_trial(72.0, 30.0, **kw), run_trial(72.0, 30.0, heading_deg=90.0, **kw)
     assert a.success == b.success and a.attempt == b.attempt
+
+
+def test_friction_axes_fixed_in_the_body_make_the_heading_irrelevant(sim_robot):
+    """Contact(friction_axes="body") keeps the robot at heading 0 (sim/world.py), so a single attempt turned by 5
+    or 45 degrees is the same attempt (roll and pitch within 0.05 deg until it turns over); the
+    trace's heading stays 0."""
+    kw = dict(phase=0.25, cv=0.0, duration_s=10.0, dt_s=FAST_DT, robot=sim_robot.urdf, attempts=1, trace=True)
+    contact = Contact(friction_axes="body")
+    a = run_trial(72.0, 30.0, contact=contact, **kw)
+    assert np.abs(a.trace.heading_deg).max() < 1e-3
+    for h in (5.0, 45.0):
+        b = run_trial(72.0, 30.0, contact=contact, heading_deg=h, **kw)
+        assert (b.success, b.attempt) == (a.success, a.attempt)
+        climb = a.trace.up_z > 0  # until it turns over (then roll wraps through 180 deg)
+        climb &= np.cumprod(climb).astype(bool)
+        np.testing.assert_allclose(b.trace.roll_deg[climb], a.trace.roll_deg[climb], atol=0.05)
+        np.testing.assert_allclose(b.trace.pitch_deg[climb], a.trace.pitch_deg[climb], atol=0.05)
+    with pytest.raises(ValueError, match="friction_axes must be one of world, body"):
+        Contact(friction_axes="ground")
