@@ -10,16 +10,14 @@ matters, modulo 90 degrees. This study measures it on the prediction protocol of
    turns from the push (0 on an isotropic floor).
 2. Sensitivity: every trial run again turned by a few headings; how many single attempts (the phase map, each
    (Tl, phase) once) and how many first righting attempts (every trial) change. 90 degrees is the control.
-3. What the heading explains: each trial's attempts run again as single attempts from rest at the exact heading
-   the robot had when that attempt opened; how often the first attempt that rights them is the trial's (an
-   upper bound of any phase-and-heading map), beside the phase map (heading 0).
+3. How far a failed attempt leaves the robot turned: its heading at each later opening minus its first
+   (`landscape analyze prediction` uses the heading at each opening to predict the first righting attempt).
 
 ``--friction-axes body`` runs tables 2 and 3 with ``Contact(friction_axes="body")`` (sim.world: the robot is
 kept at heading 0, so the friction directions turn with it).
 
 Run:  PYTHONPATH=. .venv/bin/python benchmarks/studies/heading.py [--workers 2] [--phases 20] [--friction-axes body]
-(the full protocol, 300 trials each at five headings and about 600 single attempts, takes about 8 minutes on
-2 cores).
+(the full protocol, 300 trials at each of five headings, takes about 6 minutes on 2 cores).
 """
 
 from __future__ import annotations
@@ -127,30 +125,11 @@ def main(argv=None) -> int:
             nk = sum(res[(*c, h)][0] != base[c][0] for c in cells)
             print(f"{h:12g} {n1:>9}/{len(first):<5} {nk:>15}/{len(cells):<7}")
 
-        oracle_jobs = [
-            (2.0, c[1], ph, hd, 1, False, ax)
-            for c in cells
-            for ph, hd in zip(base[c][1], base[c][2], strict=True)
-        ]
-        single = {job[:4]: att == 1 for job, att, _, _ in ex.map(_trial, oracle_jobs, chunksize=4)}
     turn = [hd[k] - hd[0] for _, _, hd in base.values() for k in range(1, len(hd))]
-    ok_oracle = ok_map = 0
-    for c in cells:
-        att, phs, heads = base[c]
-        rights = [single[(2.0, c[1], ph, hd)] for ph, hd in zip(phs, heads, strict=True)]
-        pred = next((k + 1 for k, g in enumerate(rights) if g), 0)
-        ok_oracle += pred == att
-        from_rest = [(base[(a.wing_periods[0], c[1], _nearest(phases, ph))][0] == 1) for ph in phs]
-        ok_map += next((k + 1 for k, g in enumerate(from_rest) if g), 0) == att
-    print(f"\n3. First righting attempt predicted from single attempts from rest, {len(cells)} trials")
-    print(f"   at heading 0 (the phase map, nearest mapped phase): {ok_map}/{len(cells)} = "
-          f"{ok_map / len(cells) * 100:.1f} %")  # fmt: skip
-    print(f"   at each attempt's own opening heading ({len(oracle_jobs)} single attempts): {ok_oracle}/{len(cells)}"
-          f" = {ok_oracle / len(cells) * 100:.1f} %")  # fmt: skip
     if turn:
         q = np.percentile(np.abs(turn), [25, 50, 75])
-        print(f"   heading at a later opening minus the first: |turn| quartiles {q[0]:.1f}, {q[1]:.1f}, "
-              f"{q[2]:.1f} deg over {len(turn)} attempts")  # fmt: skip
+        print(f"\n3. The robot's heading when a later attempt opens, minus its first: |turn| quartiles {q[0]:.1f}, "
+              f"{q[1]:.1f}, {q[2]:.1f} deg over {len(turn)} attempts")  # fmt: skip
     print(f"\n{time.perf_counter() - t0:.0f} s")
     return 0
 
@@ -166,10 +145,6 @@ class _Inline:
 
     def map(self, fn, jobs, chunksize=1):
         return map(fn, jobs)
-
-
-def _nearest(phases: list[float], phase: float) -> float:
-    return min(phases, key=lambda p: abs((p - phase + 0.5) % 1.0 - 0.5))
 
 
 if __name__ == "__main__":

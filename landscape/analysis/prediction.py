@@ -5,12 +5,13 @@ Three predictors of the same thing, the first attempt that rights (or none):
 
 - **phase map** (the paper's, :func:`landscape.analysis.trials.predict_trials`, kept as it is): attempt k rights
   when its phase is good in the single-attempt map, built from attempts that start from rest.
-- **phase and heading map**: attempt k rights when its phase and the robot's heading on the ground when it opens
-  are good in a map of single attempts from rest at every mapped phase and at ``headings`` headings over
-  ``HEADING_PERIOD_DEG`` (:class:`HeadingMap`). The heading matters only because pybullet's friction is not
-  isotropic (:mod:`sim.world`): turning a trial by 90 degrees never changes it, turning it by a few degrees
-  changes a quarter of the single attempts (``benchmarks/studies/heading.py``), and a failed attempt leaves the
-  robot turned by 15 degrees (median).
+- **from rest at each opening**: attempt k rights when a single attempt from rest (the robot still on its back,
+  the leg starting at t = 0) at attempt k's own phase and the robot's own heading on the ground when attempt k
+  opens rights; the phase map evaluated exactly where each attempt falls rather than at the nearest of its
+  grid's phases, with the heading besides. The heading matters only because pybullet's friction directions are
+  fixed in the world (:mod:`sim.world`; with ``[contact] friction_axes = "body"`` it is always 0): turning a
+  trial by 90 degrees never changes it, by 5 degrees it changes a quarter of the single attempts
+  (``benchmarks/studies/heading.py``), and a failed attempt leaves the robot turned by 15 degrees (median).
 - **state**: an online nearest-neighbour predictor. At each opening it knows the body's state then, as a trace
   records it (:func:`opening_states`: roll and pitch, the body's angular velocity and the rotational kinetic
   energy about the CoM, besides the phase and the phase map's verdict), and predicts whether this attempt rights
@@ -18,7 +19,9 @@ Three predictors of the same thing, the first attempt that rights (or none):
   among the attempts of the trials it was fitted on and the single-attempt trials from rest; the predicted first
   righting attempt is the first predicted to right.
 
-Scoring is held out. The two maps are built from single-attempt trials, which are never scored. The state
+Scoring is held out. The phase map and the single attempts from rest are simulations of their own, never
+scored; the second predictor takes from a scored trial only what it knows when an attempt opens (its phase and
+heading), never an outcome. The state
 predictor (:func:`held_out_state_predictions`) is fitted per (Tw, Tl) setting on the other settings' trials only,
 so no scored trial (nor any attempt of it) is in the data its predictor was fitted on.
 """
@@ -26,7 +29,7 @@ so no scored trial (nor any attempt of it) is in the data its predictor was fitt
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -36,11 +39,9 @@ from landscape.analysis.trials import PhaseMap, wilson_interval
 
 K_NEIGHBOURS = 5
 """Attempts the state predictor's vote takes."""
-HEADING_PERIOD_DEG = 90.0
-"""Turning a trial by this about world z never changes it (pybullet's two friction directions are fixed in the
-world and swap under a quarter turn), so a heading is known modulo it."""
-DEFAULT_HEADINGS = 18
-"""Headings the phase and heading map runs by default, evenly over ``HEADING_PERIOD_DEG`` (5 degree steps)."""
+FROM_REST_ROUND = (9, 6)
+"""Decimals a single attempt from rest is keyed by: its phase and its heading (degrees); attempts that open
+closer than that share one run."""
 FEATURES = ("cos_phase", "sin_phase", "map_good", "roll_deg", "pitch_deg", "omega_x", "omega_y", "ke_rot_mj")
 """What the state predictor knows of an attempt at its opening."""
 
@@ -253,93 +254,33 @@ def map_states(rows: Iterable[dict], theta_w_deg: float, theta_l_deg: float) -> 
     return out
 
 
-def heading_grid(headings: int = DEFAULT_HEADINGS) -> NDArray[np.float64]:
-    """The headings the phase and heading map runs, degrees: ``headings`` even steps from 0 over
-    ``HEADING_PERIOD_DEG``.
-
-    >>> heading_grid(4).tolist()
-    [0.0, 22.5, 45.0, 67.5]
-    """
-    if headings < 1:
-        raise ValueError(f"the heading map needs at least one heading; got {headings}")
-    return np.arange(int(headings)) * (HEADING_PERIOD_DEG / int(headings))
+def from_rest_key(state: OpeningState) -> tuple[float, float]:
+    """The (phase, heading) of the single attempt from rest that stands for an attempt (:data:`FROM_REST_ROUND`)."""
+    return round(state.phase % 1.0, FROM_REST_ROUND[0]) % 1.0, round(state.heading_deg, FROM_REST_ROUND[1])
 
 
-@dataclass(frozen=True)
-class HeadingMap:
-    """Outcome of a single attempt from rest against its phase and the robot's heading, for one (theta_w,
-    theta_l) and Tl (module docstring).
-
-    Attributes
-    ----------
-    leg_period_s : float
-    phases : ndarray of shape (P,)
-        Mapped phases in [0, 1), sorted.
-    headings_deg : ndarray of shape (H,)
-        Mapped headings in [0, ``HEADING_PERIOD_DEG``), sorted.
-    success : ndarray of shape (P, H) of bool
-    delay_s : ndarray of shape (P, H)
-        Time from the opening to becoming upright, s (nan where it failed).
-    """
-
-    leg_period_s: float
-    phases: NDArray[np.float64]
-    headings_deg: NDArray[np.float64]
-    success: NDArray[np.bool_]
-    delay_s: NDArray[np.float64]
-
-    @classmethod
-    def from_runs(cls, leg_period_s: float, runs: Iterable[tuple[float, float, bool, float]]) -> HeadingMap:
-        """From single attempts ``(phase, heading_deg, success, delay_s)``, one per (phase, heading) of a full grid.
-
-        Raises
-        ------
-        ValueError
-            If a (phase, heading) of the grid is missing or repeated.
-
-        Examples
-        --------
-        >>> m = HeadingMap.from_runs(0.8, [(0.0, 0.0, True, 1.0), (0.0, 45.0, False, math.nan),
-        ...                               (0.5, 0.0, False, math.nan), (0.5, 45.0, True, 1.1)])
-        >>> m.lookup(0.05, 40.0), m.lookup(0.5, 88.0), m.lookup(0.5, -50.0)
-        ((False, nan), (False, nan), (True, 1.1))
-        """
-        runs = list(runs)
-        phs = np.array(sorted({float(r[0]) for r in runs}))
-        hds = np.array(sorted({float(r[1]) % HEADING_PERIOD_DEG for r in runs}))
-        ok = np.zeros((len(phs), len(hds)), dtype=bool)
-        delay = np.full((len(phs), len(hds)), math.nan)
-        seen = np.zeros_like(ok)
-        for ph, hd, good, d in runs:
-            i = int(np.searchsorted(phs, float(ph)))
-            j = int(np.searchsorted(hds, float(hd) % HEADING_PERIOD_DEG))
-            if seen[i, j]:
-                raise ValueError(f"the heading map has two attempts at phase {ph:g}, heading {hd:g} deg")
-            seen[i, j], ok[i, j], delay[i, j] = True, bool(good), float(d) if good else math.nan
-        if not seen.all():
-            i, j = np.argwhere(~seen)[0]
-            raise ValueError(f"the heading map has no attempt at phase {phs[i]:g}, heading {hds[j]:g} deg")
-        return cls(float(leg_period_s), phs, hds, ok, delay)
-
-    def lookup(self, phase: float, heading_deg: float) -> tuple[bool, float]:
-        """(good, delay_s) at the nearest mapped phase (on the circle of period 1) and heading (modulo
-        ``HEADING_PERIOD_DEG``)."""
-        half = HEADING_PERIOD_DEG / 2.0
-        i = int(np.argmin(np.abs((self.phases - phase + 0.5) % 1.0 - 0.5)))
-        j = int(np.argmin(np.abs((self.headings_deg - heading_deg + half) % HEADING_PERIOD_DEG - half)))
-        return bool(self.success[i, j]), float(self.delay_s[i, j])
-
-
-def first_predicted_by_heading(
-    hmap: HeadingMap, states: Sequence[OpeningState], duration_s: float
+def first_predicted_from_rest(
+    states: Sequence[OpeningState],
+    from_rest: Callable[[OpeningState], tuple[bool, float]],
+    duration_s: float,
 ) -> int | None:
-    """The first attempt whose phase and opening heading are good in ``hmap`` and that leaves time to right
-    before ``duration_s`` (the phase map's rule, :func:`landscape.analysis.trials.predict_attempt`), among a
-    trial's attempts in order; None if none is."""
+    """The first of a trial's attempts (in order) whose single attempt from rest rights in time to be upright
+    for good before ``duration_s`` (the phase map's rule, :func:`landscape.analysis.trials.predict_attempt`);
+    None if none does. ``from_rest(state)`` gives (rights, time from the opening to upright, s) and is called in
+    order only until one rights in time, so a caller that runs the attempts runs no more than needed.
+
+    Examples
+    --------
+    >>> st = [OpeningState("t", 2.0, 0.8, k + 1, ph, 0, 0, 0, 0, 0, 0, False, 0.0, 2.0 * k)
+    ...       for k, ph in enumerate([0.1, 0.6, 0.1])]
+    >>> first_predicted_from_rest(st, lambda s: (s.phase > 0.5, 1.2), 10.0)
+    2
+    >>> first_predicted_from_rest(st, lambda s: (s.phase > 0.5, 1.2), 3.4)  # 2 + 1.2 + 0.3 s > 3.4 s
+    """
     from sim.trial import UPRIGHT_HOLD_S
 
     for s in states:
-        good, delay = hmap.lookup(s.phase, s.heading_deg)
+        good, delay = from_rest(s)
         if good and s.start_s + delay + UPRIGHT_HOLD_S <= duration_s + 1e-9:
             return int(s.attempt)
     return None

@@ -136,17 +136,9 @@ def phase_map_cmd(db, out, leg_period):
     help="File of the study trials' opening states, appended as they are rerun (resumable) [default: DB.opening-"
     "states.jsonl beside the database].",
 )
-@click.option(
-    "--headings",
-    type=click.IntRange(min=1),
-    default=18,
-    show_default=True,
-    help="Headings over 90 degrees the phase and heading map runs each single attempt of the phase map at "
-    "(appended to DB.heading-map.jsonl, resumable).",
-)
 @TRIALS_ROBOT
 @no_progress_option
-def prediction_cmd(db, out, as_json, states, headings, robot, no_progress):
+def prediction_cmd(db, out, as_json, states, robot, no_progress):
     """Prediction of the first righting attempt against simulation (Fig. 8): the paper's phase map and a predictor
     that also knows the state each attempt starts from, both scored on held-out trials with 95 % intervals
     (reruns the study's trials with a trace once, resumably)."""
@@ -154,7 +146,7 @@ def prediction_cmd(db, out, as_json, states, headings, robot, no_progress):
     from landscape.viz.sections.prediction import prediction_scores, section_prediction
 
     rows = load_rows(db)
-    kw = dict(states_path=states, robot=_robot_file(robot), progress=not no_progress, headings=headings)
+    kw = dict(states_path=states, robot=_robot_file(robot), progress=not no_progress)
     if as_json:
         res = prediction_scores(rows, db, **kw)
         click.echo(json.dumps([x.as_json() for x in res.scores], indent=1))

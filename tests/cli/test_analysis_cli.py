@@ -86,22 +86,22 @@ def test_report_says_which_command_produces_missing_trials(capsys, tmp_path):
 
 def test_analyze_prediction_scores_both_predictors_held_out_and_resumes(capsys, db, tmp_path):
     """--json: one object per predictor; the study's 8 trials (74/30, Tw 2 and 2.5 s, 4 phases) are rerun once
-    into the states file, the phase map's 4 single attempts once more at 45 deg into the heading map's file, and
+    into the states file, the single attempts from rest the second predictor needs are run once into theirs, and
     a second run reads both back instead of running them again."""
     import json
 
     states = tmp_path / "states.jsonl"
-    heading_file = db.parent / f"{db.name}.heading-map.jsonl"
-    heading_file.unlink(missing_ok=True)
+    rest = db.parent / f"{db.name}.from-rest.jsonl"
+    rest.unlink(missing_ok=True)
     code, out, err = run(
-        capsys, "analyze", "prediction", "--db", db, "--json", "--states", states, "--no-progress",
-        "--headings", 2,
-    )  # fmt: skip
+        capsys, "analyze", "prediction", "--db", db, "--json", "--states", states, "--no-progress"
+    )
     assert code == 0, err
     scores = json.loads(out)
-    assert [s["name"] for s in scores] == ["phase map", "phase and heading map", "state"]
-    runs = [json.loads(x) for x in heading_file.read_text().splitlines()]
-    assert len(runs) == 4 and all(r["key"].endswith("/heading45") for r in runs)
+    assert [s["name"] for s in scores] == ["phase map", "from rest at each opening", "state"]
+    runs = [json.loads(x) for x in rest.read_text().splitlines()]
+    assert runs and all("/heading" in r["key"] and "/seed0" in r["key"] for r in runs)
+    assert len({r["key"] for r in runs}) == len(runs)
     for s in scores:
         assert set(s) == {"name", "trials", "correct", "accuracy", "ci95", "held_out"}
         assert s["trials"] == 8 and s["held_out"] is True and s["accuracy"] == s["correct"] / 8
@@ -109,28 +109,16 @@ def test_analyze_prediction_scores_both_predictors_held_out_and_resumes(capsys, 
     lines = states.read_text().splitlines()
     assert len(lines) == 8 and all(json.loads(x)["reproduced"] for x in lines)
     stamp = states.stat().st_mtime_ns
-    h_stamp = heading_file.stat().st_mtime_ns
-    code, out2, err = run(
-        capsys, "analyze", "prediction", "--db", db, "--json", "--states", states, "--headings", 2
-    )
+    r_stamp = rest.stat().st_mtime_ns
+    code, out2, err = run(capsys, "analyze", "prediction", "--db", db, "--json", "--states", states)
     assert code == 0 and json.loads(out2) == scores and states.stat().st_mtime_ns == stamp
-    assert heading_file.stat().st_mtime_ns == h_stamp
+    assert rest.stat().st_mtime_ns == r_stamp
     code, out, err = run(
-        capsys,
-        "analyze",
-        "prediction",
-        "--db",
-        db,
-        "--out",
-        tmp_path / "p",
-        "--states",
-        states,
-        "--headings",
-        2,
+        capsys, "analyze", "prediction", "--db", db, "--out", tmp_path / "p", "--states", states
     )
     assert code == 0, err
     assert "phase map " in out and "state " in out and "held out" in out.lower()
-    assert "phase and heading map " in out and "at 2 headings over 90°" in out
+    assert "from rest at each opening " in out and "single attempts)" in out
     assert (tmp_path / "p" / "prediction_scores.csv").is_file()
 
 

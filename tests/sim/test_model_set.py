@@ -21,6 +21,7 @@ def test_the_paper_set_holds_the_defaults_of_before():
     ms = load_model_set()
     assert ms.name == "paper" and shipped_model_sets() == [
         "paper",
+        "paper-body-friction",
         "physical",
         "physical-head",
         "physical-offset",
@@ -98,7 +99,8 @@ def test_a_bad_set_is_refused_in_one_line(tmp_path, edit, match):
 def test_an_unknown_name_says_what_exists():
     with pytest.raises(
         ModelSetError,
-        match="unknown model set 'papr'.*paper, physical, physical-head, physical-offset, physical-posed",
+        match="unknown model set 'papr'.*paper, paper-body-friction, physical, physical-head, physical-offset, "
+        "physical-posed",
     ):
         load_model_set("papr")
     with pytest.raises(ModelSetError, match="not found"):
@@ -159,6 +161,7 @@ def test_a_store_made_before_model_sets_reads_as_the_paper_set(tmp_path, late):
 
 SHIPPED_HASHES = {
     "paper": "63cfd0473108cf16",
+    "paper-body-friction": "a015d5a01fe8b6b9",
     "physical": "4507da0aa90ae140",
     "physical-head": "a974cc95a862cf17",
     "physical-offset": "19529bcb520bfde4",

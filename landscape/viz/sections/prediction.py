@@ -4,6 +4,7 @@ from the phase and the state each attempt starts from."""
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -31,7 +32,6 @@ def section_prediction(
     states_path: str | Path | None = None,
     robot: str | Path | None = None,
     progress: bool = True,
-    headings: int | None = None,
 ) -> Section:
     """Fig. 8 analogue: phase-based prediction of the first righting attempt against simulation, and beside it
     the prediction that also knows the state each attempt starts from (:func:`prediction_scores`, both held out;
@@ -118,8 +118,9 @@ def section_prediction(
         )
         paras.append(
             "Misses: " + "; ".join(f"{k} {v}" for k, v in miss.items()) + ". The map's attempts start from "
-            "rest at heading 0; a later attempt starts where the failed ones left the robot, nearly still but "
-            "turned on the ground, and in the simulation the heading changes the outcome (below)."
+            "rest at heading 0 and 20 phases; a later attempt opens where the failed ones left the robot, nearly "
+            "still but turned on the ground (in the simulation the heading changes the outcome), and at a phase "
+            "between the map's (below)."
         )
     if noisy:
         n_tr = sum(c.n for c in noisy)
@@ -134,9 +135,7 @@ def section_prediction(
     res = None
     if clean:
         try:
-            res = prediction_scores(
-                rows, db, states_path=states_path, robot=robot, progress=progress, headings=headings
-            )
+            res = prediction_scores(rows, db, states_path=states_path, robot=robot, progress=progress)
         except UsageError as exc:  # e.g. the trials' robot file moved: the phase map's numbers still stand
             paras.append(f"The prediction that knows each attempt's state needs the trials rerun: {exc}")
     if res is not None:
@@ -148,15 +147,14 @@ def section_prediction(
                 f"{x.ci95[1] * 100:.1f}] %)"
                 for x in res.scores
             )
-            + f". The phase and heading map knows each attempt's phase and the robot's heading on the ground when it "
-            f"opens: it is the phase map's {res.heading_runs // max(res.headings, 1)} single attempts run at "
-            f"{res.headings} headings over 90° ({res.heading_runs} attempts). pybullet's friction directions are "
-            "fixed in the world, so in the simulation the outcome depends on the heading modulo 90°, and a failed "
-            "attempt leaves the robot turned; a physical robot on an isotropic floor would not care "
-            "(benchmarks/studies/heading.py measures it). The state predictor (landscape.analysis.prediction) is "
-            "fitted on the other settings' trials for each setting it predicts. Both read each attempt's opening "
-            f"state from the trials rerun with a trace ({res.reproduced} of {res.reruns} reproduce their stored "
-            "outcome)."
+            + ". The second predictor runs, for each attempt, a single attempt from rest at that attempt's own "
+            f"phase and the robot's heading when it opens ({res.from_rest_runs} single attempts): the phase map "
+            "evaluated where each attempt falls instead of at the nearest of its phases. The heading enters "
+            "because pybullet's friction directions are fixed in the world unless the model set's [contact] "
+            'friction_axes is "body" (benchmarks/studies/heading.py; a physical robot on an isotropic floor '
+            "would not care). The state predictor (landscape.analysis.prediction) is fitted on the other "
+            "settings' trials for each setting it predicts. Both read each attempt's opening state from the "
+            f"trials rerun with a trace ({res.reproduced} of {res.reruns} reproduce their stored outcome)."
         )
         tables.append(
             Table(
@@ -196,12 +194,10 @@ class PredictionScores:
         The file of opening states (resumable: trials already in it are not run again).
     per_trial : list of dict
         Per trial: its setting, stored first righting attempt and each predictor's.
-    heading_runs, heading_new_runs : int
-        Single attempts in the phase and heading map, and how many were run now.
-    headings : int
-        Headings per mapped phase.
-    heading_path : Path
-        The file of the heading map's single attempts (resumable like ``states_path``).
+    from_rest_runs, from_rest_new_runs : int
+        Single attempts from rest the second predictor used, and how many were run now.
+    from_rest_path : Path
+        Their file (resumable like ``states_path``).
     """
 
     scores: list
@@ -212,10 +208,9 @@ class PredictionScores:
     new_runs: int
     states_path: Path
     per_trial: list
-    heading_runs: int = 0
-    heading_new_runs: int = 0
-    headings: int = 0
-    heading_path: Path | None = None
+    from_rest_runs: int = 0
+    from_rest_new_runs: int = 0
+    from_rest_path: Path | None = None
 
 
 def _study_trials(rows: list[dict], maps: dict) -> tuple[tuple[float, float] | None, list[dict]]:
@@ -275,74 +270,67 @@ def _read_states(path: Path) -> dict[str, dict]:
     }
 
 
-def heading_maps(
-    rows: list[dict],
-    study: tuple[float, float],
-    leg_periods: list[float],
-    db: Path,
-    *,
-    headings: int,
-    path: Path,
-    robot: str | Path | None,
-    progress: bool,
-) -> tuple[dict, int, int]:
-    """The phase and heading maps (:class:`landscape.analysis.prediction.HeadingMap`) of the study's (theta_w,
-    theta_l) at each Tl: every stored single-attempt trial of the phase map run again at each heading of
-    :func:`~landscape.analysis.prediction.heading_grid` but 0 (the stored trial itself), appended to ``path`` as
-    it runs (an interrupted run resumes). Returns the maps by Tl, the attempts in them and how many ran now."""
-    import json
-    import sys
+class FromRest:
+    """Single attempts from rest at the phases and headings attempts open at, run on demand and kept in a
+    JSON-lines file (resumable; :func:`landscape.analysis.prediction.first_predicted_from_rest`).
 
-    from tqdm import tqdm
+    Each is the scored trial's own row run again with ``attempts=1`` at the attempt's phase (and the robot
+    turned to the attempt's heading), so it shares the trial's model set, robot, time step and Tw, and nothing
+    of its outcome. The study's trials are noise-free, so attempts of different trials at the same phase and
+    heading share one run.
+    """
 
-    from landscape.analysis import prediction as pr
+    def __init__(self, path: Path, robot: str | Path | None, *, progress: bool):
+        from tqdm import tqdm
 
-    grid = pr.heading_grid(headings)
-    singles = [
-        r
-        for r in rows
-        if r["status"] == "ok"
-        and r["attempts"] == 1
-        and r["cv"] == 0.0
-        and (r["theta_w_deg"], r["theta_l_deg"]) == study
-        and r["leg_period_s"] in leg_periods
-    ]
-    singles.sort(key=lambda r: (r["leg_period_s"], r["phase"], r["trial"], r["seed"]))
-    by_cell: dict[tuple, dict] = {}
-    for r in singles:
-        by_cell.setdefault((r["leg_period_s"], r["phase"]), r)
-    done = _read_jsonl(path)
-    jobs = [(r, float(h)) for r in by_cell.values() for h in grid if h != 0.0]
-    todo = [(r, h) for r, h in jobs if f"{pr.trial_key(r)}/heading{h:g}" not in done]
-    if todo:
-        rb = trials_robot([r for r, _ in todo], robot)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        with open(path, "a") as f:
-            for r, h in tqdm(
-                todo, desc="heading map", unit="attempt", file=sys.stderr, disable=None if progress else True
-            ):
-                res = rerun_trial(r, robot_urdf=rb.source, heading_deg=h, trace=False)
-                d = {
-                    "key": f"{pr.trial_key(r)}/heading{h:g}",
-                    "success": bool(res.success),
-                    "delay_s": res.time_to_right_s - res.attempt_starts_s[0] if res.success else None,
-                }
+        self.path, self.robot = path, robot
+        self.done = _read_jsonl(path)
+        self.new_runs = 0
+        self.used: set[str] = set()
+        self._rb = None
+        self._bar = tqdm(
+            desc="single attempts from rest",
+            unit="attempt",
+            file=sys.stderr,
+            disable=None if progress else True,
+        )
+
+    def rights(self, row: dict, state) -> tuple[bool, float]:
+        """(rights, time from the opening to upright in s, nan if not) of the single attempt standing for
+        ``state``, an attempt of the stored trial ``row``."""
+        import json
+
+        from landscape.analysis import prediction as pr
+
+        phase, heading = pr.from_rest_key(state)
+        single = {**row, "phase": phase, "attempts": 1, "seed": 0}  # noise-free: the seed draws nothing
+        key = f"{pr.trial_key(single)}/heading{heading:g}"
+        d = self.done.get(key)
+        if d is None:
+            if self._rb is None:
+                self._rb = trials_robot([row], self.robot)
+            res = rerun_trial(
+                {**row, "phase": phase, "attempts": 1},
+                robot_urdf=self._rb.source,
+                heading_deg=heading,
+                trace=False,
+            )
+            d = {
+                "key": key,
+                "success": bool(res.success),
+                "delay_s": res.time_to_right_s - res.attempt_starts_s[0] if res.success else None,
+            }
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            with open(self.path, "a") as f:
                 f.write(json.dumps(d) + "\n")
-                f.flush()
-                done[d["key"]] = d
-    maps: dict[float, list] = {}
-    for (tl, phase), r in by_cell.items():
-        delay0 = r["time_to_right_s"] - r["attempt_starts_s"][0] if r["success"] else math.nan
-        runs = maps.setdefault(tl, [])
-        runs.append((phase, 0.0, bool(r["success"]), delay0))
-        for h in grid[1:]:
-            d = done[f"{pr.trial_key(r)}/heading{float(h):g}"]
-            runs.append((phase, float(h), d["success"], math.nan if d["delay_s"] is None else d["delay_s"]))
-    return (
-        {tl: pr.HeadingMap.from_runs(tl, runs) for tl, runs in maps.items()},
-        len(by_cell) * len(grid),
-        len(todo),
-    )
+            self.done[key] = d
+            self.new_runs += 1
+            self._bar.update()
+        self.used.add(key)
+        return bool(d["success"]), math.nan if d["delay_s"] is None else float(d["delay_s"])
+
+    def close(self) -> None:
+        self._bar.close()
 
 
 def prediction_scores(
@@ -352,8 +340,7 @@ def prediction_scores(
     states_path: str | Path | None = None,
     robot: str | Path | None = None,
     progress: bool = True,
-    headings: int | None = None,
-    heading_path: str | Path | None = None,
+    from_rest_path: str | Path | None = None,
 ) -> PredictionScores:
     """The paper's phase-map prediction and the state predictor (:mod:`landscape.analysis.prediction`) on the
     prediction study's trials, both held out, with Wilson 95 % intervals.
@@ -361,9 +348,8 @@ def prediction_scores(
     The state predictor needs each trial's opening states: every study trial is rerun with a trace (as stored:
     :func:`landscape.analysis.reruns.rerun_trial`, checked against its stored outcome) and its states appended to ``states_path``
     (default: beside the database, ``DB.opening-states.jsonl``); trials already there are not run again, so an
-    interrupted run resumes. The phase and heading map runs the phase map's single attempts at ``headings``
-    headings (default :data:`landscape.analysis.prediction.DEFAULT_HEADINGS`) into ``heading_path`` (default
-    ``DB.heading-map.jsonl``), resumably too (:func:`heading_maps`).
+    interrupted run resumes. The predictor from rest runs the single attempts it needs (:class:`FromRest`) into
+    ``from_rest_path`` (default ``DB.from-rest.jsonl``), resumably too.
 
     Raises
     ------
@@ -421,45 +407,38 @@ def prediction_scores(
     map_pms = {tl: m for (w, tl), m in maps.items() if w == study[0]}
     map_attempts = pr.map_states(rows, *study)
     state_pred = pr.held_out_state_predictions(pairs, map_pms, map_attempts, study[1])
-    n_head = pr.DEFAULT_HEADINGS if headings is None else int(headings)
-    hpath = Path(heading_path) if heading_path is not None else Path(f"{db}.heading-map.jsonl")
-    hmaps, h_runs, h_new = heading_maps(
-        rows,
-        study,
-        sorted({r["leg_period_s"] for r in trials}),
-        db,
-        headings=n_head,
-        path=hpath,
-        robot=robot,
-        progress=progress,
-    )
+    fpath = Path(from_rest_path) if from_rest_path is not None else Path(f"{db}.from-rest.jsonl")
+    runner = FromRest(fpath, robot, progress=progress)
     states_of = {pr.trial_key(r): sts for r, sts in pairs}
-    state_ok, head_ok = [], []
-    for r, predicted in state_pred:
-        stored = r["attempt"] if r["success"] else None
-        b = base[(r["wing_period_s"], r["leg_period_s"], r["phase"])]
-        by_heading = pr.first_predicted_by_heading(
-            hmaps[r["leg_period_s"]], states_of[pr.trial_key(r)], float(r["duration_s"])
-        )
-        base_ok.append(b.correct)
-        head_ok.append(by_heading == stored)
-        state_ok.append(predicted == stored)
-        per.append(
-            {
-                "wing_period_s": r["wing_period_s"],
-                "leg_period_s": r["leg_period_s"],
-                "phase": r["phase"],
-                "simulated_attempt": stored,
-                "phase_map_attempt": b.predicted_attempt,
-                "heading_map_attempt": by_heading,
-                "state_attempt": predicted,
-            }
-        )
+    state_ok, rest_ok = [], []
+    try:
+        for r, predicted in state_pred:
+            stored = r["attempt"] if r["success"] else None
+            b = base[(r["wing_period_s"], r["leg_period_s"], r["phase"])]
+            by_rest = pr.first_predicted_from_rest(
+                states_of[pr.trial_key(r)], lambda st, r=r: runner.rights(r, st), float(r["duration_s"])
+            )
+            base_ok.append(b.correct)
+            rest_ok.append(by_rest == stored)
+            state_ok.append(predicted == stored)
+            per.append(
+                {
+                    "wing_period_s": r["wing_period_s"],
+                    "leg_period_s": r["leg_period_s"],
+                    "phase": r["phase"],
+                    "simulated_attempt": stored,
+                    "phase_map_attempt": b.predicted_attempt,
+                    "from_rest_attempt": by_rest,
+                    "state_attempt": predicted,
+                }
+            )
+    finally:
+        runner.close()
     reproduced = sum(bool(done[pr.trial_key(r)]["reproduced"]) for r in trials)
     return PredictionScores(
         [
             pr.score("phase map", base_ok, held_out=True),
-            pr.score("phase and heading map", head_ok, held_out=True),
+            pr.score("from rest at each opening", rest_ok, held_out=True),
             pr.score("state", state_ok, held_out=True),
         ],
         study,
@@ -469,8 +448,7 @@ def prediction_scores(
         len(todo),
         path,
         per,
-        h_runs,
-        h_new,
-        n_head,
-        hpath,
+        len(runner.used),
+        runner.new_runs,
+        fpath,
     )

@@ -19,7 +19,7 @@ def test_a_box_pushed_off_a_world_axis_turns_and_the_study_prints_its_tables(cap
     assert "(1 single attempts, 1 trials)" in out
     for h in ("0.0001", "5", "45", "90"):
         assert f"\n{h:>12} " in out
-    assert "at each attempt's own opening heading" in out and "fixed in the world" in out
+    assert "fixed in the world" in out
     assert bench.main([*args, "--friction-axes", "body"]) == 0
     assert "fixed in the body" in capsys.readouterr().out
     with pytest.raises(SystemExit):

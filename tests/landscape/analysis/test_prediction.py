@@ -68,42 +68,29 @@ def test_score_has_a_wilson_interval():
     }
 
 
-def _hmap():
-    """Phases 0 and 0.5 at headings 0, 30 and 60 deg: phase 0 rights at heading 30 only, phase 0.5 everywhere
-    but at 60 deg (1 s after its opening)."""
-    runs = [(0.0, h, h == 30.0, 1.0) for h in (0.0, 30.0, 60.0)]
-    runs += [(0.5, h, h != 60.0, 1.0) for h in (0.0, 30.0, 60.0)]
-    return pr.HeadingMap.from_runs(0.8, runs)
+def _opening(k, phase, heading, start):
+    return pr.OpeningState("t", 2.0, 0.8, k, phase, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, False, heading, start)
 
 
-def test_heading_map_looks_up_the_nearest_phase_and_heading_modulo_a_quarter_turn():
-    m = _hmap()
-    assert m.lookup(0.02, 28.0) == (True, 1.0)
-    assert m.lookup(0.98, 29.0 + 90.0)[0] and m.lookup(0.0, 29.0 - 180.0)[0]  # a quarter turn is the same
-    assert not m.lookup(0.0, 46.0)[0] and not m.lookup(0.0, 80.0)[0]  # 80 deg is nearest to 90 = 0
-    assert m.lookup(0.5, 80.0)[0] and not m.lookup(0.5, 58.0)[0]
-    assert np.isnan(m.lookup(0.0, 0.0)[1])
+def test_from_rest_follows_each_attempts_phase_and_heading_and_the_time_left():
+    """The same phase fails from rest at the heading the trial starts with and rights once the robot has turned
+    to 30 deg; an attempt that would right after the trial's end is passed over; attempts after the predicted
+    one are never asked for."""
+    asked = []
+
+    def from_rest(s):
+        asked.append(s.attempt)
+        good = (s.phase == 0.0 and abs(s.heading_deg - 30.0) < 5.0) or s.phase == 0.5
+        return good, 1.0
+
+    trial = [_opening(1, 0.0, 0.0, 0.0), _opening(2, 0.7, 10.0, 2.0), _opening(3, 0.0, 31.0, 4.0)]
+    trial.append(_opening(4, 0.5, 31.0, 6.0))
+    assert pr.first_predicted_from_rest(trial, from_rest, 10.0) == 3 and asked == [1, 2, 3]
+    assert pr.first_predicted_from_rest(trial, from_rest, 5.0) is None  # 4 + 1 + 0.3 s hold > 5 s
+    assert asked == [1, 2, 3, 1, 2, 3, 4]
 
 
-def test_heading_map_refuses_a_grid_with_a_hole_or_a_repeat():
-    runs = [(0.0, h, True, 1.0) for h in (0.0, 45.0)] + [(0.5, 0.0, True, 1.0)]
-    with pytest.raises(ValueError, match="no attempt at phase 0.5, heading 45"):
-        pr.HeadingMap.from_runs(0.8, runs)
-    with pytest.raises(ValueError, match="two attempts at phase 0, heading 90"):
-        pr.HeadingMap.from_runs(0.8, [*runs, (0.5, 45.0, True, 1.0), (0.0, 90.0, False, 1.0)])
-    with pytest.raises(ValueError, match="at least one heading"):
-        pr.heading_grid(0)
-
-
-def test_first_predicted_by_heading_follows_each_attempts_heading_and_the_time_left():
-    """The same phase is predicted to fail at the heading it starts with and to right once the robot has turned
-    to 30 deg; an attempt that would right after the trial's end is not the predicted one."""
-
-    def st(k, phase, heading, start):
-        return pr.OpeningState("t", 2.0, 0.8, k, phase, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, False, heading, start)
-
-    m = _hmap()
-    trial = [st(1, 0.0, 0.0, 0.0), st(2, 0.5, 60.0, 2.0), st(3, 0.0, 31.0, 4.0)]
-    assert pr.first_predicted_by_heading(m, trial, 10.0) == 3
-    assert pr.first_predicted_by_heading(m, trial, 5.0) is None  # 4 + 1 + 0.3 s hold > 5 s
-    assert pr.first_predicted_by_heading(m, [st(1, 0.5, 2.0, 0.0)], 10.0) == 1
+def test_from_rest_key_rounds_phase_and_heading():
+    assert pr.from_rest_key(_opening(2, 0.3000000000004, 12.34567891, 2.0)) == (0.3, 12.345679)
+    assert pr.from_rest_key(_opening(2, 1.0, -3.0, 2.0)) == (0.0, -3.0)
+    assert pr.from_rest_key(_opening(2, 0.99999999997, 0.0, 2.0)) == (0.0, 0.0)  # a phase, never 1
