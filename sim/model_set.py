@@ -328,7 +328,7 @@ def shipped_model_sets() -> list[str]:
     Examples
     --------
     >>> shipped_model_sets()
-    ['paper', 'physical', 'physical-head', 'physical-offset', 'physical-posed']
+    ['paper', 'paper-body-friction', 'physical', 'physical-head', 'physical-offset', 'physical-posed']
     """
     return sorted(p.stem for p in MODELS_DIR.glob("*.toml"))
 
