@@ -17,7 +17,7 @@ matters, modulo 90 degrees. This study measures it on the prediction protocol of
 kept at heading 0, so the friction directions turn with it).
 
 Run:  PYTHONPATH=. .venv/bin/python benchmarks/studies/heading.py [--workers 2] [--phases 20] [--friction-axes body]
-(the full protocol, 300 trials at each of five headings, takes about 6 minutes on 2 cores).
+(the full protocol, 300 trials at each of five headings: 313 s on 2 cores).
 """
 
 from __future__ import annotations
