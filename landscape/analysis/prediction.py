@@ -256,7 +256,8 @@ def map_states(rows: Iterable[dict], theta_w_deg: float, theta_l_deg: float) -> 
 
 def from_rest_key(state: OpeningState) -> tuple[float, float]:
     """The (phase, heading) of the single attempt from rest that stands for an attempt (:data:`FROM_REST_ROUND`)."""
-    return round(state.phase % 1.0, FROM_REST_ROUND[0]) % 1.0, round(state.heading_deg, FROM_REST_ROUND[1])
+    phase = round(state.phase % 1.0, FROM_REST_ROUND[0]) % 1.0
+    return phase, round(state.heading_deg, FROM_REST_ROUND[1]) + 0.0  # + 0.0: never -0.0
 
 
 def first_predicted_from_rest(

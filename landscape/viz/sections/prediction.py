@@ -304,17 +304,12 @@ class FromRest:
 
         phase, heading = pr.from_rest_key(state)
         single = {**row, "phase": phase, "attempts": 1, "seed": 0}  # noise-free: the seed draws nothing
-        key = f"{pr.trial_key(single)}/heading{heading:g}"
+        key = f"{pr.trial_key(single)}/heading{heading:.{pr.FROM_REST_ROUND[1]}f}"
         d = self.done.get(key)
         if d is None:
             if self._rb is None:
                 self._rb = trials_robot([row], self.robot)
-            res = rerun_trial(
-                {**row, "phase": phase, "attempts": 1},
-                robot_urdf=self._rb.source,
-                heading_deg=heading,
-                trace=False,
-            )
+            res = rerun_trial(single, robot_urdf=self._rb.source, heading_deg=heading, trace=False)
             d = {
                 "key": key,
                 "success": bool(res.success),

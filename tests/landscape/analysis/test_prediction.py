@@ -94,3 +94,4 @@ def test_from_rest_key_rounds_phase_and_heading():
     assert pr.from_rest_key(_opening(2, 0.3000000000004, 12.34567891, 2.0)) == (0.3, 12.345679)
     assert pr.from_rest_key(_opening(2, 1.0, -3.0, 2.0)) == (0.0, -3.0)
     assert pr.from_rest_key(_opening(2, 0.99999999997, 0.0, 2.0)) == (0.0, 0.0)  # a phase, never 1
+    assert str(pr.from_rest_key(_opening(2, 0.5, -1e-9, 2.0))[1]) == "0.0"  # one key for +0 and -0
