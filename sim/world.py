@@ -531,11 +531,11 @@ class World:
     def _turn_to_heading_zero(self) -> None:
         """Turn the whole robot about the vertical through its base's CoM to heading 0: the base's orientation
         and both its velocities rotated by the same turn (the joints follow), its CoM kept in place."""
-        psi = self.heading_rad()
+        pos, q = self.base_pose()
+        psi = self._heading_of(q)
         if psi == 0.0:
             return
         cid = self.cid
-        pos, q = self.base_pose()
         v, w = self.base_velocity()
         turn = pb.getQuaternionFromEuler([0.0, 0.0, -psi], physicsClientId=cid)
         _, q = pb.multiplyTransforms([0.0, 0.0, 0.0], turn, [0.0, 0.0, 0.0], q, physicsClientId=cid)
@@ -563,8 +563,11 @@ class World:
     def heading_rad(self) -> float:
         """The base link's heading: the yaw of its ZYX Euler angles, the angle about world z from world x to its
         x axis projected on the ground, rad in (-pi, pi]."""
-        _, q = self.base_pose()
-        m = np.array(pb.getMatrixFromQuaternion(q, physicsClientId=self.cid)).reshape(3, 3)
+        return self._heading_of(self.base_pose()[1])
+
+    def _heading_of(self, q_inertial) -> float:
+        """:meth:`heading_rad` of the base's inertial-frame orientation ``q_inertial``."""
+        m = np.array(pb.getMatrixFromQuaternion(q_inertial, physicsClientId=self.cid)).reshape(3, 3)
         if self._inertial_rot is not None:  # world-from-inertial times inertial-from-link
             m = m @ self._inertial_rot.T
         return float(math.atan2(m[1, 0], m[0, 0]))

@@ -35,7 +35,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from landscape.analysis.trials import PhaseMap, wilson_interval
+from landscape.analysis.trials import PhaseMap, rights_in_time, wilson_interval
 
 K_NEIGHBOURS = 5
 """Attempts the state predictor's vote takes."""
@@ -278,11 +278,9 @@ def first_predicted_from_rest(
     2
     >>> first_predicted_from_rest(st, lambda s: (s.phase > 0.5, 1.2), 3.4)  # 2 + 1.2 + 0.3 s > 3.4 s
     """
-    from sim.trial import UPRIGHT_HOLD_S
-
     for s in states:
         good, delay = from_rest(s)
-        if good and s.start_s + delay + UPRIGHT_HOLD_S <= duration_s + 1e-9:
+        if rights_in_time(good, s.start_s, delay, duration_s):
             return int(s.attempt)
     return None
 

@@ -272,9 +272,20 @@ def predict_attempt(
     """1-based attempt at which the robot is predicted to right first, or None (not within ``duration_s``)."""
     for k, (t, ph) in enumerate(zip(starts_s, phases, strict=True)):
         good, delay = pm.lookup(theta_l_deg, float(ph))
-        if good and t + delay + UPRIGHT_HOLD_S <= duration_s + 1e-9:
+        if rights_in_time(good, t, delay, duration_s):
             return k + 1
     return None
+
+
+def rights_in_time(good: bool, start_s: float, delay_s: float, duration_s: float) -> bool:
+    """Whether an attempt opening at ``start_s`` that rights ``delay_s`` later (``good``) is upright for good
+    (``UPRIGHT_HOLD_S`` more) before the trial ends at ``duration_s``: the predictors' rule for an attempt to
+    count.
+
+    >>> rights_in_time(True, 8.0, 1.5, 10.0), rights_in_time(True, 8.0, 1.8, 10.0)
+    (True, False)
+    """
+    return bool(good) and start_s + delay_s + UPRIGHT_HOLD_S <= duration_s + 1e-9
 
 
 def distinct_phases(wing_period_s: float, leg_period_s: float) -> int:
