@@ -35,6 +35,23 @@ LAB_ABSENT = f"{LAB_URDF} is absent (set LANDSCAPE_SHARED to the directory holdi
 needs_lab = pytest.mark.skipif(not HAVE_LAB, reason=LAB_ABSENT)
 
 
+def run_cli(capsys, *argv):
+    """Run ``landscape ARGV`` in this process (arguments as strings): (exit status, stdout, stderr)."""
+    from landscape.cli import main
+
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def csv_rows(path) -> list[dict]:
+    """The rows of a CSV file with a header, as dicts of strings."""
+    import csv
+
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
 def set_with_table(directory: Path, table: str, text: str, base: str = "paper") -> Path:
     """A model-set file in ``directory``: the shipped set ``base`` with ``[table]`` and ``text`` appended."""
     from sim.model_set import load_model_set

@@ -1,26 +1,14 @@
 """`landscape analyze …` and `landscape report` end to end, on a small real database of simulated trials."""
 
-import csv
-
 import pytest
 
 pytest.importorskip("pybullet")
 
-from landscape.cli import main  # noqa: E402
 from sim.sweep import run_sweep, sweep_specs  # noqa: E402
+from tests.conftest import csv_rows as _csv
+from tests.conftest import run_cli as run  # noqa: E402
 
 FAST = dict(dt_s=1e-3, trials=1)
-
-
-def _csv(path):
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
-
-
-def run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.fixture(scope="module")

@@ -6,12 +6,7 @@ import trimesh
 
 from landscape.cli import main
 from landscape.cli.options import parse_values
-
-
-def run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
+from tests.conftest import run_cli as run
 
 
 @pytest.fixture()

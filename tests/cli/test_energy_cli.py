@@ -1,33 +1,21 @@
 """`landscape analyze energy` and `landscape physical energy` end to end: energy.csv, the figure, the reruns'
 check and one-line refusals of bad input."""
 
-import csv
-
 import pytest
 
 pytest.importorskip("pybullet")
 
-from landscape.cli import main  # noqa: E402
 from sim.store import TrialStore  # noqa: E402
 from sim.sweep import run_sweep, sweep_specs  # noqa: E402
 from tests.conftest import SHARED, needs_lab  # noqa: E402
+from tests.conftest import csv_rows as _csv
+from tests.conftest import run_cli as run  # noqa: E402
 
 PHYSICAL = SHARED / "ref" / "physical_robot"
 ISSUE_COLUMNS = (
     "source theta_w_deg theta_l_deg trial attempt success phase ke_roll_mj ke_pitch_mj ke_yaw_mj ke_trans_mj "
     "barrier_mj direction margin_mj"
 ).split()
-
-
-def _csv(path):
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
-
-
-def run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.fixture(scope="module")

@@ -11,8 +11,8 @@ import pytest
 import trimesh
 
 from geometry.robots import robot_urdf_path
-from landscape.cli import main
 from landscape.cli.options import THETA_W_OUT_OF_JOINT_RANGE, THETA_W_OUT_OF_RANGE
+from tests.conftest import run_cli as run
 
 RENAMES = {
     "wing_pitch_left": "wpl",
@@ -22,12 +22,6 @@ RENAMES = {
     "leg": "tail",
 }
 WINGS = "wing=wpl,wpr,wrl,wrr"
-
-
-def run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def one_line_error(code: int, err: str) -> str:

@@ -4,14 +4,8 @@
 import json
 from pathlib import Path
 
-from landscape.cli import main
 from sim.model_set import load_model_set, shipped_model_sets
-
-
-def run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
+from tests.conftest import run_cli as run
 
 
 def test_the_table_names_every_shipped_set_with_its_hash_and_elements(capsys):

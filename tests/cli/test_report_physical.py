@@ -7,17 +7,11 @@ import pytest
 
 pytest.importorskip("pybullet")
 
-from landscape.cli import main  # noqa: E402
 from sim.sweep import run_sweep, sweep_specs  # noqa: E402
 from tests.conftest import SHARED  # noqa: E402
+from tests.conftest import run_cli as run  # noqa: E402
 
 PHYSICAL = SHARED / "ref" / "physical_robot"
-
-
-def run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.fixture(scope="module")

@@ -1,7 +1,5 @@
 """Synthetic trial rows for the report sections' tests."""
 
-import csv
-
 import numpy as np
 
 
@@ -49,8 +47,3 @@ def _map_rows(good_phases, theta_w=74.0, theta_l=30.0):
         )
         for ph in np.round(np.arange(0, 1, 0.05), 2)
     ]
-
-
-def _csv(path):
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from landscape.viz.sections.evolution import section_evolution
-from tests.landscape.viz.sections.synthetic import _csv, _map_rows, _row, _won
+from tests.conftest import csv_rows as _csv
+from tests.landscape.viz.sections.synthetic import _map_rows, _row, _won
 
 
 def test_evolution_without_a_phase_map_says_what_to_run(tmp_path):

@@ -2,7 +2,8 @@
 choice from the data."""
 
 from landscape.viz.sections.probability import section_probability
-from tests.landscape.viz.sections.synthetic import _csv, _row, _won
+from tests.conftest import csv_rows as _csv
+from tests.landscape.viz.sections.synthetic import _row, _won
 
 
 def test_probability_section_counts_the_settings_whose_trials_disagree(tmp_path):

@@ -1,7 +1,6 @@
 """The report's trajectories section (landscape/viz/sections/trajectories.py) on a tiny trial database made here, and its
 physical-robot section on the lab's recordings (skips without them)."""
 
-import csv
 import re
 
 import numpy as np
@@ -15,6 +14,7 @@ from landscape.viz import trajectory as tj  # noqa: E402
 from sim.store import read_rows  # noqa: E402
 from sim.sweep import run_sweep, sweep_specs  # noqa: E402
 from tests.conftest import LAB_URDF, SHARED  # noqa: E402
+from tests.conftest import csv_rows as _csv  # noqa: E402
 
 PHYSICAL = SHARED / "ref" / "physical_robot"
 
@@ -33,11 +33,6 @@ def db(tmp_path_factory):
 def section(db, tmp_path_factory):
     out = tmp_path_factory.mktemp("report")
     return sections.section_trajectories(sections.load_rows(db), out, db, step_deg=3.0), out
-
-
-def _csv(path):
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
 
 
 def _colour_pixels(png, hex_colour, tol=30):
