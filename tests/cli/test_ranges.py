@@ -15,6 +15,7 @@ import pytest
 from geometry.bounds import Bounds
 from landscape.cli import cli, main
 from landscape.cli.options import RangedParam, RobotParam
+from tests.conftest import outside
 
 TEXT_OPTIONS = {
     "--mesh": "a mesh file",
@@ -49,16 +50,6 @@ PARAMS = [
     if not (isinstance(p, click.Option) and (p.is_flag or p.opts[0] in ("--help", "-h")))
 ]
 RANGED = [x for x in PARAMS if isinstance(x.values[1].type, RangedParam)]
-
-
-def _outside(b: Bounds) -> list[float]:
-    """Values just outside ``b`` at each finite end, and one that is not finite."""
-    out = [math.nan]
-    if not math.isinf(b.lo):
-        out.append(b.lo if b.lo_open else b.lo - 1)
-    if not math.isinf(b.hi):
-        out.append(b.hi if b.hi_open else b.hi + 1)
-    return out
 
 
 def _inside(b: Bounds) -> float:
@@ -112,8 +103,7 @@ def test_help_states_the_range(path, p):
 @pytest.mark.parametrize("path, p", RANGED)
 def test_outside_the_range_is_one_line_and_exit_2(capsys, path, p):
     opt, b = p.opts[0], p.type.bounds
-    for v in _outside(b):
-        text = "nan" if math.isnan(v) else repr(float(v)) if not b.integer else str(int(v))
+    for text in outside(b):
         assert main([*path, f"{opt}={text}"]) == 2, (path, opt, text)
         err = capsys.readouterr().err
         assert err == f"landscape: error: {b.outside_message(float(text), opt)}\n", err
