@@ -28,6 +28,7 @@ __all__ = [
     "NOT_FINITE",
     "PLAUSIBLE_MAX_MASS_KG",
     "Bounds",
+    "joint_angle_slips",
     "mass_slip",
     "percent_to_fraction",
     "radians_slip",
@@ -265,6 +266,21 @@ def radians_slip(values_deg, limits_deg: tuple[float, float], name: str) -> str 
         f"{name} values of at most {max(abs(x) for x in vals):g} are taken in degrees, as every angle is; if you "
         f"meant radians, give them in degrees ({v:g} rad is {deg} deg)"
     )
+
+
+def joint_angle_slips(robot, angles_deg: dict, names: dict[str, str]) -> list[str]:
+    """What to say of each wing or leg angle (``{"theta_w": value or list, ...}``) that looks like radians for
+    ``robot``'s joints (:func:`radians_slip`), naming it as ``names`` spells it (``--theta-w``, ``theta_w``);
+    angles that are None or that no joint of the robot takes are left out."""
+    if not robot.has_joints:
+        return []
+    limits = robot.theta_limits_deg()
+    slips = (
+        radians_slip(v, limits[a], names[a])
+        for a, v in angles_deg.items()
+        if v is not None and robot.drives(a)
+    )
+    return [s for s in slips if s]
 
 
 def mass_slip(mass_kg: float | None, name: str) -> str | None:

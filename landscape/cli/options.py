@@ -20,8 +20,8 @@ from geometry.bounds import (
     MASS_KG_BOUNDS,
     PLAUSIBLE_MAX_MASS_KG,
     Bounds,
+    joint_angle_slips,
     mass_slip,
-    radians_slip,
 )
 from geometry.errors import UsageError
 from geometry.robots import DEFAULT_MESH_MASS_KG
@@ -154,11 +154,9 @@ def warn_radians(robot, **angles) -> None:
     """Warn of wing or leg angles given in radians by mistake (:func:`geometry.bounds.radians_slip`), for the
     angles ``theta_w=...``, ``theta_l=...`` (a value or a list) the running command was given explicitly and the
     robot's joints take."""
-    limits = robot.theta_limits_deg() if robot.has_joints else {}
     given = given_angles()
-    for a, v in angles.items():
-        if v is not None and a in given and a in limits and robot.drives(a):
-            warn(radians_slip(v, limits[a], ANGLE_OPTIONS[a]))
+    for text in joint_angle_slips(robot, {a: v for a, v in angles.items() if a in given}, ANGLE_OPTIONS):
+        warn(text)
 
 
 def finite(value: float | None, name: str) -> float | None:

@@ -17,7 +17,7 @@ from fastapi import Query
 from pydantic import AfterValidator, BeforeValidator
 from pydantic_core import PydanticCustomError
 
-from geometry.bounds import Bounds, radians_slip
+from geometry.bounds import Bounds, joint_angle_slips
 from geometry.errors import UsageError
 from landscape.params import parse_bounded
 
@@ -87,14 +87,6 @@ def request_numbers(request: dict, bounds: dict[str, tuple[Bounds, bool]]) -> di
 
 def angle_warnings(robot, **angles) -> list[str]:
     """What to say of the wing and leg angles ``theta_w=...``, ``theta_l=...`` (values or lists) that look like
-    radians for this robot's joints (:func:`geometry.bounds.radians_slip`), as the command line warns of them."""
-    if not robot.has_joints:
-        return []
-    limits = robot.theta_limits_deg()
-    out = []
-    for a, v in angles.items():
-        if v is not None and robot.drives(a):
-            text = radians_slip(v, limits[a], a)
-            if text:
-                out.append(text)
-    return out
+    radians for this robot's joints (:func:`geometry.bounds.joint_angle_slips`), as the command line warns of
+    them."""
+    return joint_angle_slips(robot, angles, {"theta_w": "theta_w", "theta_l": "theta_l"})
