@@ -23,7 +23,6 @@ from landscape.cli.options import (
     wing_period_option,
 )
 from sim.protocol import (
-    ATTEMPTS_BOUNDS,
     CV_BOUNDS,
     PAPER_LEG_PERIOD_S,
     PERIOD_S_BOUNDS,
@@ -107,6 +106,7 @@ TRIALS_PHASE_OPT = ranged_option(
     help="phi_1 of the trials to use, a fraction of the leg period {range} [default: the most common].",
 )
 SAMPLE_BOUNDS = Bounds(1, math.inf, integer=True, meaning="a count of stored trials")
+FOLLOWED_ATTEMPTS_BOUNDS = Bounds(1, math.inf, integer=True, meaning="wing openings to follow")
 
 
 @analyze.command("probability")
@@ -241,7 +241,7 @@ def energy_cmd(db, out, sample, physical_dir, robot, no_progress):
 @leg_period_option
 @ranged_option(
     "--attempts",
-    bounds=Bounds(1, ATTEMPTS_BOUNDS.hi, integer=True, meaning="wing openings to follow"),
+    bounds=FOLLOWED_ATTEMPTS_BOUNDS,
     default=12,
     show_default=True,
     help="Wing openings (attempts) to follow, {range}.",
