@@ -171,8 +171,8 @@ def compute(
     many=True,
     default="70:76:2",
     show_default=True,
-    help="Wing angles: list 70,72 or range START:STOP:STEP (inclusive), degrees, each {range} and within the "
-    "wing joints' limits (below 0 too, where the joints allow it).",
+    help="Wing angles: list 70,72 or range START:STOP:STEP (inclusive), degrees, each {range} and anywhere "
+    "within the wing joints' limits (below 0 too, where the joints allow it).",
 )
 @angle_option(
     "--theta-l",
