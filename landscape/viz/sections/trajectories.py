@@ -8,6 +8,7 @@ import numpy as np
 
 from geometry.errors import UsageError
 from landscape.analysis.reruns import RERUN_TTR_TOL_S, reproduces, rerun_trial
+from landscape.grid import DEFAULT_STEP_DEG
 from landscape.viz.report import Figure, Section, Table
 from landscape.viz.sections.data import (
     PAPER_PERIODS,
@@ -47,7 +48,7 @@ def section_trajectories(
     *,
     robot: str | Path | None = None,
     max_trials: int = TRAJECTORY_TRIALS,
-    step_deg: float = 1.0,
+    step_deg: float = DEFAULT_STEP_DEG,
 ) -> Section:
     """Trajectories of the sweep's trials at its most uncertain setting, drawn over that setting's landscape.
 
