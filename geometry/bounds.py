@@ -192,8 +192,9 @@ class Bounds:
             v = float(s)
         except ValueError:
             kind = "a whole number" if self.integer else "a number"
+            core = self.interval if self.interval.startswith(("<", ">")) else f"in {self.interval}"
             alt = "".join(f" or '{w}'" for w in self.words)
-            raise UsageError(f"{name} must be {kind}{alt}; got {text!r}") from None
+            raise UsageError(f"{name} must be {kind} {core}{self._unit}{alt}; got {text!r}") from None
         return self.check(v, name)
 
     def check_all(self, values: Sequence[float], name: str) -> list:

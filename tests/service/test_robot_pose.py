@@ -80,7 +80,7 @@ def test_the_joint_angles_move_the_parts(client):
         ({"pitch": "nan"}, 422, "pitch must be a finite number; got nan"),
         ({"roll": "inf"}, 422, "roll must be a finite number; got inf"),
         ({"theta_w": "-Infinity"}, 422, "theta_w must be a finite number"),
-        ({"pitch": "abc"}, 422, "pitch must be a number; got 'abc'"),
+        ({"pitch": "abc"}, 422, "pitch must be a number in [-360, 360] deg; got 'abc'"),
         ({"roll": 361}, 422, "roll 361 deg is outside [-360, 360] deg: a body orientation within one turn"),
         ({"pitch": -1e9}, 422, "pitch -1000000000 deg is outside [-360, 360] deg"),
         ({"theta_w": 200}, 422, "outside joint 'wing_pitch_left' limits [-10, 95]"),
