@@ -14,6 +14,7 @@ import click
 from geometry.errors import UsageError
 from geometry.robots import DEFAULT_MESH_MASS_KG
 from landscape.params import parse_values
+from sim.engine import DEFAULT_ENGINE, ENGINES
 from sim.protocol import PAPER_LEG_PERIOD_S, PAPER_WING_PERIOD_S
 
 MJ = 1e3
@@ -29,6 +30,7 @@ __all__ = [
     "UsageError",
     "check_driven",
     "check_theta_w",
+    "engine_option",
     "finite",
     "joints_option",
     "leg_period_option",
@@ -242,6 +244,15 @@ model_set_option = click.option(
     help="Model parameter set: a shipped name (paper, paper-body-friction, physical, physical-head, physical-offset, physical-posed) or a .toml file (sim/model_set.py).",
 )
 """``--model``: the model parameter set of ``simulate``, ``sweep`` and ``physical validate``."""
+engine_option = click.option(
+    "--engine",
+    type=click.Choice(ENGINES),
+    default=DEFAULT_ENGINE,
+    show_default=True,
+    help="Physics engine: pybullet, or mujoco (the optional extra: pip install 'selfrighting-landscape[mujoco]'). "
+    "The engine and its parameters are part of the model set's identity (docs/sim.md).",
+)
+"""``--engine``: the physics engine of ``simulate``, ``sweep`` and ``physical validate``."""
 workers_option = click.option(
     "--workers", type=click.IntRange(min=1), default=None, help="Local worker processes [default: all cores]."
 )
