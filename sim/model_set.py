@@ -183,7 +183,7 @@ class ModelSet:
         ------
         sim.engine.EngineError
             If the engine is unknown, or cannot express one of the set's modifiers (each names the engines it
-            runs in, :attr:`sim.modifier.Modifier.ENGINES`).
+            runs in, :attr:`sim.modifier.Modifier.ENGINES`) or its contact (MuJoCo: the wings' own soft contact).
 
         Examples
         --------
@@ -193,6 +193,11 @@ class ModelSet:
         ('mujoco', True, True)
         """
         check_engine(engine)
+        if engine != DEFAULT_ENGINE and self.contact.wing_stiffness_n_m is not None:
+            raise EngineError(
+                f"model set '{self.name}': the {engine} engine cannot express [contact] wing_stiffness_n_m and "
+                "wing_damping_n_s_m (the wings' own soft contact); use --engine pybullet or drop them"
+            )
         for m in self.modifiers:
             if engine not in m.ENGINES:
                 raise EngineError(
@@ -616,13 +621,16 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
 def _mujoco(table, where: str) -> MujocoParams:
     """The ``[mujoco]`` table over :data:`sim.engine.MUJOCO_DEFAULTS` (any subset of
     :data:`sim.engine.MUJOCO_KEYS`; ``solimp`` a list of five numbers)."""
-    tab = _check_keys(table, MUJOCO_KEYS, set(), where)
-    if "solimp" in tab:
-        v = tab["solimp"]
-        tab = {**tab, "solimp": tuple(v) if isinstance(v, list) else v}
+    tab = dict(_check_keys(table, MUJOCO_KEYS, set(), where))
+
+    def as_float(v):  # a whole number written without a point hashes as the same float
+        return float(v) if isinstance(v, int) and not isinstance(v, bool) else v
+
+    if isinstance(tab.get("solimp"), list):
+        tab["solimp"] = tuple(as_float(x) for x in tab["solimp"])
     for k in ("solref_time_s", "solref_dampratio", "margin_m", "servo_kv_n_m_s_rad", "impratio"):
-        if k in tab and not isinstance(tab[k], bool) and isinstance(tab[k], int):
-            tab = {**tab, k: float(tab[k])}
+        if k in tab:
+            tab[k] = as_float(tab[k])
     try:
         return replace(MUJOCO_DEFAULTS, **tab)
     except EngineError as exc:
