@@ -247,9 +247,8 @@ class MujocoWorld(WorldBase):
                 m.actuator_gainprm[k, 0] = stiff_kp if on else 0.0
                 m.actuator_biasprm[k, 1] = -stiff_kp if on else 0.0
                 m.actuator_biasprm[k, 2] = -kv if on else 0.0
-        target = np.asarray(target_rad, dtype=np.float64)
-        speed = np.asarray(speed_rad_s, dtype=np.float64)
-        d.ctrl[:] = target + self._tau_s * self._kd * speed
+        ff = self._tau_s * self._kd
+        d.ctrl[:] = [t + ff * v for t, v in zip(target_rad, speed_rad_s, strict=True)]
         if self._soft:
             d.qfrc_applied[self._soft_dofs] = self._soft_servos.torques(
                 d.qpos[self._qadr[self._soft]].tolist(),
