@@ -22,6 +22,8 @@ pybullet's values can be copied; each of ``sim.engine.MujocoParams`` is chosen h
    (``landscape.minima.metastable_orientation``), for ``solref`` time constants and ``solimp``.
 4. The chosen defaults (``sim.engine.MUJOCO_DEFAULTS``) at several time steps, every criterion: the time step is
    chosen by the convergence study, and the parameters must hold at whichever it picks.
+5. Placement and rest, wings closed: the CoM height when the trial places the robot at its rest pitch, after the
+   0.5 s of settling, and the landscape's height of that metastable state.
 
 Criteria (docs/sim.md): no bounce, as pybullet's default contact; no chatter; the servo's tracking error as small
 as that allows; penetration below ``MAX_PENETRATION_M`` in the trials; resting pose within ``MAX_POSE_ERROR_DEG``.
@@ -206,11 +208,11 @@ def model_set(engine: str, params: MujocoParams | None = None):
 def trial_measures(engine: str, params: MujocoParams | None, dt_s: float, cases=CASES) -> dict:
     """Over ``cases`` (whole trials, no noise, seed 1): the largest tracking error (deg), the mean |wing -
     command| and |leg - command| (deg, every 10 ms), the deepest penetration (m), the chatter count
-    (:func:`mujoco_monitor`), outcomes (attempt or 0) and CPU s per simulated s (pybullet's one physics step per
-    call, so its CPU is not its fastest: ``benchmarks/sim_speed.py`` times both engines)."""
+    (:func:`mujoco_monitor`) and the outcomes (attempt or 0). The monitors step one physics step per call, so these
+    runs are no measure of speed (``benchmarks/sim_speed.py`` times both engines)."""
     ms = model_set(engine, params)
     numerics = Numerics(engine_substeps=engine != "pybullet")
-    worst, wing, leg, cpu, sim_s, outcomes = 0.0, [], [], 0.0, 0.0, []
+    worst, wing, leg, outcomes = 0.0, [], [], []
     with mujoco_monitor() if engine == "mujoco" else pybullet_monitor() as seen:
         for tw, tl, ph in cases:
             r = run_trial(
@@ -219,8 +221,6 @@ def trial_measures(engine: str, params: MujocoParams | None, dt_s: float, cases=
             worst = max(worst, r.max_tracking_error_deg)
             wing += list(np.abs(r.trace.wing_deg - r.trace.wing_cmd_deg))
             leg += list(np.abs(r.trace.leg_deg - r.trace.leg_cmd_deg))
-            cpu += r.cpu_s
-            sim_s += r.sim_s
             outcomes.append(r.attempt if r.success else 0)
     return {
         "max_err_deg": worst,
@@ -229,7 +229,6 @@ def trial_measures(engine: str, params: MujocoParams | None, dt_s: float, cases=
         "penetration_m": seen["penetration_m"],
         "chatter": seen["chatter"],
         "outcomes": outcomes,
-        "cpu_per_sim_s": cpu / sim_s,
     }
 
 
@@ -256,6 +255,24 @@ def resting_pose_errors(
         i = int(np.argmin(np.abs(r.trace.t_s - POSE_AT_S)))
         out[w] = (float(r.trace.pitch_deg[i] - pitch), float(r.trace.roll_deg[i] - roll))
     return out
+
+
+def placement_heights_m(engine: str, dt_s: float) -> tuple[float, float]:
+    """(CoM height when placed as a trial places it, after settling ``sim.trial.SETTLE_S``), m: wings closed,
+    servos holding 0."""
+    from sim.engine import open_world
+    from sim.model import sim_model
+    from sim.trial import SERVO_TAU_S, SETTLE_S
+
+    model = sim_model()
+    ms = model_set(engine)
+    with open_world(engine, model, dt_s=dt_s, contact=ms.contact, mujoco=ms.mujoco) as w:
+        zeros = np.zeros(len(w.driven))
+        w.place(np.deg2rad(model.rest_pitch_deg), 0.0, joints_rad=zeros)
+        placed = w.com_height_m()
+        w.drive(zeros, zeros, kp=dt_s / SERVO_TAU_S, kd=1.0)
+        w.advance(int(round(SETTLE_S / dt_s)))
+        return placed, w.com_height_m()
 
 
 def worst_pose_error_deg(errors: dict[float, tuple[float, float]]) -> float:
@@ -326,15 +343,30 @@ def main(argv=None) -> int:
     print(f"\n## 4. The defaults ({d}) at each time step\n")
     print(
         f"| dt (s) | restitution | chatter (steps) | max tracking error (°) | deepest penetration (mm) | {head} | "
-        "outcomes | CPU s per simulated s |"
+        "outcomes |"
     )
-    print("|---:|---:|---:|---:|---:|" + "---:|" * len(targets) + "---|---:|")
+    print("|---:|---:|---:|---:|---:|" + "---:|" * len(targets) + "---|")
     for dt in DTS[:2] if a.quick else DTS:
         e, _ = box_drop_mujoco(d, dt)
         m = trial_measures("mujoco", d, dt, cases)
         pe = resting_pose_errors("mujoco", d, dt, targets)
         print(f"| {dt:g} | {e:.3f} | {m['chatter']} | {m['max_err_deg']:.2f} | {m['penetration_m'] * 1e3:.3f} | "
-              f"{_pose_cells(pe)} | {m['outcomes']} | {m['cpu_per_sim_s']:.3f} |", flush=True)  # fmt: skip
+              f"{_pose_cells(pe)} | {m['outcomes']} |", flush=True)  # fmt: skip
+
+    from geometry.builtin import load_builtin_robot
+    from landscape import compute
+
+    rest = compute(load_builtin_robot(), theta_w_deg=0.0, landscape_grid=False).minimum
+    print("\n## 5. Placement and rest, wings closed (CoM height, mm)\n")
+    print(
+        f"landscape: metastable state at pitch {rest.pitch_deg:.2f}°, CoM {rest.height_m * 1e3:.2f} mm above the ground\n"
+    )
+    print("| engine | dt (s) | placed | after settling | settled minus landscape |")
+    print("|---|---:|---:|---:|---:|")
+    for engine, dt in (("pybullet", DEFAULT_DT_S), ("mujoco", MUJOCO_DT_S)):
+        placed, settled = placement_heights_m(engine, dt)
+        print(f"| {engine} | {dt:g} | {placed * 1e3:.2f} | {settled * 1e3:.2f} | "
+              f"{(settled - rest.height_m) * 1e3:+.2f} |", flush=True)  # fmt: skip
     print(f"\n{time.perf_counter() - t0:.0f} s")
     return 0
 

@@ -7,12 +7,13 @@ Protocol
    left to settle for ``SETTLE_S`` (0.5 s, a fixed time so that every time step starts actuating from the same
    physical state) with the motors holding 0; a warning is logged if the base still moves faster than 5 mm/s
    or 0.05 rad/s. Time t = 0 is the end of settling.
-2. The joints track :mod:`sim.actuation`'s profiles by pybullet position control within each joint's effort
+2. The joints track :mod:`sim.actuation`'s profiles by the engine's position servo (pybullet's position
+   control, or MuJoCo's equivalent position actuator: :mod:`sim.mujoco_world`) within each joint's effort
    limit (the URDF's, 1 N m for the lab robot), with feed-forward of the profile speed (velocity gain 1) and a
    position gain ``dt / SERVO_TAU_S`` per physics step (a 10 ms servo time constant, so the servo does not
    change with ``dt``). The servos are commanded every ``CONTROL_PERIOD_S`` (1 ms, a whole number of physics
    steps; every step if ``dt`` is larger): each command holds the profile's angle at the middle of the period
-   (so a ramp is tracked without lag) and its speed, and pybullet sub-steps through the period in one call.
+   (so a ramp is tracked without lag) and its speed, and the engine sub-steps through the period in one call.
 3. Outcome rule: the robot is **upright** when world-up in the body frame has ``u_z < 0``. The trial succeeds
    when it stays upright for ``UPRIGHT_HOLD_S`` (0.3 s) without interruption; ``time_to_right_s`` is the time the
    robot became upright at the start of that stretch, and the simulation stops there. Otherwise it runs for
@@ -462,7 +463,7 @@ class Trial:
     heading_deg : float
         The robot's heading on the ground when it is placed, degrees about world z (0: its x axis along world
         x). On an isotropic floor it would not matter; pybullet's friction is not isotropic (:mod:`sim.world`),
-        so it can change the outcome (``benchmarks/studies/heading.py``).
+        so it can change the outcome there (``benchmarks/studies/heading.py``); MuJoCo's elliptic cone is.
     """
 
     theta_w_deg: float
