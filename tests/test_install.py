@@ -31,6 +31,14 @@ def test_readme_setup_commands_are_the_two_installs():
     assert any("pip install" in s and "-e" in s for s in commands[1])
 
 
+def test_ci_runs_the_readme_test_command_and_the_e2e_tests():
+    """.ci/run runs the README's second set-up command as written, and the tests that command leaves out."""
+    ci = (REPO / ".ci" / "run").read_text(encoding="utf-8")
+    second = " && ".join(readme_setup_commands()[1])
+    assert second in ci, f".ci/run does not run the README's test command: {second}"
+    assert "-m e2e" in ci
+
+
 @pytest.mark.slow
 @pytest.mark.timeout(1800)
 def test_python_api_after_both_readme_commands(tmp_path):

@@ -69,6 +69,7 @@ def test_the_python_api_page_has_the_python_twins():
         assert f"# landscape {cmd}" in text or f"; landscape {cmd}" in text, f"no Python twin for {cmd}"
 
 
+@pytest.mark.e2e
 @pytest.mark.parametrize("block", _python_blocks())
 def test_python_twin_block_runs(block, capsys, monkeypatch):
     pytest.importorskip("pybullet")
@@ -123,6 +124,7 @@ def test_every_service_endpoint_has_a_curl_and_a_python_example():
             assert f"api.{method}(" in python, f"{method.upper()} {path}: no api.{method} call"
 
 
+@pytest.mark.e2e
 def test_the_service_page_python_examples_run(tmp_path):
     """docs/howto/service.md's Python examples, in order, against the app in process (TestClient for httpx)."""
     pytest.importorskip("fastapi")
@@ -184,6 +186,13 @@ def _slow(cmd: str) -> bool:
         or " physical validate" in cmd
         or " physical calibrate" in cmd
     )
+
+
+def _marks(cmd: str) -> list:
+    """slow: the paper-sized runs; e2e: the small sweeps (CI runs them as a step of their own)."""
+    if _slow(cmd):
+        return [pytest.mark.slow]
+    return [pytest.mark.e2e] if " sweep" in cmd else []
 
 
 EXAMPLES = [(page, c, e) for page in PAGES for c, e in _examples(page)]
@@ -260,10 +269,7 @@ def test_a_page_script_runs_before_the_page_commands(tmp_path):
 
 @pytest.mark.parametrize(
     "page, cmd, expected",
-    [
-        pytest.param(p, c, e, marks=[pytest.mark.slow] if _slow(c) else [], id=f"{_page_id(p)}: {c[:60]}")
-        for p, c, e in EXAMPLES
-    ],
+    [pytest.param(p, c, e, marks=_marks(c), id=f"{_page_id(p)}: {c[:60]}") for p, c, e in EXAMPLES],
 )
 def test_command_prints_what_the_page_shows(page, cmd, expected, page_dirs):
     """Each command of a page runs as written (in that page's scratch directory) and prints the page's stable

@@ -26,6 +26,7 @@ def db(tmp_path_factory):
     return path
 
 
+@pytest.mark.e2e
 def test_report_builds_every_analysis_from_a_real_database(capsys, db, tmp_path):
     out = tmp_path / "report"
     code, stdout, err = run(capsys, "report", "--db", db, "--out", out)
@@ -125,6 +126,7 @@ def test_analyze_commands_write_their_files_and_refuse_bad_input(capsys, db, tmp
     assert code == 2 and "landscape sweep" in err
 
 
+@pytest.mark.e2e
 def test_report_page_passes_a_headless_browser_check(capsys, db, tmp_path):
     from landscape.viz.report import find_chromium
 

@@ -103,6 +103,7 @@ def test_compute_json_is_strict(corpus):
         json.loads(r.stdout, parse_constant=lambda tok, m=method: pytest.fail(f"{m}: {tok} in JSON"))
 
 
+@pytest.mark.e2e
 def test_a_robot_the_landscape_accepts_can_be_simulated_and_swept(tmp_path):
     """A URDF with renamed joints and its --joints map: compute, simulate (no --dt) and sweep all accept it, and
     the sweep's rows are keyed by the mapped robot (#9)."""

@@ -30,6 +30,7 @@ def test_report_refuses_a_physical_directory_that_does_not_exist(capsys, db, tmp
     assert code == 2 and "Traceback" not in err and len(err.strip().splitlines()) == 1  # not the lab's data
 
 
+@pytest.mark.e2e
 @pytest.mark.shared
 @pytest.mark.skipif(
     not (PHYSICAL / "robot_attempts.mat").is_file(), reason=f"{PHYSICAL} is absent (set LANDSCAPE_SHARED)"
@@ -60,6 +61,7 @@ def test_report_with_physical_adds_the_attempts_and_the_cells(capsys, db, tmp_pa
     assert "Energy budget of the attempts" in html
 
 
+@pytest.mark.e2e
 @pytest.mark.shared
 @pytest.mark.skipif(
     not (PHYSICAL / "robot_attempts.mat").is_file(), reason=f"{PHYSICAL} is absent (set LANDSCAPE_SHARED)"

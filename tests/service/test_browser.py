@@ -20,6 +20,8 @@ import pytest
 
 from .test_sweeps import TINY, _call, _free_port, _wait, start_server, stop_server
 
+pytestmark = pytest.mark.e2e  # browser sessions against a served page: CI runs them as a step of their own
+
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser") or shutil.which("google-chrome")
 
 

@@ -32,6 +32,7 @@ def _wait(get, until, timeout_s=240.0):
     raise AssertionError(f"timed out waiting; last state {job}")
 
 
+@pytest.mark.e2e
 def test_sweep_job_runs_and_reports(client):
     r = client.post("/api/sweeps", json=TINY)
     assert r.status_code == 201, r.text

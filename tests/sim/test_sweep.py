@@ -126,6 +126,7 @@ def _script(tmp_path):
     return f
 
 
+@pytest.mark.e2e
 def test_two_sweeps_share_one_db(tmp_path):
     db, f = tmp_path / "shared.sqlite", _script(tmp_path)
     procs = [
@@ -186,6 +187,7 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
+@pytest.mark.e2e
 def test_sweep_on_dask_cluster(tmp_path):
     distributed = pytest.importorskip("distributed")
     bindir = Path(sys.executable).parent

@@ -103,6 +103,7 @@ def test_a_candidate_may_scale_one_wing_and_the_world_refuses_a_wrong_count(tmp_
         run_trial(75.0, 0.0, phase=0.5, cv=0.0, rng=1, duration_s=0.5, model_set=short)
 
 
+@pytest.mark.e2e
 @needs_data
 def test_calibrate_command_picks_the_likeliest_candidate_and_holds_cells_out(tmp_path, capsys):
     args = ["physical", "calibrate", "--data", str(DATA), "--base", "paper"]
@@ -142,6 +143,7 @@ def test_calibrate_command_picks_the_likeliest_candidate_and_holds_cells_out(tmp
     assert "give a phase in [0, 1) or 'protocol'" in capsys.readouterr().err
 
 
+@pytest.mark.e2e
 @needs_data
 def test_calibrate_with_openings_and_side_ranks_by_their_sum(tmp_path, capsys):
     """--openings: each candidate also gets the log-likelihood of its first openings under the robot's (one per
