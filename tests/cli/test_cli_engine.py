@@ -10,7 +10,7 @@ import pytest
 
 from sim.engine import MUJOCO_EXTRA
 from sim.model_set import load_model_set
-from tests.conftest import run_cli
+from tests.conftest import SHARED, run_cli
 
 TRIAL = ("--theta-w", 74, "--theta-l", 30, "--phase", 0.7, "--cv", 0, "--seed", 1, "--duration", 0.6)
 SWEEP = ("--theta-w", 74, "--theta-l", 30, "--cv", 0, "--trials", 1, "--duration", 0.6, "--workers", 1)
@@ -77,3 +77,25 @@ def test_simulate_and_sweep_run_in_mujoco(capsys, tmp_path):
     _one_line(
         code, err, f"'{db}' holds mujoco trials, not pybullet ones; mixing engines would pool two models"
     )
+
+
+@pytest.mark.shared
+@pytest.mark.skipif(
+    not (SHARED / "ref" / "physical_robot" / "robot_attempts.mat").is_file(), reason="needs ../shared/ref"
+)
+def test_physical_validate_runs_in_mujoco(capsys, tmp_path):
+    pytest.importorskip("mujoco")
+    out = tmp_path / "val"
+    code, stdout, err = run_cli(
+        capsys, "physical", "validate", "--data", SHARED / "ref" / "physical_robot", "--cells", "75:15",
+        "--trials", 2, "--duration", 2, "--out", out, "--no-progress", "--workers", 1, "--engine", "mujoco",
+    )  # fmt: skip
+    assert code == 0, err
+    doc = json.loads((out / "validation.json").read_text())
+    mj = load_model_set().with_engine("mujoco")
+    assert doc["engine"] == "mujoco" and doc["model_set_hash"] == mj.model_set_hash
+    (db,) = out.glob("trials_*.sqlite")
+    assert db.name == f"trials_paper_{mj.model_set_hash}.sqlite"
+    from sim.store import read_rows
+
+    assert {r["engine"] for r in read_rows(db)} == {"mujoco"}
