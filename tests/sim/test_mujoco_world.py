@@ -16,7 +16,7 @@ from geometry.urdf import origin_matrix  # noqa: E402
 from sim.compliance import BodyTorsion, Compliance  # noqa: E402
 from sim.engine import MUJOCO_DEFAULTS, EngineWorld  # noqa: E402
 from sim.model import sim_model  # noqa: E402
-from sim.model_set import load_model_set  # noqa: E402
+from sim.model_set import load_model_set, shipped_model_sets  # noqa: E402
 from sim.mujoco_world import MujocoWorld  # noqa: E402
 from sim.trial import Trial, run_trial, simulate_trial  # noqa: E402
 from sim.world import World, model_urdf_file  # noqa: E402
@@ -172,3 +172,29 @@ def test_with_the_pyramidal_cone_they_do():
     ms = replace(load_model_set(), mujoco=replace(MUJOCO_DEFAULTS, cone="pyramidal")).with_engine("mujoco")
     base = _single_attempts(ms, 0.0)
     assert any(_single_attempts(ms, h) != base for h in (5.0, 45.0))
+
+
+MODIFIER_TABLES = {
+    "body_torsion": "stiffness_n_m_rad = 0.05\ndamping_n_m_s_rad = 0.001\n",
+    "leg_bend": "stiffness_n_m_rad = 0.135\ndamping_n_m_s_rad = 0.00055\n",
+    "leg_compliance": "stiffness_n_m_rad = 0.08\ndamping_n_m_s_rad = 0.001\n",
+    "head_compliance": "stiffness_n_m = 25.0\ndamping_n_s_m = 0.3\n",
+    "compliance": "wing_stiffness_n_m_rad = 1.0\nwing_damping_n_m_s_rad = 0.01\nwing_integral_time_s = 0.05\n",
+}
+
+
+@pytest.mark.parametrize("name", [*shipped_model_sets(), *MODIFIER_TABLES])
+def test_every_shipped_set_and_every_modifier_runs_in_mujoco(tmp_path, name):
+    """A first opening with the leg swinging, each shipped set and a set with each spring modifier: it runs and the
+    wings lift the body."""
+    from tests.conftest import set_with_table
+
+    ms = load_model_set(
+        set_with_table(tmp_path, name, MODIFIER_TABLES[name]) if name in MODIFIER_TABLES else name
+    )
+    mj = ms.with_engine("mujoco")
+    w = 75.0 if ms.measured is not None else 76.0
+    r = run_trial(w, 30.0, phase=0.3, cv=0.0, rng=1, model_set=mj, attempts=1, duration_s=1.0, trace=True)
+    assert r.engine == "mujoco" and r.model_set_hash == mj.model_set_hash
+    assert r.trace.pitch_deg.max() > 20.0  # the wings lifted the body
+    assert np.isfinite(r.trace.as_array()).all()
