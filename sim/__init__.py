@@ -22,8 +22,8 @@ _EXPORTS = {
         "sim.trial",
     ),
     **dict.fromkeys(("Modifier", "ModelSetError", "register"), "sim.modifier"),
-    **dict.fromkeys(("Contact", "SimulationDiverged"), "sim.world"),
-    **dict.fromkeys(("ENGINES", "EngineError", "MujocoParams", "open_world"), "sim.engine"),
+    **dict.fromkeys(("Contact",), "sim.world"),
+    **dict.fromkeys(("ENGINES", "EngineError", "MujocoParams", "SimulationDiverged", "open_world"), "sim.engine"),
     **dict.fromkeys(("TrialSpec", "run_sweep", "sweep_specs"), "sim.sweep"),
     **dict.fromkeys(("TrialStore", "StoreError"), "sim.store"),
 }
