@@ -23,7 +23,9 @@ _EXPORTS = {
     ),
     **dict.fromkeys(("Modifier", "ModelSetError", "register"), "sim.modifier"),
     **dict.fromkeys(("Contact",), "sim.world"),
-    **dict.fromkeys(("ENGINES", "EngineError", "MujocoParams", "SimulationDiverged", "open_world"), "sim.engine"),
+    **dict.fromkeys(
+        ("ENGINES", "EngineError", "MujocoParams", "SimulationDiverged", "open_world"), "sim.engine"
+    ),
     **dict.fromkeys(("TrialSpec", "run_sweep", "sweep_specs"), "sim.sweep"),
     **dict.fromkeys(("TrialStore", "StoreError"), "sim.store"),
 }
