@@ -394,9 +394,11 @@ class SoftServos:
 
     Examples
     --------
-    >>> s = SoftServos([(2.0, 0.0, 0.0)], [1.0])
-    >>> s.torques([0.1], [0.0], [0.3], [0.0], elapsed_s=0.0)
-    [0.4]
+    >>> s = SoftServos([(2.0, 0.5, 0.0)], [1.0])
+    >>> s.torques([0.25], [0.5], [0.75], [1.5], elapsed_s=0.0)  # 2 * 0.5 + 0.5 * 1, capped at 1
+    [1.0]
+    >>> s.torques([0.25], [0.5], [0.5], [0.5], elapsed_s=0.0)  # 2 * 0.25 + 0.5 * 0
+    [0.5]
     """
 
     def __init__(self, gains, limit_n_m):
