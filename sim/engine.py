@@ -378,6 +378,35 @@ class WorldBase:
             )
 
 
+def schur_inertia_kg_m2(mass_matrix, i: int) -> float:
+    """The effective inertia of coordinate ``i`` with every other one free: the Schur complement of its entry of
+    the joint-space mass matrix, kg m² (for a hinge).
+
+    Examples
+    --------
+    >>> schur_inertia_kg_m2(np.array([[2.0, 1.0], [1.0, 2.0]]), 0)  # 2 - 1 * 1 / 2
+    1.5
+    """
+    m = np.asarray(mass_matrix, dtype=np.float64)
+    rest = [k for k in range(m.shape[0]) if k != i]
+    coupling = m[i, rest]
+    return float(m[i, i] - coupling @ np.linalg.solve(m[np.ix_(rest, rest)], coupling))
+
+
+def axis_inertia_kg_m2(mass_kg: float, com_m, rot, principal_kg_m2, axis) -> float:
+    """A link's moment of inertia about an axis through the joint frame's origin, kg m²: its principal moments
+    ``principal_kg_m2`` turned by ``rot`` (principal axes in the joint frame) about the unit ``axis``, plus
+    ``mass_kg`` at ``com_m`` (the CoM in the joint frame, m) off the axis.
+
+    Examples
+    --------
+    >>> axis_inertia_kg_m2(2.0, [0.0, 3.0, 0.0], np.eye(3), [1.0, 1.0, 1.0], np.array([1.0, 0.0, 0.0]))  # 1 + 2 * 9
+    19.0
+    """
+    r = np.asarray(com_m, dtype=np.float64)
+    return float(axis @ rot @ np.diag(principal_kg_m2) @ rot.T @ axis + mass_kg * (r @ r - (r @ axis) ** 2))
+
+
 class SoftServos:
     """The soft servos a model set's modifiers attach (:meth:`EngineWorld.add_soft_joints`), engine-independent:
     per joint the torque ``k (target - q) + c (speed - dq/dt) + ki * integral``, capped at the effort limit.

@@ -33,7 +33,15 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from .engine import MUJOCO_DEFAULTS, EngineError, MujocoParams, SoftServos, WorldBase
+from .engine import (
+    MUJOCO_DEFAULTS,
+    EngineError,
+    MujocoParams,
+    SoftServos,
+    WorldBase,
+    axis_inertia_kg_m2,
+    schur_inertia_kg_m2,
+)
 from .model import SimModel
 from .world import G_M_S2, Contact, model_urdf_file
 
@@ -282,10 +290,7 @@ class MujocoWorld(WorldBase):
         mujoco.mj_forward(m, d)
         full = np.zeros((m.nv, m.nv))
         mujoco.mj_fullM(m, d, full)
-        i = int(m.jnt_dofadr[joint])
-        rest = [k for k in range(m.nv) if k != i]
-        coupling = full[i, rest]
-        return float(full[i, i] - coupling @ np.linalg.solve(full[np.ix_(rest, rest)], coupling))
+        return schur_inertia_kg_m2(full, int(m.jnt_dofadr[joint]))
 
     def child_inertia_kg_m2(self, joints: list[int]) -> float:
         """The smallest moment of inertia of the joints' child links about each joint's axis, kg m² (nan for no
@@ -298,9 +303,8 @@ class MujocoWorld(WorldBase):
             rot = rot.reshape(3, 3)
             axis = np.asarray(m.jnt_axis[j], dtype=np.float64)
             axis = axis / np.linalg.norm(axis)
-            r = np.asarray(m.body_ipos[b] - m.jnt_pos[j], dtype=np.float64)  # CoM from the joint, body frame
-            inertia = rot @ np.diag(m.body_inertia[b]) @ rot.T
-            out.append(float(axis @ inertia @ axis + m.body_mass[b] * (r @ r - (r @ axis) ** 2)))
+            com = m.body_ipos[b] - m.jnt_pos[j]  # the CoM from the joint, body frame
+            out.append(axis_inertia_kg_m2(float(m.body_mass[b]), com, rot, m.body_inertia[b], axis))
         return min(out) if out else math.nan
 
     # ------------------------------------------------------------------ stepping and reading

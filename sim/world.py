@@ -38,7 +38,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .engine import SimulationDiverged as SimulationDiverged  # re-exported: sim.world.SimulationDiverged
-from .engine import SoftServos, WorldBase
+from .engine import SoftServos, WorldBase, axis_inertia_kg_m2, schur_inertia_kg_m2
 from .model import MESH_PLACEHOLDER, SimModel
 
 
@@ -451,10 +451,7 @@ class World(WorldBase):
         ]
         q = [pb.getJointState(self.body, j, physicsClientId=cid)[0] for j in movable]
         m = np.asarray(pb.calculateMassMatrix(self.body, q, physicsClientId=cid), dtype=np.float64)
-        i = m.shape[0] - len(movable) + movable.index(joint)
-        rest = [k for k in range(m.shape[0]) if k != i]
-        coupling = m[i, rest]
-        return float(m[i, i] - coupling @ np.linalg.solve(m[np.ix_(rest, rest)], coupling))
+        return schur_inertia_kg_m2(m, m.shape[0] - len(movable) + movable.index(joint))
 
     def child_inertia_kg_m2(self, joints: list[int]) -> float:
         """The smallest moment of inertia of the joints' child links about each joint's axis, kg m² (nan for no
@@ -468,8 +465,9 @@ class World(WorldBase):
             axis = np.asarray(pb.getJointInfo(self.body, j, physicsClientId=cid)[13], dtype=np.float64)
             axis = axis / np.linalg.norm(axis)
             rot = np.array(pb.getMatrixFromQuaternion(orn, physicsClientId=cid)).reshape(3, 3)
-            r = np.asarray(pos, dtype=np.float64)  # the link's CoM in its link (joint) frame
-            out.append(float(axis @ rot @ np.diag(diag) @ rot.T @ axis + mass * (r @ r - (r @ axis) ** 2)))
+            out.append(
+                axis_inertia_kg_m2(mass, pos, rot, diag, axis)
+            )  # pos: the CoM in the link (joint) frame
         return min(out) if out else math.nan
 
     def advance(self, n_steps: int) -> None:
