@@ -31,6 +31,11 @@ see docs/sim.md)."""
 OTHER_ROBOT_DT_S = 2e-4
 """Default time step of any other robot, s: the lab URDF passes the convergence criterion at it, not at
 ``DEFAULT_DT_S`` (docs/sim.md); run the convergence benchmark on a new robot before trusting a larger one."""
+MUJOCO_DT_S = 5e-4
+"""Default MuJoCo time step of the built-in robot, s (provisional, the same as pybullet's until the convergence
+study of both engines chooses it; docs/sim.md)."""
+MUJOCO_OTHER_ROBOT_DT_S = 2e-4
+"""Default MuJoCo time step of any other robot, s (provisional, as pybullet's)."""
 
 # Bounds: a request past them is refused up front with its cost (``sim.trial.check_trial_cost``).
 MAX_DURATION_S = 600.0

@@ -26,6 +26,7 @@ from geometry.bounds import (
 from geometry.errors import UsageError
 from geometry.robots import DEFAULT_MESH_MASS_KG
 from landscape.params import parse_bounded, parse_values
+from sim.engine import DEFAULT_ENGINE, ENGINES
 from sim.protocol import (
     CV_BOUNDS,
     DURATION_S_BOUNDS,
@@ -50,6 +51,7 @@ __all__ = [
     "angle_option",
     "check_driven",
     "check_theta_w",
+    "engine_option",
     "finite",
     "grid_step_option",
     "joints_option",
@@ -362,6 +364,15 @@ model_set_option = click.option(
     help="Model parameter set: a shipped name (paper, paper-body-friction, physical, physical-head, physical-offset, physical-posed) or a .toml file (sim/model_set.py).",
 )
 """``--model``: the model parameter set of ``simulate``, ``sweep`` and ``physical validate``."""
+engine_option = click.option(
+    "--engine",
+    type=click.Choice(ENGINES),
+    default=DEFAULT_ENGINE,
+    show_default=True,
+    help="Physics engine: pybullet, or mujoco (the optional extra: pip install 'selfrighting-landscape[mujoco]'). "
+    "The engine and its parameters are part of the model set's identity (docs/sim.md).",
+)
+"""``--engine``: the physics engine of ``simulate``, ``sweep`` and ``physical validate``."""
 WORKERS_BOUNDS = Bounds(1, math.inf, integer=True, meaning="a count of worker processes")
 workers_option = ranged_option(
     "--workers",

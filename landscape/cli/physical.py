@@ -12,6 +12,7 @@ import click
 from geometry.bounds import Bounds
 from landscape.cli.options import (
     angle_option,
+    engine_option,
     joints_option,
     model_set_option,
     no_progress_option,
@@ -199,6 +200,7 @@ def _report_validation(out: Path, validation, tables: dict, doc_name: str, doc: 
 @SIM_ROBOT
 @joints_option
 @model_set_option
+@engine_option
 @ranged_option(
     "--trials",
     bounds=TRIALS_BOUNDS,
@@ -263,6 +265,7 @@ def validate_cmd(
     robot,
     joints,
     model_set,
+    engine,
     trials,
     phase,
     cv,
@@ -282,11 +285,13 @@ def validate_cmd(
 
     from landscape.analysis.physical.validation import validate
     from landscape.cli.options import robot_urdf, robot_urdf_arg, writable_dir
+    from sim.engine import require_engine
     from sim.model_set import load_model_set
 
+    require_engine(engine)
     writable_dir(out, "--out")
     phase = _phase_arg(phase, data)
-    ms = load_model_set(model_set)
+    ms = load_model_set(model_set).with_engine(engine)
     Path(out).mkdir(parents=True, exist_ok=True)
     db = Path(out) / f"trials_{ms.name}_{ms.model_set_hash}.sqlite"
     with sweep_errors():
@@ -307,6 +312,7 @@ def validate_cmd(
             phase=phase,
             robot_attempts=robot_attempts,
             imu_mount_deg=imu_mounting,
+            engine=engine,
         )
     click.echo(
         f"{summary.total} simulated trials: {summary.skipped} already in {db}, ran {summary.ran} in "
@@ -319,6 +325,7 @@ def validate_cmd(
         "cv": cv,
         "seed": seed,
         "store": str(db),
+        "engine": engine,
     }
     _report_validation(Path(out), v, {"validation.csv": list(v.cells)}, "validation.json", doc)
 

@@ -1,5 +1,5 @@
-"""``landscape simulate``, ``sweep`` and ``export``: one pybullet trial, a resumable sweep into SQLite, and the
-stored trials as CSV. pybullet loads only when a command runs."""
+"""``landscape simulate``, ``sweep`` and ``export``: one trial, a resumable sweep into SQLite, and the stored trials
+as CSV, in pybullet or MuJoCo (``--engine``). The engine loads only when a command runs."""
 
 from __future__ import annotations
 
@@ -15,6 +15,7 @@ from landscape.cli.options import (
     UsageError,
     angle_option,
     check_theta_w,
+    engine_option,
     joints_option,
     leg_period_option,
     model_set_option,
@@ -64,13 +65,13 @@ DT_OPT = ranged_option(
 )
 
 
-def _warn_coarse_dt(dt: float | None, robot: str | None) -> None:
+def _warn_coarse_dt(dt: float | None, robot: str | None, engine: str = "pybullet") -> None:
     """A step coarser than the robot's converged default is allowed, with a warning that names the default."""
     if dt is None:
         return
     from sim.trial import default_dt_s
 
-    converged = default_dt_s(robot)
+    converged = default_dt_s(robot, engine)
     if dt > converged * (1 + 1e-9):
         warn(
             f"--dt {dt:g} s is coarser than {converged:g} s, the largest step that passes "
@@ -114,6 +115,7 @@ def _human(r, robot: str) -> str:
     lines = [
         f"robot        {robot}",
         f"model set    {r.model_set} ({r.model_set_hash})",
+        f"engine       {r.engine}",
         f"inputs       theta_w {r.theta_w_deg:g}°  theta_l {r.theta_l_deg:g}°  phase {r.phase:g}  Cv {r.cv:g}  "
         f"seed {r.seed}  duration {r.duration_s:g} s  dt {r.dt_s:g} s",
     ]
@@ -188,6 +190,7 @@ def _human(r, robot: str) -> str:
     "pybullet's friction is not isotropic (a quarter turn never changes a trial; see docs/sim.md).",
 )
 @model_set_option
+@engine_option
 def simulate(
     theta_w,
     theta_l,
@@ -206,21 +209,24 @@ def simulate(
     attempts,
     heading,
     model_set,
+    engine,
 ):
-    """Run one self-righting trial in pybullet and report its outcome."""
+    """Run one self-righting trial (pybullet or MuJoCo) and report its outcome."""
     from geometry import JointMap
     from landscape.viz.files import json_text
+    from sim.engine import require_engine
     from sim.model import default_robot_urdf
     from sim.model_set import load_model_set
     from sim.trial import run_trial
     from sim.world import SimulationDiverged
 
+    require_engine(engine)
     robot_path = robot_urdf_arg(robot) or str(default_robot_urdf())
     _check_wing(theta_w, robot_path, joints, theta_l)
-    _warn_coarse_dt(dt, robot_path)
+    _warn_coarse_dt(dt, robot_path, engine)
     if trace_path is not None:
         writable_file(trace_path, "--trace", inputs=(robot_path,))
-    ms = load_model_set(model_set)
+    ms = load_model_set(model_set).with_engine(engine)
     if video_path is not None:
         from landscape.viz.video import check_video_path
 
@@ -372,6 +378,7 @@ def simulate(
 @no_progress_option
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object.")
 @model_set_option
+@engine_option
 def sweep(
     theta_w,
     theta_l,
@@ -392,6 +399,7 @@ def sweep(
     no_progress,
     as_json,
     model_set,
+    engine,
 ):
     """Run (or resume) a sweep of self-righting trials into an SQLite database."""
     from dataclasses import asdict
@@ -408,8 +416,11 @@ def sweep(
         )
     tw, tl, cvs, phs, wps, lps = theta_w, theta_l, cv, phase, wing_period, leg_period
     robot = robot_urdf_arg(robot)
+    from sim.engine import require_engine
+
+    require_engine(engine)
     _check_wing(tw, robot, joints, tl)
-    _warn_coarse_dt(dt, robot)
+    _warn_coarse_dt(dt, robot, engine)
     specs = sweep_specs(
         tw,
         tl,
@@ -425,6 +436,7 @@ def sweep(
         attempts=attempts,
         joint_map=joints,
         model_set=model_set,
+        engine=engine,
     )
     with sweep_errors():
         summary = run_sweep(specs, db=db, workers=workers, scheduler=scheduler, progress=not no_progress)

@@ -75,8 +75,8 @@ def section_trajectories(
         if r["status"] == "ok"
         and r["attempts"] == 0
         and (r["wing_period_s"], r["leg_period_s"]) == PAPER_PERIODS
-        and (r["duration_s"], r["dt_s"], r.get("model_set") or "paper")
-        == (pc.duration_s, pc.dt_s, pc.model_set)
+        and (r["duration_s"], r["dt_s"], r.get("model_set") or "paper", r.get("engine") or "pybullet")
+        == (pc.duration_s, pc.dt_s, pc.model_set, pc.engine)
         and (r["theta_w_deg"], r["theta_l_deg"], r["cv"], r["phase"])
         == (cell.theta_w_deg, cell.theta_l_deg, cell.cv, cell.phase)
     ]
