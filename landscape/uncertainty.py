@@ -154,7 +154,7 @@ class BarrierIntervals:
 
     def to_dict(self) -> dict:
         """In JSON types (SI): the uncertainty (``com_m``, ``mass_kg``), the Monte-Carlo ``samples`` and ``seed``,
-        the two labels, ``seconds_per_sample``, and per exit ``first_order_j`` and ``monte_carlo_j`` ([low, high]
+        the two labels, and per exit ``first_order_j`` and ``monte_carlo_j`` ([low, high]
         or None) and ``note``."""
         u = self.uncertainty
         return {
@@ -164,7 +164,6 @@ class BarrierIntervals:
             "seed": u.seed,
             "first_order": FIRST_ORDER,
             "monte_carlo": MONTE_CARLO,
-            "seconds_per_sample": None if math.isnan(self.seconds_per_sample) else self.seconds_per_sample,
             **{
                 k: None
                 if x is None
@@ -322,5 +321,86 @@ def barrier_intervals(c, u: Uncertainty) -> BarrierIntervals:
 
 def with_intervals(c, u: Uncertainty):
     """The computation with its :attr:`~landscape.computation.Computation.intervals` under ``u``
-    (:func:`barrier_intervals`); a barrier map's ``per_pose`` hook."""
-    return replace(c, intervals=barrier_intervals(c, u))
+    (:func:`barrier_intervals`), and the time they took in its ``timing_s`` (``intervals``, and with samples
+    ``monte_carlo_sample``, one sample's); a barrier map's ``per_pose`` hook."""
+    t0 = time.perf_counter()
+    iv = barrier_intervals(c, u)
+    timing = dict(c.timing_s) | {"intervals": time.perf_counter() - t0}
+    if iv.samples:
+        timing["monte_carlo_sample"] = iv.seconds_per_sample
+    return replace(c, intervals=iv, timing_s=timing)
+
+
+@dataclass(frozen=True)
+class ComChange:
+    """How the barriers change between two computations of one pose whose CoMs differ (a model set that moves
+    the CoM, or a part with its mass).
+
+    Attributes
+    ----------
+    com_m : ndarray of shape (3,)
+        The CoM's move, body frame, m.
+    first_order_j : dict of str to float or None
+        Per exit, ``dB/dc . dc`` from the first computation's gradient, J (None where it does not exist).
+    com_only_j : dict of str to float or None
+        Per exit, the barrier recomputed on the first body with only its CoM moved, minus its own, J.
+    recomputed_j : dict of str to float or None
+        Per exit, the second computation's barrier minus the first's, J (its geometry may differ too).
+    """
+
+    com_m: NDArray[np.float64]
+    first_order_j: dict
+    com_only_j: dict
+    recomputed_j: dict
+
+    def to_dict(self) -> dict:
+        """In JSON types (SI): ``com_m`` and, per kind, the change of each exit's barrier, J."""
+        return {
+            "com_m": [float(x) for x in self.com_m],
+            "first_order_j": dict(self.first_order_j),
+            "com_only_j": dict(self.com_only_j),
+            "recomputed_j": dict(self.recomputed_j),
+        }
+
+
+def com_change(base, moved) -> ComChange:
+    """The barriers' change from ``base`` to ``moved`` (two computations of one pose, e.g. a robot and the same
+    robot as a model set edits it): to first order in the CoM's move, recomputed with only the CoM moved, and
+    recomputed whole.
+
+    Parameters
+    ----------
+    base : landscape.computation.Computation
+        With its gradients and pose.
+    moved : landscape.computation.Computation
+
+    Raises
+    ------
+    UsageError
+        If the move would take the CoM outside ``base``'s body.
+
+    Examples
+    --------
+    A box 4 x 2 x 1 m (m g = 1 J/m) with its CoM moved 1 cm further towards +y: its righting barrier over the +y
+    edge falls about 0.9 cm times m g (the gradient's y component):
+
+    >>> import trimesh
+    >>> from geometry import Robot
+    >>> from landscape.computation import compute
+    >>> def box(y):
+    ...     body = Robot.from_trimesh(trimesh.creation.box(extents=(4.0, 2.0, 1.0)), com=(0, y, 0))
+    ...     return compute(body, g_m_s2=1.0, landscape_grid=False)
+    >>> ch = com_change(box(0.1), box(0.11))
+    >>> round(ch.first_order_j["righting"], 5), round(ch.recomputed_j["righting"], 5), ch.com_only_j == ch.recomputed_j
+    (-0.00874, -0.00873, True)
+    """
+    dc = np.asarray(moved.com_m, dtype=np.float64) - np.asarray(base.com_m, dtype=np.float64)
+    Uncertainty(com_m=float(np.linalg.norm(dc))).check(base.pose)
+    alone = recomputed_barriers(base, dc[None, :])[0]
+    first, only, whole = {}, {}, {}
+    for k, name in enumerate(EXIT_NAMES):
+        b, m, g = getattr(base.barrier, name), getattr(moved.barrier, name), base.gradient.get(name)
+        first[name] = None if g is None or g.com_j_per_m is None else float(g.com_j_per_m @ dc)
+        only[name] = None if b is None or not np.isfinite(alone[k]) else float(alone[k] - b.barrier_j)
+        whole[name] = None if b is None or m is None else float(m.barrier_j - b.barrier_j)
+    return ComChange(dc, first, only, whole)
