@@ -10,6 +10,7 @@ sets them.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -71,45 +72,72 @@ def pose_rates(robot, pose) -> dict[str, PoseRate]:
     if not robot.has_joints:
         return {}
     T = pose.link_transforms
-    actuated = {j.name for j in robot.joints if j.actuated}
-    chains = robot.kinematic_chains()
+    plan = _plan(robot, pose.parts)
+    coms = np.array([T[link][:3, :3] @ c + T[link][:3, 3] for link, c in plan.heavy_coms])
+    points = np.asarray(pose.hull_points_m, dtype=np.float64)
     out = {}
+    for angle, (joints, rates, carried) in plan.groups.items():
+        spins, shifts = np.zeros((len(joints), 3)), np.zeros((len(joints), 3))
+        for k, (j, rate) in enumerate(zip(joints, rates, strict=True)):
+            frame = T[j.parent] @ j.origin
+            if j.type == "prismatic":
+                shifts[k] = rate * (frame[:3, :3] @ j.axis)
+            else:
+                spins[k] = rate * (frame[:3, :3] @ (j.axis / np.linalg.norm(j.axis)))
+                shifts[k] = -_cross(spins[k], frame[:3, 3])
+        spin, shift = carried @ spins, carried @ shifts  # (P, 3): each part's v(x) = spin x x + shift
+        velocity = _cross(np.repeat(spin, plan.counts, axis=0), points) + np.repeat(
+            shift, plan.counts, axis=0
+        )
+        h = plan.heavy
+        com = plan.masses @ (_cross(spin[h], coms) + shift[h]) / plan.masses.sum() if len(h) else np.zeros(3)
+        out[angle] = PoseRate(angle, velocity, com)
+    return out
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """What of a robot's structure :func:`pose_rates` needs, the same at every pose: per joint group the joints it
+    turns, their rates and which parts each carries; the parts' hull sizes; the parts with mass."""
+
+    groups: dict
+    counts: NDArray[np.int64]
+    heavy: NDArray[np.int64]
+    masses: NDArray[np.float64]
+    heavy_coms: list
+
+
+_PLANS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _plan(robot, parts) -> _Plan:
+    plan = _PLANS.get(robot)
+    if plan is not None and plan[0] is parts:
+        return plan[1]
+    actuated = {j.name for j in robot.joints if j.actuated}
+    chain_names = {link: {j.name for j in chain} for link, chain in robot.kinematic_chains().items()}
+    groups = {}
     for angle, group in _GROUPS.items():
         names = set(getattr(robot.joint_map, group))
         if not names:
             continue
-        screws = {}  # joint -> (spin, shift) per radian of the group, body frame
-        for j in robot.joints:
-            rate = _rate(j, names, actuated)
-            if not rate or j.type not in (*MOVABLE_JOINT_TYPES, "prismatic"):
-                continue
-            frame = T[j.parent] @ j.origin
-            if j.type == "prismatic":
-                screws[j.name] = (np.zeros(3), rate * (frame[:3, :3] @ j.axis))
-            else:
-                w = rate * (frame[:3, :3] @ (j.axis / np.linalg.norm(j.axis)))
-                screws[j.name] = (w, -_cross(w, frame[:3, 3]))
-        spins, shifts, counts = [], [], []
-        com, mass = np.zeros(3), 0.0
-        for part in pose.parts:
-            moving = [screws[j.name] for j in chains[part.link] if j.name in screws]
-            spin = np.sum([m[0] for m in moving], axis=0) if moving else np.zeros(3)
-            shift = np.sum([m[1] for m in moving], axis=0) if moving else np.zeros(3)
-            if len(part.hull_link_m):
-                spins.append(spin)
-                shifts.append(shift)
-                counts.append(len(part.hull_link_m))
-            if part.mass.mass_kg > 0:
-                Tl = T[part.link]
-                c = Tl[:3, :3] @ part.mass.com_m + Tl[:3, 3]
-                com += part.mass.mass_kg * (_cross(spin, c) + shift)
-                mass += part.mass.mass_kg
-        counts = np.array(counts)
-        spin_of = np.repeat(np.array(spins), counts, axis=0)
-        shift_of = np.repeat(np.array(shifts), counts, axis=0)
-        points = _cross(spin_of, np.asarray(pose.hull_points_m, dtype=np.float64)) + shift_of
-        out[angle] = PoseRate(angle, points, com / mass if mass > 0 else com)
-    return out
+        moving = [
+            (j, _rate(j, names, actuated))
+            for j in robot.joints
+            if _rate(j, names, actuated) and j.type in (*MOVABLE_JOINT_TYPES, "prismatic")
+        ]
+        carried = np.array([[j.name in chain_names[p.link] for j, _ in moving] for p in parts], float)
+        groups[angle] = ([j for j, _ in moving], [r for _, r in moving], carried.reshape(len(parts), -1))
+    heavy = np.array([k for k, p in enumerate(parts) if p.mass.mass_kg > 0], dtype=np.int64)
+    made = _Plan(
+        groups,
+        np.array([len(p.hull_link_m) for p in parts]),
+        heavy,
+        np.array([parts[k].mass.mass_kg for k in heavy]),
+        [(parts[k].link, parts[k].mass.com_m) for k in heavy],
+    )
+    _PLANS[robot] = (parts, made)
+    return made
 
 
 def _rate(j, names: set[str], actuated: set[str]) -> float:

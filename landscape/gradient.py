@@ -52,13 +52,12 @@ to another saddle or basin, so a first-order band wider than it is not guarantee
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
 
 from geometry import Pose
-from geometry.frames import up_vector
 from geometry.motion import _cross
 from landscape.barriers._base import Barrier, Contact, Contacts, Exit
 from landscape.barriers.exact import LENGTH_RTOL
@@ -149,8 +148,24 @@ class BarrierGradient:
 
 def direction_contact(pitch_deg: float, roll_deg: float) -> Contact:
     """A fixed up-direction (a grid cell or icosphere vertex) as a :class:`Contact`."""
-    u = up_vector(np.deg2rad(pitch_deg), np.deg2rad(roll_deg))
-    return Contact("direction", np.asarray(u, dtype=np.float64), np.zeros((0, 3)))
+    return Contact("direction", _up(pitch_deg, roll_deg), np.zeros((0, 3)))
+
+
+def _up(pitch_deg: float, roll_deg: float) -> NDArray[np.float64]:
+    """World-up in the body frame of one orientation in degrees, (-sin p, cos p sin r, cos p cos r) as
+    :func:`geometry.frames.up_vector` gives it (exact at multiples of 90 deg), in scalar arithmetic."""
+    cp, sp = _cos_sin_deg(pitch_deg)
+    cr, sr = _cos_sin_deg(roll_deg)
+    return np.array([-sp, cp * sr, cp * cr])
+
+
+def _cos_sin_deg(a_deg: float) -> tuple[float, float]:
+    quarter = a_deg / 90.0
+    k = round(quarter)
+    if abs(quarter - k) < 1e-12:
+        return ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))[k % 4]
+    a = math.radians(a_deg)
+    return math.cos(a), math.sin(a)
 
 
 def start_contact(minimum: Minimum, barrier: Barrier) -> Contact:
@@ -215,11 +230,35 @@ def barrier_gradients(
     rates = rates or {}
     default_start = start_contact(minimum, barrier)
     geo = _Geometry(pose, rates)
-    out = {}
+    out, done = {}, {}
     for name in EXIT_NAMES:
         x = getattr(barrier, name)
-        out[name] = None if x is None else exit_gradient(geo, x, default_start, g_m_s2=g_m_s2)
+        if x is None:
+            out[name] = None
+            continue
+        key = _exit_key(x)  # exits through the same contacts (righting and roll-wise, often escape) share all
+        if key not in done:  # but the mass derivative
+            done[key] = exit_gradient(geo, x, default_start, g_m_s2=g_m_s2)
+        out[name] = replace(done[key], mass_j_per_kg=float(x.barrier_j / geo.mass_kg))
     return out
+
+
+def _exit_key(x: Exit) -> tuple:
+    """What an exit's gradient depends on besides its barrier: its contacts' content (or its grid direction)."""
+    c = x.contacts
+    if c is None:
+        return ("direction", x.saddle_pitch_deg, x.saddle_roll_deg)
+
+    def one(ct):
+        return (ct.kind, ct.up.tobytes(), ct.points_m.tobytes(), ct.margin_m)
+
+    return (
+        one(c.start),
+        tuple(tuple(one(ct) for ct in r) for r in c.routes),
+        c.gap_m,
+        x.saddle_pitch_deg,
+        x.saddle_roll_deg,
+    )
 
 
 class _Geometry:
@@ -235,18 +274,17 @@ class _Geometry:
         self.tol_m = LENGTH_RTOL * self.size_m
         self.rates = {a: rates[a] for a in ANGLES if a in rates}
         self._memo: dict = {}
-        self._order = None
+        self._key = None
 
     def rows(self, points_m: NDArray[np.float64]) -> NDArray[np.int64]:
-        """The rows of ``pose.hull_points_m`` at these points: a hull vertex is one of them, found by a sorted key;
-        a point that is none (a mirror image) gets the nearest row."""
-        if self._order is None:
+        """The rows of ``pose.hull_points_m`` at these points: a hull vertex is one of them (found by a scalar
+        key, then checked); a point that is none (a mirror image) gets the nearest row."""
+        if self._key is None:
             self._key = self.pts @ _KEY
-            self._order = np.argsort(self._key)
         out = np.zeros(len(points_m), dtype=np.int64)
-        at = np.searchsorted(self._key[self._order], points_m @ _KEY)
-        for i, (p, k) in enumerate(zip(points_m, at.tolist(), strict=True)):
-            hit = [r for r in self._order[max(k - 2, 0) : k + 2] if np.array_equal(self.pts[r], p)]
+        for i, p in enumerate(points_m):
+            hit = np.flatnonzero(self._key == p @ _KEY)
+            hit = [r for r in hit.tolist() if (self.pts[r] == p).all()]
             out[i] = hit[0] if hit else int(np.argmin(((self.pts - p) ** 2).sum(axis=1)))
         return out
 
@@ -295,6 +333,8 @@ def _fit(coords: NDArray[np.float64], y: NDArray[np.float64], scale: float) -> t
     """Least-squares affine fit ``y ~ alpha + beta . coords``: alpha (the value at the origin) and whether the
     residual exceeds ``RIGID_RTOL * scale``."""
     A = np.column_stack([np.ones(len(y)), coords])
+    if len(y) == A.shape[1]:  # as many points as unknowns: the fit is exact
+        return float(np.linalg.solve(A, y)[0]), False
     sol, *_ = np.linalg.lstsq(A, y, rcond=None)
     resid = float(np.abs(A @ sol - y).max()) if len(y) else 0.0
     return float(sol[0]), resid > RIGID_RTOL * scale
@@ -322,6 +362,9 @@ def _line(com, x):
 def _straight(u, e, x, v, foot, scale) -> tuple[float, bool]:
     """The line's normal velocity along ``u`` at ``foot`` (affine fit along it) and whether it bends."""
     t = ((x - foot) @ e)[:, None]
+    if len(x) == 2:  # two ends: the line's velocity is their interpolation, exactly
+        y = v @ u
+        return float(y[0] + (y[1] - y[0]) * (0.0 - t[0, 0]) / (t[1, 0] - t[0, 0])), False
     alpha, bend1 = _fit(t, v @ u, scale)
     _, bend2 = _fit(t, v @ _cross(u, e), scale)
     return alpha, bend1 or bend2
@@ -353,7 +396,7 @@ def exit_gradient(geo: _Geometry, x: Exit, default_start: Contact, *, g_m_s2: fl
     )
     routes = contacts.routes
     if len(routes) > 1:
-        saddle_up = up_vector(np.deg2rad(x.saddle_pitch_deg), np.deg2rad(x.saddle_roll_deg))
+        saddle_up = _up(x.saddle_pitch_deg, x.saddle_roll_deg)
         routes = sorted(routes, key=lambda r: -float(r[0].up @ saddle_up))  # the reported saddle's first
     reasons = []
     start_rates, note = geo.height_rates(contacts.start)
