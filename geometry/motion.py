@@ -11,7 +11,8 @@ sets them.
 from __future__ import annotations
 
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
@@ -37,8 +38,21 @@ class PoseRate:
     """
 
     angle: str
-    hull_points_m_per_rad: NDArray[np.float64]
     com_m_per_rad: NDArray[np.float64]
+    _spin: NDArray[np.float64] = field(repr=False)  # (P, 3) per part: v(x) = spin x x + shift
+    _shift: NDArray[np.float64] = field(repr=False)
+    _part_of_row: NDArray[np.int64] = field(repr=False)  # (M,) the part of each hull point
+    _points: NDArray[np.float64] = field(repr=False)  # (M, 3) the hull points
+
+    @cached_property
+    def hull_points_m_per_rad(self) -> NDArray[np.float64]:
+        return self.at(np.arange(len(self._points)))
+
+    def at(self, rows) -> NDArray[np.float64]:
+        """Velocities of the hull points of these rows of :attr:`geometry.Pose.hull_points_m`, shape (N, 3),
+        m/rad (computed for them alone)."""
+        part = self._part_of_row[rows]
+        return _cross(self._spin[part], self._points[rows]) + self._shift[part]
 
 
 def pose_rates(robot, pose) -> dict[str, PoseRate]:
@@ -86,25 +100,22 @@ def pose_rates(robot, pose) -> dict[str, PoseRate]:
                 spins[k] = rate * (frame[:3, :3] @ (j.axis / np.linalg.norm(j.axis)))
                 shifts[k] = -_cross(spins[k], frame[:3, 3])
         spin, shift = carried @ spins, carried @ shifts  # (P, 3): each part's v(x) = spin x x + shift
-        velocity = _cross(np.repeat(spin, plan.counts, axis=0), points) + np.repeat(
-            shift, plan.counts, axis=0
-        )
         h = plan.heavy
         com = plan.masses @ (_cross(spin[h], coms) + shift[h]) / plan.masses.sum() if len(h) else np.zeros(3)
-        out[angle] = PoseRate(angle, velocity, com)
+        out[angle] = PoseRate(angle, com, spin, shift, plan.part_of_row, points)
     return out
 
 
 @dataclass(frozen=True)
 class _Plan:
     """What of a robot's structure :func:`pose_rates` needs, the same at every pose: per joint group the joints it
-    turns, their rates and which parts each carries; the parts' hull sizes; the parts with mass."""
+    turns, their rates and which parts each carries; the parts with mass; the part of each hull point."""
 
     groups: dict
-    counts: NDArray[np.int64]
     heavy: NDArray[np.int64]
     masses: NDArray[np.float64]
     heavy_coms: list
+    part_of_row: NDArray[np.int64]
 
 
 _PLANS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
@@ -131,10 +142,10 @@ def _plan(robot, parts) -> _Plan:
     heavy = np.array([k for k, p in enumerate(parts) if p.mass.mass_kg > 0], dtype=np.int64)
     made = _Plan(
         groups,
-        np.array([len(p.hull_link_m) for p in parts]),
         heavy,
         np.array([parts[k].mass.mass_kg for k in heavy]),
         [(parts[k].link, parts[k].mass.com_m) for k in heavy],
+        np.repeat(np.arange(len(parts)), [len(p.hull_link_m) for p in parts]),
     )
     _PLANS[robot] = (parts, made)
     return made

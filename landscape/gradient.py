@@ -134,13 +134,14 @@ class BarrierGradient:
         """The unit CoM direction that lowers the barrier fastest, and how fast, J/m (> 0); None without one.
 
         At a tie the barrier is the lowest of its routes, so moving along minus the steepest route's gradient
-        lowers it at that route's rate (the others can only be lower).
+        lowers it at that route's rate (the others can only be lower); of equally steep ones (mirror images), the
+        reported saddle's.
         """
         g = self.one_sided_com_j_per_m
         if not len(g):
             return None
         norms = np.linalg.norm(g, axis=1)
-        k = int(np.argmax(norms))
+        k = int(np.flatnonzero(norms >= norms.max() * (1 - EQUAL_RTOL))[0])  # ties: the reported saddle's
         if norms[k] == 0.0:
             return None
         return -g[k] / norms[k], float(norms[k])

@@ -88,11 +88,19 @@ def gradient_lines(c) -> list[str]:
         lines.append("lower it     -")
     else:
         d, rate = down
-        tie = len(r.one_sided_com_j_per_m) > 1
+        steep = [float(sum(x * x for x in row)) ** 0.5 for row in r.one_sided_com_j_per_m]
+        tie = ""
+        if len(steep) > 1:
+            alike = max(steep) - min(steep) <= 1e-9 * rate
+            tie = (
+                f" ({len(steep)} equal saddles, as steep: the reported one's)"
+                if alike
+                else f" (the steepest of {len(steep)} equal saddles)"
+            )
         lines.append(
             "lower it     move the CoM along ({:.3f}, {:.3f}, {:.3f}): the righting barrier falls {:.4f} mJ per "
             "mm".format(*d, rate)
-            + (f" (the steeper of {len(r.one_sided_com_j_per_m)} equal saddles)" if tie else "")
+            + tie
         )
     return lines
 
