@@ -246,10 +246,11 @@ def test_box_with_two_equally_high_roll_edges_is_flagged_not_differentiated():
     assert off.gradient["righting"].differentiable
 
 
-def test_grid_method_gradient_is_the_derivative_of_its_own_barrier():
-    """The grid method's exits are fixed grid directions: dB/dc = m g (u_cell - u_start cell), exactly the
-    derivative of the grid's number while its bottleneck cell stays."""
-    c = compute(_body(BOX, (0.03, 0.02, -0.01)), method="grid", step_deg=2.0)
+@pytest.mark.parametrize("method, step", [("grid", 2.0), ("sphere", 3.0)])
+def test_grid_and_sphere_gradients_are_the_derivatives_of_their_own_barriers(method, step):
+    """The grid and icosphere methods' exits are fixed up-directions: dB/dc = m g (u_cell - u_start cell), exactly
+    the derivative of the method's number while its bottleneck cell stays."""
+    c = compute(_body(BOX, (0.03, 0.02, -0.01)), method=method, step_deg=step)
     fd = _com_fd(c, COM_STEP_M)
     scale = c.mass_kg * c.g_m_s2
     for k, name in enumerate(EXIT_NAMES):
