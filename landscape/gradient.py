@@ -216,7 +216,7 @@ def barrier_gradients(
     --------
     A box 4 x 2 x 1 m on its largest face, CoM 0.1 m off centre towards +y, m g = 1 J/m: the righting barrier
     rolls over the +y edge (y = 1, z = -0.5), where world-up is the unit vector from the edge to the CoM,
-    w = (0, -0.9, 0.5) / |w|; at the start it is (0, 0, 1), so dB/dc = w / |w| - (0, 0, 1):
+    ``w / norm(w)`` with ``w = (0, -0.9, 0.5)``; at the start it is (0, 0, 1), so ``dB/dc = w / norm(w) - (0, 0, 1)``:
 
     >>> import trimesh
     >>> from geometry import Robot

@@ -272,7 +272,7 @@ def barrier_intervals(c, u: Uncertainty) -> BarrierIntervals:
     Examples
     --------
     A box 4 x 2 x 1 m with its CoM 0.1 m towards +y: its righting barrier rolls over that edge, at
-    |dB/dc| = m g |u_s - u_0| per metre, so a 1 cm CoM uncertainty gives it +- 1 cm times that:
+    ``norm(dB/dc) = m g norm(u_s - u_0)``, so a 1 cm CoM uncertainty gives it +- 1 cm times that:
 
     >>> import trimesh
     >>> from geometry import Robot
