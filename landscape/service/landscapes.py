@@ -360,6 +360,19 @@ class Landscapes:
                 start_deg=start,
                 wing_joints_deg=joints,
             )
+            change = None
+            if robot is not entry.robot:  # the set moves the CoM: its effect, as `landscape compute --model`
+                from landscape.uncertainty import com_change
+
+                plain = compute(
+                    entry.robot,
+                    theta_w_deg=tw,
+                    theta_l_deg=tl,
+                    step_deg=step,
+                    method=method,
+                    wing_joints_deg=joints,
+                )
+                change = com_change(plain, c)
         if unc is not None:
             from landscape.uncertainty import Uncertainty, with_intervals
 
@@ -373,6 +386,8 @@ class Landscapes:
         )
         if model is not None:  # as `landscape compute --model NAME --json`
             s = dict(s) | {"model_set": model, "wing_joints_deg": joints}
+        if change is not None:
+            s = s | {"model_set_change": change.to_dict()}
         cells = c.landscape.energy_j.size
         per_cell = (c.timing_s["landscape"] + c.timing_s["barrier"]) / cells
         prev = entry.seconds_per_cell
