@@ -15,13 +15,15 @@ from numpy.typing import NDArray
 from geometry import Pose, Robot
 from geometry.errors import UsageError
 from geometry.frames import canonical_pitch_roll_deg, cos_sin
+from geometry.motion import pose_rates
 
 from . import _computation_kernels
-from .barriers import DEFAULT_METHOD, Barrier, Exit
+from .barriers import DEFAULT_METHOD, Barrier, Contact, Contacts, Exit
 from .barriers import method as barrier_method
 from .barriers.grid import _exit as _grid_exit
 from .barriers.grid import grid_barrier
 from .energy import G_M_S2, Landscape, _support_inputs, energy_landscape
+from .gradient import barrier_gradients, direction_contact, mirrored_contact, start_contact
 from .grid import DEFAULT_STEP_DEG, cells_per_turn, nearest_cell, torus_angles_deg, wrap_deg
 from .minima import (
     Minimum,
@@ -59,6 +61,16 @@ class Computation:
         The pitch-roll grid (None when ``compute`` skipped it, ``landscape_grid=False``).
     timing_s : dict
         Wall time of each stage, s.
+    gradient : dict of str to BarrierGradient or None
+        First-order change of each exit's barrier (``righting``, ``pitch_wise``, ``roll_wise``, ``escape``) with the
+        CoM, the mass and the joint angles (:mod:`landscape.gradient`); empty when not computed.
+    intervals : landscape.uncertainty.BarrierIntervals or None
+        Each exit's barrier interval under a CoM and mass uncertainty (:func:`landscape.uncertainty.barrier_intervals`);
+        None when none was asked for.
+    g_m_s2 : float
+        Gravitational acceleration, m/s^2.
+    connectivity : int
+        Grid neighbours of the grid searches.
     """
 
     theta_w_deg: float | None
@@ -73,6 +85,84 @@ class Computation:
     landscape: Landscape = field(repr=False)
     pose: Pose = field(repr=False)
     timing_s: dict = field(default_factory=dict)
+    gradient: dict = field(default_factory=dict, repr=False)
+    intervals: object = field(default=None, repr=False)
+    g_m_s2: float = G_M_S2
+    connectivity: int = 8
+
+    def to_dict(self, *, paths: bool = False) -> dict:
+        """The computation in JSON types, SI units (energies J, lengths m, angles degrees): what
+        ``landscape compute --json`` prints besides the robot. ``barrier`` holds the exits' flat fields
+        (:func:`barrier_fields`), ``barrier.gradient.<exit>`` each exit's first-order change
+        (:meth:`landscape.gradient.BarrierGradient.to_dict`) and, with intervals, ``barrier.interval``
+        (:meth:`landscape.uncertainty.BarrierIntervals.to_dict`); ``paths``
+        adds each exit's path, degrees.
+
+        Examples
+        --------
+        >>> from geometry.robots import load_robot
+        >>> d = compute(load_robot(), theta_w_deg=74.0, theta_l_deg=30.0).to_dict()
+        >>> g = d["barrier"]["gradient"]["righting"]
+        >>> [round(x, 4) for x in g["com_j_per_m"]], round(g["theta_w_j_per_deg"] * 1e3, 4), g["differentiable"]
+        ([0.0038, 0.4873, -0.1297], -0.5798, True)
+        """
+        b = self.barrier
+        barrier = barrier_fields(b) | {
+            "gradient": {k: None if g is None else g.to_dict() for k, g in self.gradient.items()}
+        }
+        if self.intervals is not None:
+            barrier["interval"] = self.intervals.to_dict()
+        out = {
+            "theta_w_deg": self.theta_w_deg,
+            "theta_l_deg": self.theta_l_deg,
+            "step_deg": self.step_deg,
+            "method": self.method,
+            "mass_kg": self.mass_kg,
+            "com_m": [float(x) for x in self.com_m],
+            "start_deg": {"pitch_deg": self.start_deg[0], "roll_deg": self.start_deg[1]},
+            "minimum": {
+                "pitch_deg": self.minimum.pitch_deg,
+                "roll_deg": self.minimum.roll_deg,
+                "energy_j": self.minimum.energy_j,
+                "height_m": self.minimum.height_m,
+            },
+            "barrier": barrier,
+        }
+        if paths:
+            out["paths"] = {
+                k: _exit_dict(getattr(b, k)) for k in ("righting", "pitch_wise", "roll_wise", "escape")
+            }
+        out["timing_s"] = {k: round(v, 6) for k, v in self.timing_s.items()}
+        return out
+
+
+def _exit_dict(x: Exit | None) -> dict | None:
+    if x is None:
+        return None
+    return {
+        "barrier_j": x.barrier_j,
+        "saddle_pitch_deg": x.saddle_pitch_deg,
+        "saddle_roll_deg": x.saddle_roll_deg,
+        "direction": x.direction,
+        "path_deg": np.round(x.path_deg, 6).tolist(),
+    }
+
+
+def barrier_fields(b: Barrier) -> dict:
+    """Flat barrier fields (J, degrees) of a Barrier, as the JSON summary and the barrier-map CSV report them."""
+    r = b.righting
+    return {
+        "righting_j": None if r is None else r.barrier_j,
+        "escape_j": None if b.escape is None else b.escape.barrier_j,
+        "saddle_pitch_deg": None if r is None else r.saddle_pitch_deg,
+        "saddle_roll_deg": None if r is None else r.saddle_roll_deg,
+        "direction": None if r is None else r.direction,
+        "pitch_wise_j": None if b.pitch_wise is None else b.pitch_wise.barrier_j,
+        "roll_wise_j": None if b.roll_wise is None else b.roll_wise.barrier_j,
+        "escape_saddle_pitch_deg": None if b.escape is None else b.escape.saddle_pitch_deg,
+        "escape_saddle_roll_deg": None if b.escape is None else b.escape.saddle_roll_deg,
+        "escape_direction": None if b.escape is None else b.escape.direction,
+    }
 
 
 _WARM = []
@@ -316,12 +406,31 @@ def positive_roll_twins(pose: Pose, minimum: Minimum, barrier: Barrier) -> Barri
     start_roll = abs(float(wrap_deg(minimum.roll_deg)))
     if min(start_roll, 180.0 - start_roll) > 1e-9 or not is_roll_mirror_symmetric(pose):
         return barrier
+    start = start_contact(minimum, barrier)
     fields = {}
     for name in ("righting", "pitch_wise", "roll_wise", "escape"):
         x = getattr(barrier, name)
-        if x is not None and -180.0 < canonical_pitch_roll_deg(x.saddle_pitch_deg, x.saddle_roll_deg)[1] < 0:
-            fields[name] = _mirrored(x)
-    return replace(barrier, **fields) if fields else barrier
+        if x is None:
+            continue
+        x = _with_twin_routes(x, start)
+        if -180.0 < canonical_pitch_roll_deg(x.saddle_pitch_deg, x.saddle_roll_deg)[1] < 0:
+            x = _mirrored(x)
+        fields[name] = x
+    return replace(barrier, **fields)
+
+
+def _with_twin_routes(x: Exit, start: Contact) -> Exit:
+    """The exit with its mirror twin's routes among its :class:`~landscape.barriers.Contacts` (a tie: the barrier
+    is the lower of the two, so its derivative along y does not exist unless the saddle lies on the mirror plane,
+    where the twin is itself)."""
+    c = x.contacts or Contacts(start, ((direction_contact(x.saddle_pitch_deg, x.saddle_roll_deg),),))
+    twins = tuple(tuple(mirrored_contact(ct) for ct in r) for r in c.routes)
+    new = tuple(r for r in twins if not any(_same_route(r, q) for q in c.routes))
+    return replace(x, contacts=replace(c, routes=c.routes + new))
+
+
+def _same_route(a: tuple, b: tuple) -> bool:
+    return len(a) == len(b) and all(np.abs(p.up - q.up).max() <= 1e-9 for p, q in zip(a, b, strict=True))
 
 
 BYTES_PER_CELL = 72
@@ -390,6 +499,7 @@ def compute(
     landscape_grid: bool = True,
     sector_exits: bool | None = None,
     wing_joints_deg: dict[str, float] | None = None,
+    gradients: bool = True,
 ) -> Computation:
     """Landscape, start minimum and barriers of a robot at (theta_w, theta_l).
 
@@ -432,6 +542,9 @@ def compute(
         Each wing joint at its own angle, degrees (e.g. a model set's measured servo plateaus at the wing
         command ``theta_w_deg``, which then only labels the result). The start follows a slow opening to the
         smallest of them, then descends on this pose (unless a start is given).
+    gradients : bool
+        Also find each barrier's first-order change with the CoM, the mass and the joint angles (the default;
+        :mod:`landscape.gradient`), in ``Computation.gradient``.
 
     Returns
     -------
@@ -487,6 +600,12 @@ def compute(
         barrier = _with_sectors(barrier, minimum, grid, connectivity)
     barrier = positive_roll_twins(pose, minimum, barrier)
     timing["barrier"] = time.perf_counter() - t0
+    gradient = {}
+    if gradients:
+        t0 = time.perf_counter()
+        rates = pose_rates(robot, pose)
+        gradient = barrier_gradients(pose, minimum, barrier, rates=rates, g_m_s2=g_m_s2)
+        timing["gradient"] = time.perf_counter() - t0
     return Computation(
         pose.theta_w_deg,
         pose.theta_l_deg,
@@ -500,6 +619,9 @@ def compute(
         ls,
         pose,
         timing,
+        gradient,
+        g_m_s2=g_m_s2,
+        connectivity=connectivity,
     )
 
 
@@ -577,6 +699,8 @@ def _map_pose(task: dict, w: float, leg: float, start: tuple[float, float]) -> C
         sector_exits=task["sectors"],
         wing_joints_deg=task.get("joints", {}).get(w),
     )
+    if task.get("per_pose") is not None:
+        c = task["per_pose"](c)
     return replace(c, landscape=None, pose=None)
 
 
@@ -635,6 +759,7 @@ def barrier_map(
     workers: int | None = None,
     sector_exits: bool = True,
     wing_joints_deg: dict[float, dict[str, float]] | None = None,
+    per_pose=None,
 ) -> BarrierMap:
     """Start minimum and barriers at every (theta_w, theta_l), the starts from one shared continuation.
 
@@ -661,6 +786,9 @@ def barrier_map(
     wing_joints_deg : dict, optional
         Per theta_w (a key for each), each wing joint at its own angle (:func:`compute`'s ``wing_joints_deg``);
         those poses start from a slow opening to the smallest of the angles, then descend.
+    per_pose : callable, optional
+        Applied to each pose's Computation while it still holds its pose, in the process that computed it
+        (e.g. :func:`landscape.uncertainty.with_intervals`); it returns the Computation to keep.
 
     Raises
     ------
@@ -702,6 +830,7 @@ def barrier_map(
         grid=grid,
         sectors=bool(sector_exits),
         joints=joints,
+        per_pose=per_pose,
     )
     if n_workers == 1:
         out = _collect((_map_pose(task, *t) for t in tasks), progress)

@@ -37,6 +37,8 @@ def test_import_contracts_catch_an_upward_import(tmp_path):
         "grid",
         "minima",
         "computation",
+        "gradient",
+        "uncertainty",
     ):
         (pkg / "landscape" / f"{name}.py").write_text("")
     cfg = (ROOT / "pyproject.toml").read_text()

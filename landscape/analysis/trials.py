@@ -507,8 +507,9 @@ def landscape_barriers(
     step_deg: float = DEFAULT_STEP_DEG,
     progress: bool = False,
     wing_joints_deg: dict[float, dict[str, float] | None] | None = None,
-) -> dict[tuple[float, float], tuple[float, float]]:
-    """Minimal righting barrier (J) per (theta_w, theta_l): (exact, grid at ``step_deg``), nan where none.
+) -> dict[tuple[float, float], tuple[float, float, object]]:
+    """Minimal righting barrier (J) per (theta_w, theta_l): (exact, grid at ``step_deg``, the exact barrier's
+    :class:`~landscape.gradient.BarrierGradient`), nan (None) where none.
 
     The start minimum comes from one shared continuation (:func:`landscape.computation.sweep_starts`), as in
     ``landscape barrier-map``. ``wing_joints_deg``: per theta_w, each wing joint at its own angle (a model set's
@@ -534,7 +535,7 @@ def landscape_barriers(
 
         it = tqdm(pairs, desc="barriers", unit="pose", file=sys.stderr, disable=None)
     for w, leg in it:
-        vals = []
+        vals, gradient = [], None
         joints = joints_of.get(w)
         for method in ("exact", "grid"):
             c = compute(
@@ -545,9 +546,11 @@ def landscape_barriers(
                 start_deg=starts.get((w, leg)),
                 method=method,
                 wing_joints_deg=joints,
+                gradients=method == "exact",
             )
             vals.append(math.nan if c.barrier.righting is None else c.barrier.righting.barrier_j)
-        out[(w, leg)] = (vals[0], vals[1])
+            gradient = c.gradient.get("righting") if method == "exact" else gradient
+        out[(w, leg)] = (vals[0], vals[1], gradient)
     return out
 
 

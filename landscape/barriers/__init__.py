@@ -26,12 +26,12 @@ DEFAULT_METHOD = "exact"
 #: exit names at the interfaces -> fields of :class:`Barrier`
 EXITS = {"righting": "righting", "pitch-wise": "pitch_wise", "roll-wise": "roll_wise", "escape": "escape"}
 
-__all__ = ["Barrier", "DEFAULT_METHOD", "EXITS", "Exit", "METHODS", "method"]
+__all__ = ["Barrier", "Contact", "Contacts", "DEFAULT_METHOD", "EXITS", "Exit", "METHODS", "method"]
 
 
 def __getattr__(name: str):
     # the result types load numpy; the registry itself stays import-light for the command line
-    if name in ("Barrier", "Exit"):
+    if name in ("Barrier", "Contact", "Contacts", "Exit"):
         from . import _base
 
         return getattr(_base, name)

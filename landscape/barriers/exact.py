@@ -79,7 +79,7 @@ from geometry.errors import UsageError
 from geometry.frames import canonical_pitch_roll_deg, pitch_roll_from_up, up_vector
 from geometry.hull import Hull, convex_hull
 from landscape.barriers import _exact_kernels
-from landscape.barriers._base import Barrier, Exit
+from landscape.barriers._base import Barrier, Contact, Contacts, Exit
 from landscape.energy import G_M_S2
 from landscape.grid import wrap_deg
 from landscape.minima import Minimum
@@ -698,6 +698,7 @@ def _exit(
     kind: str | None,
     *,
     peak: int | None = None,
+    contacts: Contacts | None = None,
 ) -> Exit:
     """pieces: list of (arc, s0, s1, peak_h, peak_up) traversed in order; the saddle is the highest piece's
     peak (the first of equals) unless ``peak`` names the piece."""
@@ -709,7 +710,7 @@ def _exit(
     saddle_up = pieces[k][4] if pieces else up_vector(*np.deg2rad(start_deg))
     sp, sr = canonical_pitch_roll_deg(*_deg(saddle_up)[0])
     direction = kind or _direction(saddle_up, start_deg)
-    return Exit(float(ex.energy_scale_j * (level_m - start_h)), sp, sr, direction, path)
+    return Exit(float(ex.energy_scale_j * (level_m - start_h)), sp, sr, direction, path, contacts)
 
 
 def _pieces(ex: ExactLandscape, arcs, s0, s1) -> list[tuple]:
@@ -845,7 +846,8 @@ def exact_barrier(
     escape = _escape_exit(ex, int(f0), h0, start_deg)
     upright = ex.face_up[:, 2] <= UPRIGHT_Z_TOL  # faces with u_z <= tol are upright
     if upright[f0]:
-        zero = Exit(0.0, p0, r0, "roll", np.array([start_deg], dtype=np.float64))
+        still = Contacts(_face_contact(ex, int(f0)), (), np.inf)  # upright already: the barrier stays 0
+        zero = Exit(0.0, p0, r0, "roll", np.array([start_deg], dtype=np.float64), still)
         return ExactBarrier(start, int(f0), Barrier(zero, zero, zero, escape), ex)
     rg = _righting_graph(ex, upright)
     righting = rg.exit(ex, np.ones(len(rg.eu), dtype=bool), int(f0), h0, start_deg, None)
@@ -876,22 +878,50 @@ def _escape_exit(ex: ExactLandscape, f0: int, h0: float, start_deg) -> Exit | No
     )
     if found is None:
         return None
-    level, chain, _ = found
-    pieces = _whole_pieces(ex, [e for e, _ in chain], [fb[e] == x for e, x in chain])
-    k = _escape_saddle(ex, pieces, f0, level)
-    return _exit(ex, level, h0, start_deg, pieces, None, peak=k)
+    level, routes = found.level_m, []
+    for chain, k_pass in found.chains:
+        pieces = _whole_pieces(ex, [e for e, _ in chain], [fb[e] == x for e, x in chain])
+        try:
+            k = _escape_saddle(ex, pieces, f0, level)
+        except RuntimeError:
+            if routes:  # a tied route whose pass is no saddle between basins: its pass is its contact
+                routes.append((pieces, k_pass))
+                continue
+            raise
+        routes.append((pieces, k))
+    pieces, k = routes[0]
+    contacts = _contacts(ex, f0, level, routes, found)
+    return _exit(ex, level, h0, start_deg, pieces, None, peak=k, contacts=contacts)
 
 
-def _pass_path(ex: ExactLandscape, n: int, eu, ev, ew, f0: int, goal, pieces_of, prefer=None):
+@dataclass(frozen=True)
+class _Found:
+    """A bottleneck search's answer: the level, m; each route out at it (chain of (edge, node reached) from the
+    start and the index of its pass in the chain), the reported one first; whether each route rises to the level
+    again after its pass; and the first-order gap (:attr:`Contacts.gap_m`), m."""
+
+    level_m: float
+    chains: list
+    again: list
+    gap_m: float
+
+
+def _pass_path(
+    ex: ExactLandscape, n: int, eu, ev, ew, f0: int, goal, pieces_of, prefer=None
+) -> _Found | None:
     """The bottleneck path from ``f0`` to a goal node, through the pass the tie rule picks (module docstring).
 
     The start's basin is the set of nodes the search reaches below the bottleneck level minus the length
     tolerance; its passes are the edges out of it at the level (within the tolerance). With several, each is
-    tried in the rule's order (first those ``prefer(pieces)`` marks), the others closed, until the goal stays
-    at the level. ``pieces_of(edges, toward)`` gives the traversals of edges toward the given nodes.
+    tried in the rule's order (first those ``prefer(pieces)`` marks), the others closed; those through which the
+    goal stays at the level are the routes (the first is reported). ``pieces_of(edges, toward)`` gives the
+    traversals of edges toward the given nodes.
 
-    Returns (level m, chain of (edge, node reached) from f0, index of the pass in the chain), or None when no
-    goal is reachable.
+    For first-order changes (:class:`landscape.barriers.Contacts`) it also finds the next route's level (every
+    pass closed) and, per route, the lowest level from its pass's far side to the goal: at the level again (within
+    the tolerance), the route rises to it twice.
+
+    Returns None when no goal is reachable.
     """
     ptr, other, edge, weight = _adjacency(n, eu, ev, ew)
     sources = np.array([f0], dtype=np.int64)
@@ -902,20 +932,42 @@ def _pass_path(ex: ExactLandscape, n: int, eu, ev, ew, f0: int, goal, pieces_of,
     level, tol = float(lev[first]), ex.tol_m
     basin = lev < level - tol  # settled below the level: reached before the goal, so exact
     passes = np.flatnonzero((basin[eu] != basin[ev]) & (ew <= level + tol))
+    trees = [(par, first)]
     if len(passes) > 1:
         toward = np.where(basin[eu[passes]], ev[passes], eu[passes])
         pieces = pieces_of(passes, toward)
         preferred = np.ones(len(passes), dtype=bool) if prefer is None else np.asarray(prefer(pieces), bool)
+        working = []
         for i in _tie_order(np.array([pc[4] for pc in pieces]), preferred):
             w = weight.copy()
             w[np.isin(edge, np.delete(passes, i))] = np.inf  # closed: never relaxed
             lev2, par2, first2 = _exact_kernels.minimax_graph(ptr, other, edge, w, sources, goal, True)
             if first2 >= 0 and lev2[first2] <= level + tol:
-                par, first = par2, first2
-                break
-    chain = _chain(par, eu, ev, int(first))
-    k = int(np.argmin(basin[[x for _, x in chain]]))  # the path leaves the basin once
-    return level, chain, k
+                working.append((par2, first2))
+        trees = working or trees
+    chains, again, gap = [], [], np.inf
+    w = weight.copy()
+    w[np.isin(edge, passes)] = np.inf
+    lev3, _, first3 = _exact_kernels.minimax_graph(ptr, other, edge, w, sources, goal, True)
+    if first3 >= 0:
+        gap = float(lev3[first3]) - level  # the next route, above the level
+    for par_, first_ in trees:
+        chain = _chain(par_, eu, ev, int(first_))
+        k = int(np.argmin(basin[[x for _, x in chain]]))  # the path leaves the basin once
+        near = f0 if k == 0 else chain[k - 1][1]
+        gap = min(gap, level - float(lev[near]))  # the start's side of the pass, below the level
+        far = chain[k][1]
+        beyond = -np.inf
+        if not goal[far]:
+            lev4, _, first4 = _exact_kernels.minimax_graph(
+                ptr, other, edge, weight, np.array([far], dtype=np.int64), goal, True
+            )
+            beyond = float(lev4[first4]) if first4 >= 0 else np.inf
+        again.append(beyond >= level - tol)
+        if beyond < level - tol:
+            gap = min(gap, level - beyond)  # the goal's side of the pass, below the level
+        chains.append((chain, k))
+    return _Found(level, chains, again, gap)
 
 
 def _tie_order(up: NDArray[np.float64], preferred: NDArray[np.bool_]) -> list[int]:
@@ -962,10 +1014,15 @@ class _RightingGraph:
         )
         if found is None:
             return None
-        level, chain, k = found
-        chain = [(int(idx[e]), x) for e, x in chain]
-        pieces = self.pieces(ex, np.array([e for e, _ in chain], dtype=np.int64), [x for _, x in chain])
-        return _exit(ex, level, h0, start_deg, pieces, kind, peak=k)
+        routes = []
+        for chain, k in found.chains:
+            chain = [(int(idx[e]), x) for e, x in chain]
+            pieces = self.pieces(ex, np.array([e for e, _ in chain], dtype=np.int64), [x for _, x in chain])
+            routes.append((pieces, k))
+        contacts = _contacts(ex, f0, found.level_m, routes, found)
+        return _exit(
+            ex, found.level_m, h0, start_deg, routes[0][0], kind, peak=routes[0][1], contacts=contacts
+        )
 
     def pieces(self, ex: ExactLandscape, edges, toward) -> list[tuple]:
         """Traversals of edges toward the given nodes: whole arcs above the equator, cut ones to the target."""
@@ -1024,6 +1081,61 @@ def _sector_exits(ex: ExactLandscape, rg: _RightingGraph, f0: int, h0: float, st
         np.logical_and.at(ok, owner, inside)
         out.append(rg.exit(ex, ok, f0, h0, start_deg, kind))
     return out[0], out[1]
+
+
+# --------------------------------------------------------------------------------------------- first order
+def _face_contact(ex: ExactLandscape, f: int) -> Contact:
+    """Resting on face f: its vertices; the margin is the CoM projection's distance inside the face."""
+    g = ex._g
+    pts = ex.vertices_m[g.face_idx[g.face_ptr[f] : g.face_ptr[f + 1]]]
+    return Contact("face", ex.face_up[f].copy(), pts, float(ex.face_margin_m[f]))
+
+
+def _edge_points(ex: ExactLandscape, arc: int) -> NDArray[np.float64]:
+    """The vertices of an arc's edge: its two ends first, then any collinear ones between them."""
+    g = ex._g
+    fa, fb = (int(x) for x in ex.arc_faces[arc])
+    common = np.intersect1d(
+        g.face_idx[g.face_ptr[fa] : g.face_ptr[fa + 1]], g.face_idx[g.face_ptr[fb] : g.face_ptr[fb + 1]]
+    )
+    ends = [int(x) for x in ex.arc_vertices[arc]]
+    return ex.vertices_m[ends + [int(k) for k in common if k not in ends]]
+
+
+def _contact(ex: ExactLandscape, piece: tuple) -> Contact:
+    """The contact at a piece's highest point: the edge's saddle (its arc's peak, strictly inside the piece), a
+    face node (an end of the arc), or the cut where a righting arc meets u_z = 0.
+
+    Margins (:attr:`Contact.margin_m`): a CoM move of d turns the perpendicular ``w`` from the edge line by at
+    most about d / |w|, so the arc's peak moves along the arc by at most that angle; a saddle's foot moves along
+    its edge by at most d.
+    """
+    g = ex._g
+    arc, s0, s1, _, up = piece
+    u0 = ex.face_up[ex.arc_faces[arc, 0]]
+    s = float(np.arctan2(up @ g.arc_t[arc], up @ u0))
+    theta, peak = float(g.arc_theta[arc]), float(g.arc_peak_s[arc])
+    wn = float(np.linalg.norm(g.arc_w[arc]))
+    lo, hi = min(s0, s1), max(s0, s1)
+    eps = 1e-12
+    if lo < peak < hi and abs(s - peak) <= eps:
+        foot, length = float(g.arc_foot[arc]), float(g.arc_len[arc])
+        margin = min(foot, length - foot, (peak - lo) * wn, (hi - peak) * wn)
+        return Contact("edge", np.asarray(up, dtype=np.float64), _edge_points(ex, arc), margin)
+    if abs(s) <= eps or abs(s - theta) <= eps:
+        c = _face_contact(ex, int(ex.arc_faces[arc, 0 if abs(s) <= eps else 1]))
+        return replace(c, margin_m=abs(peak - s) * wn)  # the arc's peak reaching the node
+    return Contact("cut", np.asarray(up, dtype=np.float64), _edge_points(ex, arc), abs(peak - s) * wn)
+
+
+def _contacts(ex: ExactLandscape, f0: int, level_m: float, routes: list, found: _Found) -> Contacts:
+    """The exit's :class:`Contacts`: each route's pass, and the later pieces at the level where the route rises
+    to it again (``found.again``)."""
+    out = []
+    for (pieces, k), again in zip(routes, found.again, strict=True):
+        later = [pc for pc in pieces[k + 1 :] if pc[3] >= level_m - ex.tol_m] if again else []
+        out.append(tuple(_contact(ex, pc) for pc in [pieces[k], *later]))
+    return Contacts(_face_contact(ex, f0), tuple(out), found.gap_m)
 
 
 SECTORS = False

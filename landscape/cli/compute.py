@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import sys
 import time
+from functools import partial
 from pathlib import Path
 
 import click
@@ -25,6 +26,8 @@ from landscape.cli.options import (
     ranged_option,
     robot_from,
     robot_options,
+    uncertainty_from,
+    uncertainty_options,
     writable_dir,
 )
 
@@ -36,6 +39,127 @@ def _fmt_exit(name: str, x, mg: float) -> str:
         f"  {name:<12} {x.barrier_j * MJ:9.3f} mJ  = CoM lift {x.barrier_j / mg * MM:7.3f} mm   "
         f"saddle ({x.saddle_pitch_deg:7.2f}, {x.saddle_roll_deg:7.2f})  {x.direction}"
     )
+
+
+EXIT_LABELS = {
+    "righting": "righting",
+    "pitch_wise": "pitch-wise",
+    "roll_wise": "roll-wise",
+    "escape": "escape",
+}
+
+
+def _fmt_gradient(name: str, g, c) -> str:
+    """One exit's gradients: per mm of CoM, per g of mass, per degree of theta_w and theta_l, mJ ("-" for a joint
+    group the robot lacks, "n/a" where the derivative does not exist)."""
+    if g is None:
+        return f"  {name:<12} none"
+    com = (
+        "({:8.4f}, {:8.4f}, {:8.4f})".format(*g.com_j_per_m) if g.com_j_per_m is not None else f"{'n/a':^30}"
+    )
+
+    def angle(v, lacks):
+        return f"{'-':>7}" if lacks else f"{'n/a':>7}" if v is None else f"{v * MJ:7.3f}"
+
+    return (
+        f"  {name:<12} CoM {com}  mass {g.mass_j_per_kg:8.4f}  "
+        f"theta_w {angle(g.theta_w_j_per_deg, c.theta_w_deg is None)}  "
+        f"theta_l {angle(g.theta_l_j_per_deg, c.theta_l_deg is None)}"
+    )
+
+
+def gradient_lines(c) -> list[str]:
+    """The table's gradient block: one line per exit, the reasons where a derivative does not exist, and the CoM
+    direction that lowers the righting barrier fastest."""
+    if not c.gradient:
+        return []
+    lines = [
+        "gradients    mJ per mm of CoM (x, y, z, body frame), per g of mass, per degree of theta_w, theta_l"
+    ]
+    reasons: dict[str, list[str]] = {}
+    for key, label in EXIT_LABELS.items():
+        g = c.gradient.get(key)
+        lines.append(_fmt_gradient(label, g, c))
+        if g is not None and g.reason:
+            reasons.setdefault(g.reason, []).append(label)
+    for reason, names in reasons.items():
+        lines.append(f"  n/a: {', '.join(names)}: {reason}")
+    r = c.gradient.get("righting")
+    down = None if r is None else r.steepest_descent()
+    if down is None:
+        lines.append("lower it     -")
+    else:
+        d, rate = down
+        steep = [float(sum(x * x for x in row)) ** 0.5 for row in r.one_sided_com_j_per_m]
+        tie = ""
+        if len(steep) > 1:
+            alike = max(steep) - min(steep) <= 1e-9 * rate
+            tie = (
+                f" ({len(steep)} equal saddles, as steep: the reported one's)"
+                if alike
+                else f" (the steepest of {len(steep)} equal saddles)"
+            )
+        lines.append(
+            "lower it     move the CoM along ({:.3f}, {:.3f}, {:.3f}): the righting barrier falls {:.4f} mJ per "
+            "mm".format(*d, rate)
+            + tie
+        )
+    return lines
+
+
+def interval_lines(c) -> list[str]:
+    """The table's interval block (with ``--com-uncertainty`` or ``--mass-uncertainty``)."""
+    iv = c.intervals
+    if iv is None:
+        return []
+    from landscape.uncertainty import FIRST_ORDER, MONTE_CARLO
+
+    u = iv.uncertainty
+    lines = [
+        f"uncertainty  CoM within {u.com_m * MM:g} mm, mass within {u.mass_kg * 1e3:g} g; {FIRST_ORDER}",
+        "             "
+        + (
+            f"{MONTE_CARLO}: N = {iv.samples}, r = {u.com_m * MM:g} mm, seed {u.seed}"
+            if iv.samples
+            else "Monte-Carlo: none (--samples N)"
+        ),
+    ]
+
+    def band(b):
+        return f"{'n/a':^23}" if b is None else f"[{b[0] * MJ:8.3f}, {b[1] * MJ:8.3f}] mJ"
+
+    notes: dict[str, list[str]] = {}
+    for key, label in EXIT_LABELS.items():
+        x = iv.exits.get(key)
+        if x is None:
+            lines.append(f"  {label:<12} none")
+            continue
+        lines.append(
+            f"  {label:<12} {x.barrier_j * MJ:9.3f} mJ  first order {band(x.first_order_j)}  "
+            f"Monte-Carlo {band(x.monte_carlo_j)}".rstrip()
+        )
+        if x.note:
+            notes.setdefault(x.note, []).append(label)
+    return lines + [f"  note: {', '.join(names)}: {note}" for note, names in notes.items()]
+
+
+def change_lines(change, name: str, *, geometry: bool) -> list[str]:
+    """What a model set's edits do to the barriers (:func:`landscape.uncertainty.com_change`), mJ."""
+
+    def mj(v):
+        return f"{'n/a':>8}" if v is None else f"{v * MJ:+8.3f}"
+
+    lines = [
+        "set change   {} moves the CoM by ({:.3f}, {:.3f}, {:.3f}) mm{}; the barriers change by, mJ:".format(
+            name, *(change.com_m * MM), " and a part with it" if geometry else ""
+        )
+    ]
+    for key, label in EXIT_LABELS.items():
+        lines.append(
+            f"  {label:<12} first order {mj(change.first_order_j[key])}   CoM alone, recomputed "
+            f"{mj(change.com_only_j[key])}   the whole set, recomputed {mj(change.recomputed_j[key])}"
+        )
+    return lines
 
 
 def human_summary(c, robot, *, mass_note: str = "", units: str | None = None) -> str:
@@ -62,6 +186,8 @@ def human_summary(c, robot, *, mass_note: str = "", units: str | None = None) ->
         _fmt_exit("pitch-wise", c.barrier.pitch_wise, mg),
         _fmt_exit("roll-wise", c.barrier.roll_wise, mg),
         _fmt_exit("escape", c.barrier.escape, mg),
+        *gradient_lines(c),
+        *interval_lines(c),
         "timing       " + "  ".join(f"{k} {v * 1e3:.1f} ms" for k, v in c.timing_s.items()),
     ]
     return "\n".join(lines)
@@ -97,23 +223,39 @@ def human_summary(c, robot, *, mass_note: str = "", units: str | None = None) ->
     default=None,
     help="Write landscape.npz, landscape.csv and summary.json into this directory [default: write nothing].",
 )
+@uncertainty_options
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of the table.")
 def compute(
-    theta_w, theta_l, step, start_pitch, start_roll, connectivity, method, pose_model, out, as_json, **kw
+    theta_w,
+    theta_l,
+    step,
+    start_pitch,
+    start_roll,
+    connectivity,
+    method,
+    pose_model,
+    out,
+    com_uncertainty,
+    mass_uncertainty,
+    samples,
+    seed,
+    as_json,
+    **kw,
 ):
-    """Landscape, start minimum and minimal barriers at one (theta_w, theta_l)."""
+    """Landscape, start minimum and minimal barriers at one (theta_w, theta_l), with each barrier's gradients
+    (and, given an uncertainty, its interval)."""
     from landscape.computation import compute as run
     from landscape.viz import files
 
     grid_step(step)
+    uncertainty = uncertainty_from(com_uncertainty, mass_uncertainty, samples, seed)
     if out:
         writable_dir(out, "--out")
-    robot = robot_from(kw, theta_w_deg=theta_w, theta_l_deg=theta_l)
-    ms = pose_model_set(pose_model, robot)
-    robot = ms.robot_for(robot) if ms else robot
+    plain = robot_from(kw, theta_w_deg=theta_w, theta_l_deg=theta_l)
+    ms = pose_model_set(pose_model, plain)
+    robot = ms.robot_for(plain) if ms else plain
     wing_joints = ms.wing_joints_deg(robot.joint_map.wing, theta_w) if ms else None
-    c = run(
-        robot,
+    options = dict(
         wing_joints_deg=wing_joints,
         theta_w_deg=theta_w,
         theta_l_deg=theta_l,
@@ -124,6 +266,16 @@ def compute(
         method=method,
         memory_budget_bytes=memory_budget_bytes(),
     )
+    c = run(robot, **options)
+    if uncertainty is not None:
+        from landscape.uncertainty import with_intervals
+
+        c = with_intervals(c, uncertainty)
+    change = None
+    if robot is not plain:  # the set moves the CoM (and maybe a part): its effect on the barriers
+        from landscape.uncertainty import com_change
+
+        change = com_change(run(plain, **options), c)
     s = files.summary(
         c,
         robot_name=robot.name,
@@ -134,6 +286,8 @@ def compute(
     )
     if pose_model is not None:
         s = dict(s) | {"model_set": pose_model, "wing_joints_deg": wing_joints}
+    if change is not None:
+        s = s | {"model_set_change": change.to_dict()}
     if out:
         files.write_computation(c, s, Path(out))
     if as_json:
@@ -161,6 +315,8 @@ def compute(
             click.echo(
                 f"model set    {pose_model}: CoM moved {ms.com_offset_y_mm:+g} mm along the body's y axis"
             )
+        if change is not None:
+            click.echo("\n".join(change_lines(change, pose_model, geometry=ms.joint_shift_mm is not None)))
         if out:
             click.echo(f"wrote        {out}/landscape.npz, landscape.csv, summary.json")
 
@@ -191,18 +347,24 @@ def compute(
     type=click.Path(file_okay=False),
     default="barrier-map",
     show_default=True,
-    help="Directory for barrier_map.csv and barrier_map.png.",
+    help="Directory for barrier_map.csv and barrier_map.png (with an uncertainty also barrier_bands.png).",
 )
-def barrier_map(theta_w, theta_l, step, method, pose_model, out, **kw):
-    """Minimal barrier over theta_w x theta_l: CSV and heat map (the source paper's Fig. 5)."""
+@uncertainty_options
+def barrier_map(
+    theta_w, theta_l, step, method, pose_model, out, com_uncertainty, mass_uncertainty, samples, seed, **kw
+):
+    """Minimal barrier over theta_w x theta_l: CSV and heat map (the source paper's Fig. 5), each pose's gradients in
+    the CSV; with an uncertainty each barrier's band (barrier_bands.png)."""
     import numpy as np
     from tqdm import tqdm
 
     from landscape.computation import barrier_map as run
+    from landscape.uncertainty import with_intervals
     from landscape.viz import files, plots
 
     ws, ls_ = theta_w, theta_l
     grid_step(step)
+    uncertainty = uncertainty_from(com_uncertainty, mass_uncertainty, samples, seed)
     writable_dir(out, "--out")
     robot = robot_from(kw, theta_w_deg=ws, theta_l_deg=ls_)
     if not robot.has_joints:
@@ -231,6 +393,7 @@ def barrier_map(theta_w, theta_l, step, method, pose_model, out, **kw):
             progress=bar.update,
             memory_budget_bytes=memory_budget_bytes(),
             wing_joints_deg=joints,
+            per_pose=None if uncertainty is None else partial(with_intervals, u=uncertainty),
         )
     rows = files.barrier_map_rows(bm)
     outd = Path(out)
@@ -249,4 +412,45 @@ def barrier_map(theta_w, theta_l, step, method, pose_model, out, **kw):
         f"{len(rows)} poses in {time.perf_counter() - t0:.2f} s; "
         f"righting barrier {np.nanmin(grid_mj):.3f} .. {np.nanmax(grid_mj):.3f} mJ"
     )
-    click.echo(f"wrote {csv_path} and {png}")
+    if uncertainty is None:
+        click.echo(f"wrote {csv_path} and {png}")
+        return
+    bands = plots.render_barrier_bands(
+        ws,
+        ls_,
+        band_curves(bm),
+        outd / "barrier_bands.png",
+        title=f"Barriers of {robot.name} with their bands (CoM within {uncertainty.com_m * MM:g} mm, mass within "
+        f"{uncertainty.mass_kg * 1e3:g} g)",
+    )
+    odd = [c for c in bm.computations if not getattr(c.gradient.get("righting"), "differentiable", True)]
+    click.echo(
+        f"righting barrier not differentiable at {len(odd)} of {len(rows)} poses (band there: Monte-Carlo)"
+        + (": " + ", ".join(f"({c.theta_w_deg:g}°, {c.theta_l_deg:g}°)" for c in odd[:8]) if odd else "")
+        + (" ..." if len(odd) > 8 else "")
+    )
+    click.echo(f"wrote {csv_path}, {png} and {bands}")
+
+
+def band_curves(bm) -> dict:
+    """Each exit's barrier and band over a barrier map's grid, mJ, for :func:`landscape.viz.plots.render_barrier_bands`:
+    the first-order band where it exists, else the Monte-Carlo range (``monte_carlo`` marks those poses)."""
+    import numpy as np
+
+    shape = (len(bm.theta_w_deg), len(bm.theta_l_deg))
+    out = {}
+    for key, label in EXIT_LABELS.items():
+        arrays = {k: np.full(shape, np.nan) for k in ("barrier_mj", "low_mj", "high_mj")}
+        mc = np.zeros(shape, dtype=bool)
+        for k, c in enumerate(bm.computations):
+            at = (k // shape[1], k % shape[1])
+            x = c.intervals.exits.get(key) if c.intervals is not None else None
+            if x is None:
+                continue
+            band = x.first_order_j if x.first_order_j is not None else x.monte_carlo_j
+            mc[at] = x.first_order_j is None
+            arrays["barrier_mj"][at] = x.barrier_j * MJ
+            if band is not None:
+                arrays["low_mj"][at], arrays["high_mj"][at] = band[0] * MJ, band[1] * MJ
+        out[label] = arrays | {"monte_carlo": mc}
+    return out

@@ -389,12 +389,26 @@ def create_app(config: ServiceConfig) -> FastAPI:
         ),
         grid: bool = Query(False, description="json: include the energy grid in mJ"),
         model: str | None = Query(None, description=MODEL_HELP),
+        com_uncertainty_mm: float | None = Query(
+            None, description="CoM uncertainty, mm, >= 0: each barrier's interval (barrier.interval)"
+        ),
+        mass_uncertainty_g: float | None = Query(None, description="mass uncertainty, g, >= 0"),
+        samples: int | None = Query(
+            None, description="Monte-Carlo samples of the CoM uncertainty, in [1, 1000] (default: none)"
+        ),
+        seed: int = Query(0, description="seed of the Monte-Carlo directions, >= 0"),
     ):
         """The object of ``landscape compute --json`` plus the barrier ``paths`` (and, with ``grid=1``, the grid);
         with ``model`` also ``model_set`` and ``wing_joints_deg``, as ``landscape compute --model NAME --json``;
-        ``warnings`` when an angle looks like radians (the command line's warning lines)."""
+        ``warnings`` when an angle looks like radians (the command line's warning lines);
+        with ``com_uncertainty_mm`` or ``mass_uncertainty_g`` also ``barrier.interval``, as ``landscape compute
+        --com-uncertainty MM --mass-uncertainty G [--samples N --seed S] --json``. Every answer holds each
+        barrier's gradients (``barrier.gradient``)."""
         entry = await asyncio.to_thread(registry.get, robot)
-        key = await asyncio.to_thread(landscapes.check, entry, theta_w, theta_l, method, step, model=model)
+        unc = _uncertainty(com_uncertainty_mm, mass_uncertainty_g, samples, seed)
+        key = await asyncio.to_thread(
+            landscapes.check, entry, theta_w, theta_l, method, step, model=model, uncertainty=unc
+        )
         if format == "json":
             a = await landscapes.answer(entry, key)
             return _with_warnings(
@@ -404,6 +418,18 @@ def create_app(config: ServiceConfig) -> FastAPI:
         if a is None or a.computation is None:
             a = await landscapes.answer(entry, key, need_computation=True)
         return await _download(a, format)
+
+    def _uncertainty(com_mm, mass_g, samples, seed):
+        """The request's :class:`landscape.uncertainty.Uncertainty`, or None without one."""
+        if com_mm is None and mass_g is None:
+            if samples is not None:
+                raise UsageError("samples draws CoMs com_uncertainty_mm off; give com_uncertainty_mm too")
+            return None
+        from landscape.uncertainty import Uncertainty
+
+        return Uncertainty(
+            com_m=(com_mm or 0.0) * 1e-3, mass_kg=(mass_g or 0.0) * 1e-3, samples=samples, seed=seed
+        ).check()
 
     async def _download(a, fmt: str):
         from landscape.viz import files

@@ -36,7 +36,9 @@ from .errors import TimeLimitError, TooCostlyError
 
 log = logging.getLogger(__name__)
 
-CACHE_FORMAT = 1
+CACHE_FORMAT = 2
+MAX_SAMPLES = 1000
+"""Most Monte-Carlo samples one landscape request may ask for (each recomputes every barrier)."""
 DEFAULT_SECONDS_PER_CELL = 1e-6
 """Cost guess of one grid cell (landscape + barrier), s, until a robot's first computation measures its own."""
 
@@ -227,12 +229,14 @@ class Landscapes:
         step_deg: float,
         *,
         model: str | None = None,
+        uncertainty=None,
     ) -> tuple:
         """Validate a request and return its cache key; UsageError (or TooCostlyError) for bad or costly input.
 
         ``model`` names a shipped model set that poses the wings (:func:`.model_sets.set_wing_joints_deg`) and may
         move the CoM; the key holds it, the wing joints' angles it gives and its hash (so a set whose content
-        changes is not answered from a cached landscape of its old content)."""
+        changes is not answered from a cached landscape of its old content). ``uncertainty``
+        (:class:`landscape.uncertainty.Uncertainty`) adds each barrier's interval; the key holds it."""
         from landscape.barriers import method as barrier_method
         from landscape.grid import cells_per_turn
 
@@ -265,7 +269,26 @@ class Landscapes:
         joints = set_wing_joints_deg(ms, entry.robot, theta_w_deg)
         joints_key = None if joints is None else tuple(joints.items())
         set_hash = ms.model_set_hash if ms is not None else None
-        return (entry.robot.description_hash, tw, tl, method, float(step_deg), model, joints_key, set_hash)
+        unc = None
+        if uncertainty is not None:
+            uncertainty.check()
+            if (uncertainty.samples or 0) > MAX_SAMPLES:
+                raise TooCostlyError(
+                    f"samples = {uncertainty.samples} recomputes every barrier that often; the service takes at "
+                    f"most {MAX_SAMPLES}: ask for fewer"
+                )
+            unc = (uncertainty.com_m, uncertainty.mass_kg, uncertainty.samples, uncertainty.seed)
+        return (
+            entry.robot.description_hash,
+            tw,
+            tl,
+            method,
+            float(step_deg),
+            model,
+            joints_key,
+            set_hash,
+            unc,
+        )
 
     @staticmethod
     def estimate_s(entry, step_deg: float) -> float:
@@ -318,7 +341,7 @@ class Landscapes:
             return a
         from .model_sets import robot_for
 
-        _, tw, tl, method, step, model, joints_key, _ = key
+        _, tw, tl, method, step, model, joints_key, _, unc = key
         joints = None if joints_key is None else dict(joints_key)
         robot = robot_for(model, entry.robot)  # a set may move the CoM, as `landscape compute --model` does
         with entry.lock:
@@ -337,6 +360,23 @@ class Landscapes:
                 start_deg=start,
                 wing_joints_deg=joints,
             )
+            change = None
+            if robot is not entry.robot:  # the set moves the CoM: its effect, as `landscape compute --model`
+                from landscape.uncertainty import com_change
+
+                plain = compute(
+                    entry.robot,
+                    theta_w_deg=tw,
+                    theta_l_deg=tl,
+                    step_deg=step,
+                    method=method,
+                    wing_joints_deg=joints,
+                )
+                change = com_change(plain, c)
+        if unc is not None:
+            from landscape.uncertainty import Uncertainty, with_intervals
+
+            c = with_intervals(c, Uncertainty(*unc))
         s = files.summary(
             c,
             robot_name=entry.robot.name,
@@ -346,6 +386,8 @@ class Landscapes:
         )
         if model is not None:  # as `landscape compute --model NAME --json`
             s = dict(s) | {"model_set": model, "wing_joints_deg": joints}
+        if change is not None:
+            s = s | {"model_set_change": change.to_dict()}
         cells = c.landscape.energy_j.size
         per_cell = (c.timing_s["landscape"] + c.timing_s["barrier"]) / cells
         prev = entry.seconds_per_cell

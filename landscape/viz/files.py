@@ -10,43 +10,50 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:  # annotations only: writing JSON loads neither the numerics nor the engine
-    from landscape.barriers import Exit
     from landscape.computation import BarrierMap, Computation
 
 MJ = 1e3
 
 
-def _exit_dict(x: Exit | None) -> dict | None:
-    if x is None:
-        return None
-    return {
-        "barrier_j": x.barrier_j,
-        "saddle_pitch_deg": x.saddle_pitch_deg,
-        "saddle_roll_deg": x.saddle_roll_deg,
-        "direction": x.direction,
-        "path_deg": np.round(x.path_deg, 6).tolist(),
-    }
-
-
 def barrier_fields(b) -> dict:
-    """Flat barrier fields (J, degrees) of a Barrier, as the JSON summary and the barrier-map CSV report them."""
-    r = b.righting
-    return {
-        "righting_j": None if r is None else r.barrier_j,
-        "escape_j": None if b.escape is None else b.escape.barrier_j,
-        "saddle_pitch_deg": None if r is None else r.saddle_pitch_deg,
-        "saddle_roll_deg": None if r is None else r.saddle_roll_deg,
-        "direction": None if r is None else r.direction,
-        "pitch_wise_j": None if b.pitch_wise is None else b.pitch_wise.barrier_j,
-        "roll_wise_j": None if b.roll_wise is None else b.roll_wise.barrier_j,
-        "escape_saddle_pitch_deg": None if b.escape is None else b.escape.saddle_pitch_deg,
-        "escape_saddle_roll_deg": None if b.escape is None else b.escape.saddle_roll_deg,
-        "escape_direction": None if b.escape is None else b.escape.direction,
-    }
+    """Flat barrier fields (J, degrees) of a Barrier (:func:`landscape.computation.barrier_fields`)."""
+    from landscape.computation import barrier_fields as fields
+
+    return fields(b)
+
+
+EXITS = ("righting", "pitch_wise", "roll_wise", "escape")
+
+
+def gradient_columns(c: Computation) -> dict:
+    """Each exit's first-order change as flat columns (SI: J/m, J/kg, J/deg): ``<exit>_com_{x,y,z}_j_per_m``,
+    ``<exit>_mass_j_per_kg``, ``<exit>_theta_{w,l}_j_per_deg`` (empty where it does not exist),
+    ``<exit>_differentiable`` and ``<exit>_reason``; with intervals also ``<exit>_first_order_{low,high}_j`` and
+    ``<exit>_monte_carlo_{low,high}_j``."""
+    out = {}
+    for name in EXITS:
+        g = c.gradient.get(name)
+        com = None if g is None or g.com_j_per_m is None else g.com_j_per_m
+        for i, axis in enumerate("xyz"):
+            out[f"{name}_com_{axis}_j_per_m"] = None if com is None else float(com[i])
+        out[f"{name}_mass_j_per_kg"] = None if g is None else g.mass_j_per_kg
+        out[f"{name}_theta_w_j_per_deg"] = None if g is None else g.theta_w_j_per_deg
+        out[f"{name}_theta_l_j_per_deg"] = None if g is None else g.theta_l_j_per_deg
+        out[f"{name}_differentiable"] = None if g is None else g.differentiable
+        out[f"{name}_reason"] = None if g is None else g.reason
+    if c.intervals is not None:
+        for name in EXITS:
+            x = c.intervals.exits.get(name)
+            for kind in ("first_order", "monte_carlo"):
+                band = None if x is None else getattr(x, f"{kind}_j")
+                out[f"{name}_{kind}_low_j"] = None if band is None else band[0]
+                out[f"{name}_{kind}_high_j"] = None if band is None else band[1]
+    return out
 
 
 def barrier_map_rows(bm: BarrierMap) -> list[dict]:
-    """One row per pose of a barrier map: the angles, the start minimum and :func:`barrier_fields`."""
+    """One row per pose of a barrier map: the angles, the start minimum, :func:`barrier_fields` and
+    :func:`gradient_columns`."""
     return [
         {
             "theta_w_deg": c.theta_w_deg,
@@ -55,6 +62,7 @@ def barrier_map_rows(bm: BarrierMap) -> list[dict]:
             "min_roll_deg": c.minimum.roll_deg,
             "min_energy_j": c.minimum.energy_j,
             **barrier_fields(c.barrier),
+            **gradient_columns(c),
         }
         for c in bm.computations
     ]
@@ -74,32 +82,20 @@ def summary(
     ``robot_hash`` identifies the robot and how its joints are driven (``Robot.robot_hash``);
     ``description_hash`` its files alone (``Robot.description_hash``; default: ``robot_hash``).
     """
-    b = c.barrier
-    return {
+    d = c.to_dict(paths=True)
+    out = {
         "robot": {
             "name": robot_name,
             "source": robot_source,
             "robot_hash": robot_hash,
             "description_hash": description_hash or robot_hash,
-        },
-        "theta_w_deg": c.theta_w_deg,
-        "theta_l_deg": c.theta_l_deg,
-        "step_deg": c.step_deg,
-        "method": c.method,
-        "mass_kg": c.mass_kg,
-        "com_m": [float(x) for x in c.com_m],
-        "com_source": com_source,
-        "start_deg": {"pitch_deg": c.start_deg[0], "roll_deg": c.start_deg[1]},
-        "minimum": {
-            "pitch_deg": c.minimum.pitch_deg,
-            "roll_deg": c.minimum.roll_deg,
-            "energy_j": c.minimum.energy_j,
-            "height_m": c.minimum.height_m,
-        },
-        "barrier": barrier_fields(b),
-        "paths": {k: _exit_dict(getattr(b, k)) for k in ("righting", "pitch_wise", "roll_wise", "escape")},
-        "timing_s": {k: round(v, 6) for k, v in c.timing_s.items()},
+        }
     }
+    for k, v in d.items():
+        out[k] = v
+        if k == "com_m":
+            out["com_source"] = com_source
+    return out
 
 
 def write_computation(c: Computation, summary_dict: dict, out_dir: Path) -> list[Path]:

@@ -54,6 +54,12 @@ def test_report_builds_every_analysis_from_a_real_database(capsys, db, tmp_path)
     assert len(stats) == 1 and stats[0]["cv"] == "0.1"
     bo = _csv(out / "barrier_outcome.csv")
     assert all(float(r["exact_barrier_mj"]) > 0 and float(r["grid_barrier_mj"]) > 0 for r in bo)
+    # theta_l 20 and 30 deg: no mirror symmetry, so the righting barrier's gradients exist (mJ per mm, per deg)
+    assert all(
+        r["righting_differentiable"] == "True" and float(r["righting_com_y_mj_per_mm"]) != 0 for r in bo
+    )
+    assert all(float(r["righting_theta_w_mj_per_deg"]) < 0 for r in bo)  # wider wings, lower barrier
+    assert "Gradients of the exact righting barrier per setting" in html
     reruns = _csv(out / "trajectories.csv")
     assert len(reruns) == 3 and all(r["reproduced"] == "1" for r in reruns)  # the 3 trials of one setting
     assert (out / "trajectories" / "trajectories_contour.png").stat().st_size > 1000

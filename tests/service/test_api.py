@@ -61,6 +61,31 @@ def test_landscape_is_the_compute_json_of_the_command_line(client, capsys):
     assert got["robot"]["source"] == "builtin"
 
 
+def test_landscape_has_the_gradients_and_intervals_of_the_command_line(client, capsys):
+    """barrier.gradient and, with an uncertainty, barrier.interval: the numbers of `landscape compute --json` and of
+    Computation.to_dict()."""
+    from landscape.cli import main
+
+    argv = ["--theta-w", "74", "--theta-l", "30", "--step", "3", "--com-uncertainty", "1", "--samples", "3"]
+    assert main(["compute", *argv, "--json"]) == 0
+    cli = json.loads(capsys.readouterr().out)
+    params = {"theta_w": 74, "theta_l": 30, "step": 3, "com_uncertainty_mm": 1, "samples": 3}
+    got = client.get("/api/landscape", params=params).json()
+    assert got["barrier"]["gradient"] == cli["barrier"]["gradient"]
+    assert got["barrier"]["interval"] == cli["barrier"]["interval"]
+    assert got["barrier"]["gradient"]["righting"]["differentiable"] is True
+    plain = client.get("/api/landscape", params={"theta_w": 74, "theta_l": 30, "step": 3}).json()
+    assert "interval" not in plain["barrier"] and plain["barrier"]["gradient"] == cli["barrier"]["gradient"]
+    for bad, needle in (
+        ({"com_uncertainty_mm": -1}, "must be a finite number >= 0"),
+        ({"com_uncertainty_mm": 1, "samples": 0}, "samples must be a whole number"),
+        ({"samples": 4}, "give com_uncertainty_mm too"),
+        ({"com_uncertainty_mm": 1, "samples": 5000}, "at most 1000"),
+    ):
+        r = client.get("/api/landscape", params={"theta_w": 74, "step": 3} | bad)
+        assert 400 <= r.status_code < 500 and needle in r.json()["detail"], (bad, r.text)
+
+
 def test_memo_of_the_continuation_gives_the_metastable_start():
     """The service's start memo walks the same continuation as metastable_orientation, in any request order."""
     from geometry.robots import load_robot

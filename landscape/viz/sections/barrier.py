@@ -16,6 +16,25 @@ from landscape.viz.sections.data import (
 )
 
 
+def gradient_record(g) -> dict:
+    """A setting's righting-barrier gradient as the report's columns, mJ per mm, per g and per degree (empty where
+    the derivative does not exist)."""
+    com = None if g is None or g.com_j_per_m is None else g.com_j_per_m  # J/m = mJ/mm
+
+    def mj(v):
+        return None if v is None else v * 1e3
+
+    return {
+        "righting_com_x_mj_per_mm": None if com is None else float(com[0]),
+        "righting_com_y_mj_per_mm": None if com is None else float(com[1]),
+        "righting_com_z_mj_per_mm": None if com is None else float(com[2]),
+        "righting_mass_mj_per_g": None if g is None else g.mass_j_per_kg,  # J/kg = mJ/g
+        "righting_theta_w_mj_per_deg": None if g is None else mj(g.theta_w_j_per_deg),
+        "righting_theta_l_mj_per_deg": None if g is None else mj(g.theta_l_j_per_deg),
+        "righting_differentiable": None if g is None else g.differentiable,
+    }
+
+
 def section_barrier(
     rows: list[dict],
     out: Path,
@@ -57,6 +76,7 @@ def section_barrier(
                     "exact_barrier_mj": float(e),
                     "grid_barrier_mj": float(g),
                     "mean_time_to_right_s": c.mean_time_to_right_s,
+                    **gradient_record(barriers[(c.theta_w_deg, c.theta_l_deg)][2]),
                 }
             )
     stats = [
@@ -83,9 +103,14 @@ def section_barrier(
     png = plot_barrier_outcome(
         res, out / "barrier_outcome.png", title=f"Minimal righting barrier against outcome (φ1 = {phase:g})"
     )
+    grads = [b[2] for b in barriers.values() if b[2] is not None]
+    odd = sum(not g.differentiable for g in grads)
     paras = [
         f"Barriers: exact (hull face–edge graph) and the 1° grid search, at θl on the +θl side, for "
-        f"{len(barriers)} settings; outcomes: the paper-protocol trials at φ1 = {phase:g}. {posed_by}"
+        f"{len(barriers)} settings; outcomes: the paper-protocol trials at φ1 = {phase:g}. {posed_by}",
+        "Gradients of the exact righting barrier per setting (the table's righting_* columns): mJ per mm of CoM "
+        "(body frame), per g of mass, per degree of θw and θl; empty where the derivative does not exist "
+        f"({odd} of {len(grads)} settings, e.g. the mirror-image saddles of a symmetric pose at θl 0).",
     ]
     for s in stats:
         paras.append(

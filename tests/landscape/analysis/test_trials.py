@@ -240,3 +240,5 @@ def test_landscape_barriers_pose_each_wing_joint_as_given():
         compute(robot, theta_w_deg=75.0, theta_l_deg=30.0).barrier.righting.barrier_j, abs=1e-12
     )
     assert plain[(75.0, 30.0)][0] != pytest.approx(got[(75.0, 30.0)][0], abs=1e-9)
+    g = got[(75.0, 30.0)][2]  # the exact barrier's gradient, as compute's
+    assert g.com_j_per_m.tolist() == want.gradient["righting"].com_j_per_m.tolist()
