@@ -23,7 +23,11 @@ from geometry.errors import UsageError
 
 __all__ = [
     "JOINT_ANGLE_DEG_BOUNDS",
+    "COM_UNCERTAINTY_MM_BOUNDS",
     "MASS_KG_BOUNDS",
+    "MASS_UNCERTAINTY_G_BOUNDS",
+    "MC_SEED_BOUNDS",
+    "SAMPLES_BOUNDS",
     "ORIENTATION_DEG_BOUNDS",
     "NOT_FINITE",
     "PLAUSIBLE_MAX_MASS_KG",
@@ -200,6 +204,23 @@ class Bounds:
     def check_all(self, values: Sequence[float], name: str) -> list:
         """Every value of a list checked (:meth:`check`); the first outside the range is refused."""
         return [self.check(v, name) for v in values]
+
+
+# the mass properties' uncertainty of a barrier's interval (landscape.uncertainty), and its Monte-Carlo draws
+COM_UNCERTAINTY_MM_BOUNDS = Bounds(
+    0.0, 50.0, unit="mm", meaning="a CoM uncertainty (and less than the CoM's depth inside the body)"
+)
+"""How far the CoM may be off, mm (each body checks it further: the CoM must stay inside its hull)."""
+MASS_UNCERTAINTY_G_BOUNDS = Bounds(
+    0.0, 10_000.0, unit="g", meaning="a mass uncertainty (and below the robot's mass)"
+)
+"""How far the mass may be off, g (each body checks it further: below its mass)."""
+SAMPLES_BOUNDS = Bounds(1, 100_000, integer=True, meaning="a count of Monte-Carlo samples")
+"""Monte-Carlo samples of one interval."""
+MC_SEED_BOUNDS = Bounds(
+    0, 2**32 - 1, integer=True, hi_text="2^32 - 1", meaning="a seed of the Monte-Carlo directions"
+)
+"""Seeds of the Monte-Carlo directions."""
 
 
 def percent_to_fraction(text: str, name: str) -> float:

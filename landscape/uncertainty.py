@@ -29,6 +29,12 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
+from geometry.bounds import (  # noqa: F401  (the ranges of an Uncertainty's inputs, read here too)
+    COM_UNCERTAINTY_MM_BOUNDS,
+    MASS_UNCERTAINTY_G_BOUNDS,
+    MC_SEED_BOUNDS,
+    SAMPLES_BOUNDS,
+)
 from geometry.errors import UsageError
 
 from .barriers import method as barrier_method
@@ -38,7 +44,7 @@ from .gradient import EXIT_NAMES
 
 DEFAULT_SAMPLES = 64
 """Monte-Carlo samples where a first-order band does not exist and none were asked for."""
-MAX_SAMPLES = 100_000
+MAX_SAMPLES = int(SAMPLES_BOUNDS.hi)
 """Most Monte-Carlo samples one interval takes."""
 FIRST_ORDER = "first order: B -+ (r |dB/dCoM| + dm |dB/dmass|), the linearised barrier's extremes"
 MONTE_CARLO = (

@@ -644,53 +644,46 @@ def pose_model_set(pose_model: str | None, robot):
     return load_model_set(pose_model)
 
 
-COM_UNCERTAINTY_MM = (0.0, 50.0)
-"""Range of ``--com-uncertainty``, mm (the body checks it further: the CoM must stay inside its hull)."""
-MASS_UNCERTAINTY_G = (0.0, 10_000.0)
-"""Range of ``--mass-uncertainty``, g (the body checks it further: below its mass)."""
-SAMPLES_RANGE = (1, 100_000)
-"""Range of ``--samples``."""
-SEED_RANGE = (0, 2**32 - 1)
-"""Range of ``--seed`` of the Monte-Carlo directions."""
-
-
 def uncertainty_options(f):
     """``--com-uncertainty MM``, ``--mass-uncertainty G``, ``--samples N`` and ``--seed S``: barrier intervals
-    (:mod:`landscape.uncertainty`); :func:`uncertainty_from` checks them."""
-    lo, hi = COM_UNCERTAINTY_MM
-    mlo, mhi = MASS_UNCERTAINTY_G
+    (:mod:`landscape.uncertainty`, which holds their ranges); :func:`uncertainty_from` joins them."""
+    from geometry.bounds import (
+        COM_UNCERTAINTY_MM_BOUNDS,
+        MASS_UNCERTAINTY_G_BOUNDS,
+        MC_SEED_BOUNDS,
+        SAMPLES_BOUNDS,
+    )
+
     opts = [
-        click.option(
+        ranged_option(
             "--com-uncertainty",
             "com_uncertainty",
-            type=float,
+            bounds=COM_UNCERTAINTY_MM_BOUNDS,
             default=None,
-            help=f"CoM uncertainty, mm, in [{lo:g}, {hi:g}] mm (and less than the CoM's depth inside the body): "
-            "give each barrier an interval, first order from its gradient, Monte-Carlo with --samples "
-            "[default: none].",
+            help="CoM uncertainty, mm, {range} (and less than the CoM's depth inside the body): give each barrier "
+            "an interval, first order from its gradient, Monte-Carlo with --samples [default: none].",
         ),
-        click.option(
+        ranged_option(
             "--mass-uncertainty",
             "mass_uncertainty",
-            type=float,
+            bounds=MASS_UNCERTAINTY_G_BOUNDS,
             default=None,
-            help=f"Mass uncertainty, g, in [{mlo:g}, {mhi:g}] g (and below the robot's mass): widens each "
-            "barrier's interval [default: none].",
+            help="Mass uncertainty, g, {range} (and below the robot's mass): widens each barrier's interval "
+            "[default: none].",
         ),
-        click.option(
+        ranged_option(
             "--samples",
-            type=int,
+            bounds=SAMPLES_BOUNDS,
             default=None,
-            help=f"Monte-Carlo samples, in [{SAMPLES_RANGE[0]}, {SAMPLES_RANGE[1]}]: recompute the barriers with "
-            "the CoM --com-uncertainty off in that many random directions [default: none; 64 where a barrier "
-            "has no first-order band].",
+            help="Monte-Carlo samples, {range}: recompute the barriers with the CoM --com-uncertainty off in that "
+            "many random directions [default: none; 64 where a barrier has no first-order band].",
         ),
-        click.option(
+        ranged_option(
             "--seed",
-            type=int,
+            bounds=MC_SEED_BOUNDS,
             default=0,
             show_default=True,
-            help=f"Seed of the Monte-Carlo directions, in [{SEED_RANGE[0]}, {SEED_RANGE[1]}].",
+            help="Seed of the Monte-Carlo directions, {range}.",
         ),
     ]
     for o in reversed(opts):
@@ -699,28 +692,16 @@ def uncertainty_options(f):
 
 
 def uncertainty_from(com_mm: float | None, mass_g: float | None, samples: int | None, seed: int):
-    """The :class:`landscape.uncertainty.Uncertainty` of :func:`uncertainty_options`' values, or None when no
-    uncertainty was given; each value checked against its range before any work.
+    """The :class:`landscape.uncertainty.Uncertainty` of :func:`uncertainty_options`' values (each already inside
+    its range), or None when no uncertainty was given.
 
     Raises
     ------
     UsageError
-        For a value that is not finite or outside its range, or ``--samples`` without ``--com-uncertainty``.
+        For ``--samples`` without ``--com-uncertainty``.
     """
     from landscape.uncertainty import Uncertainty
 
-    for name, v, (lo, hi), unit in (
-        ("com-uncertainty", com_mm, COM_UNCERTAINTY_MM, "mm"),
-        ("mass-uncertainty", mass_g, MASS_UNCERTAINTY_G, "g"),
-    ):
-        finite(v, name)
-        if v is not None and not lo <= v <= hi:
-            raise UsageError(
-                f"--{name} {v:g} {unit} is outside [{lo:g}, {hi:g}] {unit}; give a value inside it"
-            )
-    for name, v, (lo, hi) in (("samples", samples, SAMPLES_RANGE), ("seed", seed, SEED_RANGE)):
-        if v is not None and not lo <= v <= hi:
-            raise UsageError(f"--{name} {v} is outside [{lo}, {hi}]; give a whole number inside it")
     if samples is not None and not com_mm:
         raise UsageError("--samples draws CoMs --com-uncertainty off; give --com-uncertainty MM (> 0) too")
     if com_mm is None and mass_g is None:

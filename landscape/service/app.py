@@ -33,7 +33,15 @@ from starlette.background import BackgroundTask
 from starlette.middleware.trustedhost import TrustedHostMiddleware
 from starlette.staticfiles import StaticFiles
 
-from geometry.bounds import JOINT_ANGLE_DEG_BOUNDS, MASS_KG_BOUNDS, ORIENTATION_DEG_BOUNDS, mass_slip
+from geometry.bounds import (
+    COM_UNCERTAINTY_MM_BOUNDS,
+    JOINT_ANGLE_DEG_BOUNDS,
+    MASS_KG_BOUNDS,
+    MASS_UNCERTAINTY_G_BOUNDS,
+    MC_SEED_BOUNDS,
+    ORIENTATION_DEG_BOUNDS,
+    mass_slip,
+)
 from geometry.errors import UsageError
 from landscape.grid import DEFAULT_STEP_DEG, STEP_DEG_BOUNDS
 
@@ -50,7 +58,7 @@ from .config import ServiceConfig
 from .errors import NotFoundError, TimeLimitError, TooLargeError, UploadError, status_of
 from .inputs import OUT_OF_RANGE, angle_warnings, ranged
 from .jobs import SWEEP_BOUNDS, MapJobs, SweepJobs
-from .landscapes import Landscapes, ResultCache
+from .landscapes import SERVICE_SAMPLES_BOUNDS, Landscapes, ResultCache
 from .poses import PoseCache, check_pose_request
 from .robots import RobotRegistry
 
@@ -389,14 +397,21 @@ def create_app(config: ServiceConfig) -> FastAPI:
         ),
         grid: bool = Query(False, description="json: include the energy grid in mJ"),
         model: str | None = Query(None, description=MODEL_HELP),
-        com_uncertainty_mm: float | None = Query(
-            None, description="CoM uncertainty, mm, >= 0: each barrier's interval (barrier.interval)"
-        ),
-        mass_uncertainty_g: float | None = Query(None, description="mass uncertainty, g, >= 0"),
-        samples: int | None = Query(
-            None, description="Monte-Carlo samples of the CoM uncertainty, in [1, 1000] (default: none)"
-        ),
-        seed: int = Query(0, description="seed of the Monte-Carlo directions, >= 0"),
+        com_uncertainty_mm: ranged(
+            COM_UNCERTAINTY_MM_BOUNDS,
+            "com_uncertainty_mm",
+            "CoM uncertainty, mm, {range}: each barrier's interval (barrier.interval)",
+        ) = None,
+        mass_uncertainty_g: ranged(
+            MASS_UNCERTAINTY_G_BOUNDS, "mass_uncertainty_g", "mass uncertainty, g"
+        ) = None,
+        samples: ranged(
+            SERVICE_SAMPLES_BOUNDS,
+            "samples",
+            "Monte-Carlo samples of the CoM uncertainty, {range} (default: none)",
+            kind=int,
+        ) = None,
+        seed: ranged(MC_SEED_BOUNDS, "seed", "seed of the Monte-Carlo directions", kind=int) = 0,
     ):
         """The object of ``landscape compute --json`` plus the barrier ``paths`` (and, with ``grid=1``, the grid);
         with ``model`` also ``model_set`` and ``wing_joints_deg``, as ``landscape compute --model NAME --json``;

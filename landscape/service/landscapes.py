@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from geometry.bounds import Bounds
 from geometry.errors import UsageError
 
 from .errors import TimeLimitError, TooCostlyError
@@ -39,6 +40,8 @@ log = logging.getLogger(__name__)
 CACHE_FORMAT = 2
 MAX_SAMPLES = 1000
 """Most Monte-Carlo samples one landscape request may ask for (each recomputes every barrier)."""
+SERVICE_SAMPLES_BOUNDS = Bounds(1, MAX_SAMPLES, integer=True, meaning="a count of Monte-Carlo samples")
+"""``samples`` of ``/api/landscape``: fewer than the command line takes, a server's answer being shared."""
 DEFAULT_SECONDS_PER_CELL = 1e-6
 """Cost guess of one grid cell (landscape + barrier), s, until a robot's first computation measures its own."""
 
