@@ -132,13 +132,39 @@ def write_computation(c: Computation, summary_dict: dict, out_dir: Path) -> list
     return [npz, csv_path, js]
 
 
+CSV_DECIMALS = {"_j": 9, "_deg": 6}
+"""Decimals a CSV column keeps, by its unit suffix: energies to 1e-9 J, angles to 1e-6 degrees. Reruns on two
+machines differ by floating-point rounding only (about 1e-16 J and 1e-12 degrees), far below these digits, so a
+rerun writes the same bytes."""
+
+
+def _rounded(key: str, value):
+    """``value`` rounded to the decimals of ``key``'s unit suffix (:data:`CSV_DECIMALS`); -0.0 becomes 0.0."""
+    for suffix, decimals in CSV_DECIMALS.items():
+        if key.endswith(suffix) and isinstance(value, (float, np.floating)) and np.isfinite(value):
+            return round(float(value), decimals) + 0.0
+    return value
+
+
 def write_rows_csv(rows: list[dict], path: Path) -> Path:
-    """Write a list of flat dicts as CSV with a header."""
+    """Write a list of flat dicts as CSV with a header, each number in a ``*_j`` or ``*_deg`` column rounded to
+    :data:`CSV_DECIMALS`.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = write_rows_csv([{"theta_w_deg": 74.00000000001, "righting_j": 0.0086885123456, "n": 3}],
+    ...                        Path(d) / "t.csv")
+    ...     print(p.read_text(), end="")
+    theta_w_deg,righting_j,n
+    74.0,0.008688512,3
+    """
     path.parent.mkdir(parents=True, exist_ok=True)
     with path.open("w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
-        w.writerows(rows)
+        w.writerows({k: _rounded(k, v) for k, v in row.items()} for row in rows)
     return path
 
 
