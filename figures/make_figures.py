@@ -4,6 +4,7 @@ one database (they resume, so an interrupted run loses nothing), then `landscape
 and tables into figures/analysis/.
 
     python figures/make_figures.py [--db figures/results.sqlite] [--workers N] [--check] [--quick] [--dry-run]
+    python figures/make_figures.py --only barrier-map
 
 Every step is a `landscape` command, printed with its number before it runs ("[2/6] ..."), with the elapsed and
 the estimated remaining time after it; the sweeps and the barrier map draw their own progress bars on a terminal.
@@ -12,7 +13,10 @@ CSV tables are.
 
 ``--quick`` runs a reduced version of every step (a coarse barrier map, a few trials per sweep: minutes, not half
 an hour) into figures/quick/ (database, report and figures), leaving the committed figures alone; it checks that
-the whole chain works, not the paper's numbers. ``--dry-run`` prints the steps without running them.
+the whole chain works, not the paper's numbers. ``--only barrier-map`` runs the first step alone (seconds): it
+regenerates figures/barrier_map/, the heat map of the README and the docs' front page, with the same command and
+grid as the README's tour, which writes to barrier-map/ instead. ``--dry-run`` prints the steps without running
+them.
 """
 
 from __future__ import annotations
@@ -125,11 +129,19 @@ def main(argv: list[str] | None = None) -> None:
         action="store_true",
         help="a reduced version of every step into figures/quick/ (minutes; committed figures untouched)",
     )
+    ap.add_argument(
+        "--only",
+        choices=["barrier-map"],
+        default=None,
+        help="run one step alone: barrier-map regenerates figures/barrier_map/ (seconds)",
+    )
     ap.add_argument("--dry-run", action="store_true", help="print the steps and exit")
     args = ap.parse_args(argv)
     out = ROOT / "figures" / ("quick" if args.quick else "")
     db = args.db or out / "results.sqlite"
     steps = plan(quick=args.quick, db=db, out=out, workers=args.workers, check=args.check)
+    if args.only == "barrier-map":
+        steps = steps[:1]
     if args.dry_run:
         for k, s in enumerate(steps, 1):
             print(f"[{k}/{len(steps)}] {s.name}\n$ landscape {s.args}")
@@ -138,6 +150,8 @@ def main(argv: list[str] | None = None) -> None:
     t_start, times = time.perf_counter(), []
     for k, step in enumerate(steps, 1):
         run(step, k, len(steps), t_start, times)
+    if args.only:
+        return
     analysis, report = out / "analysis", out / "report"
     analysis.mkdir(parents=True, exist_ok=True)
     missing = []

@@ -1,11 +1,16 @@
 """Screenshot of the `landscape serve` page for the README: starts the server on a free loopback port with a
-fresh data directory, lets headless Chromium load the page and run its scripts, saves figures/service_page.png.
+fresh data directory, lets headless Chromium load the page and run its scripts, saves a PNG.
 
-    .venv/bin/python figures/service_screenshot.py
+    .venv/bin/python figures/service_screenshot.py                                 # screenshots/service_page.png
+    .venv/bin/python figures/service_screenshot.py --out figures/service_page.png  # the committed screenshot
+
+By default it writes screenshots/service_page.png in the checkout, a folder git ignores, so trying it leaves the
+checkout unchanged; ``--out figures/service_page.png`` regenerates the screenshot the README and the docs show.
 """
 
 from __future__ import annotations
 
+import argparse
 import shutil
 import socket
 import subprocess
@@ -15,10 +20,20 @@ import time
 import urllib.request
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
+ROOT = Path(__file__).resolve().parents[1]
+DEFAULT_OUT = ROOT / "screenshots" / "service_page.png"
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument(
+        "--out",
+        type=Path,
+        default=DEFAULT_OUT,
+        help="PNG to write [default: screenshots/service_page.png in the checkout; figures/service_page.png is "
+        "the committed one]",
+    )
+    out = ap.parse_args(argv).out
     chromium = shutil.which("chromium") or shutil.which("chromium-browser")
     if chromium is None:
         print("chromium is not installed (apt-get install chromium)", file=sys.stderr)
@@ -40,7 +55,7 @@ def main() -> int:
                     break
                 except OSError:
                     time.sleep(0.1)
-            out = HERE / "service_page.png"
+            out.parent.mkdir(parents=True, exist_ok=True)
             subprocess.run(
                 [
                     chromium,
@@ -53,7 +68,7 @@ def main() -> int:
                     "--hide-scrollbars",
                     "--window-size=1280,1300",
                     "--virtual-time-budget=20000",
-                    f"--screenshot={out}",
+                    f"--screenshot={out.resolve()}",
                     f"http://127.0.0.1:{port}/",
                 ],
                 check=True,

@@ -1,4 +1,5 @@
-"""figures/make_figures.py (#17): a --quick mode that runs a reduced version of every step, and numbered steps."""
+"""figures/make_figures.py: a --quick mode that runs a reduced version of every step, numbered steps, and the
+barrier map alone."""
 
 from __future__ import annotations
 
@@ -57,3 +58,12 @@ def test_steps_are_numbered_and_quick_writes_elsewhere(mf, capsys):
     ]
     assert f"--db {Path(mf.ROOT) / 'figures' / 'quick' / 'results.sqlite'}" in out
     assert "figures/analysis" not in out
+
+
+def test_only_the_barrier_map_regenerates_the_committed_map(mf, capsys):
+    mf.main(["--only", "barrier-map", "--dry-run"])
+    out = capsys.readouterr().out
+    assert [line for line in out.splitlines() if line.startswith("[")] == [
+        "[1/1] barrier map, 96 poses (Fig. 5)"
+    ]
+    assert f"--out {Path(mf.ROOT) / 'figures' / 'barrier_map'}" in out and "sweep" not in out
