@@ -1,4 +1,5 @@
-"""The documentation's API reference covers every public name, and its gallery is what the docs build runs."""
+"""The documentation's API reference covers every public name, its pages name no issue of the tracker, and its
+gallery is what the docs build runs."""
 
 from __future__ import annotations
 
@@ -45,6 +46,48 @@ def test_the_api_reference_documents_every_public_name(package):
         if not (where in modules and public and defined_here):
             missing.append(f"{package}.{name} (from {where})")
     assert not missing, f"not in docs/api/: {missing}"
+
+
+ISSUE_REFERENCE = re.compile(r"\bissues?\s*#?\d+|\(#\d+\)|(?<![\w&/#])#\d+\b(?!\s*[;{])", flags=re.I)
+"""A reference to the tracker: "issue #15", "issue 15", "(#15)", "#15's". Not a colour (#333) or an anchor."""
+
+
+def _doc_sources() -> list[Path]:
+    """The documentation's own files: pages, gallery scripts, templates, configuration (not what the build
+    generates)."""
+    generated = {"_build", "auto_examples", "generated", "gen_modules"}
+    return sorted(
+        p
+        for p in (ROOT / "docs").rglob("*")
+        if p.suffix in {".md", ".rst", ".py", ".html", ".css", ".txt"} and not generated & set(p.parts)
+    )
+
+
+def test_the_docs_speak_of_the_project_not_its_tracker():
+    """No page, example or template of docs/ refers to an issue by number (the changelog may)."""
+    hits = [
+        f"{p.relative_to(ROOT)}:{i}: {line.strip()[:100]}"
+        for p in _doc_sources()
+        for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
+        if ISSUE_REFERENCE.search(line)
+    ]
+    assert hits == []
+
+
+@pytest.mark.parametrize(
+    "text, hit",
+    [
+        ("the Wilson rule of issue #15", True),
+        ("see issue 15", True),
+        ("Fix the map (#12)", True),
+        ("#12's changes", True),
+        ("color: #333;", False),
+        ("[the benchmarks](benchmarks.md#landscape-and-barriers)", False),
+        ("θw 74°, 2 issues", False),
+    ],
+)
+def test_the_issue_reference_pattern(text, hit):
+    assert bool(ISSUE_REFERENCE.search(text)) is hit
 
 
 def test_the_gallery_has_six_executed_examples_with_quick_and_full_versions():
