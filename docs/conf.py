@@ -18,6 +18,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(Path(__file__).resolve().parent / "_ext"))
 os.environ.setdefault("MPLBACKEND", "Agg")
 os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")
 
@@ -34,19 +35,27 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
     "sphinx_gallery.gen_gallery",
+    "apiref",  # docs/_ext/apiref.py: what the API reference documents, for its templates
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 root_doc = "index"
-exclude_patterns = ["_build", "examples", "sg_execution_times.rst"]
+exclude_patterns = ["_build", "_ext", "_templates", "examples", "sg_execution_times.rst"]
+templates_path = ["_templates"]
 myst_enable_extensions = ["colon_fence", "dollarmath", "deflist"]
 myst_heading_anchors = 3
 suppress_warnings = ["myst.header"]  # pages moved from the README start at level-2 headings in places
 
 # ---------------------------------------------------------------------------------------------- API reference
+# docs/api/index.md lists the modules and their functions and classes in autosummary tables; the module tables
+# generate one page per module (docs/_templates/autosummary/module.rst: docstring, constants, a table), whose
+# tables generate one page per function or class (function.rst, class.rst, exception.rst: the docstring and the
+# gallery's examples that use it), all into docs/api/generated/ (not committed).
 autodoc_default_options = {"members": True, "member-order": "bysource"}
 autodoc_typehints = "none"  # the numpydoc type lines say shape and unit; the signature keeps the names
-autosummary_generate = False
+autosummary_generate = True
+autosummary_ignore_module_all = False  # a module with __all__ documents what __all__ lists
+autosummary_context: dict = {}  # apiref adds api_members and api_aliases
 numpydoc_show_class_members = False  # autodoc's :members: lists them once
 numpydoc_class_members_toctree = False
 numpydoc_xref_param_type = False
@@ -90,6 +99,9 @@ sphinx_gallery_conf = {
     "image_scrapers": ("matplotlib",),
     "show_memory": False,
     "min_reported_time": 1,
+    # "Examples using ..." on each function's and class's page: the examples that call it (not committed)
+    "backreferences_dir": "gen_modules/backreferences",
+    "doc_module": ("geometry", "landscape", "sim"),
 }
 
 # ---------------------------------------------------------------------------------------------- HTML

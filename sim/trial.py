@@ -94,6 +94,7 @@ __all__ = [
     "MAX_TRIAL_MEMORY_BYTES",
     "trial_cost",
     "check_trial_cost",
+    "TrialInputError",
 ]
 
 

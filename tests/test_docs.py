@@ -9,43 +9,78 @@ from pathlib import Path
 
 import pytest
 
+from tests.conftest import load_script
+
 ROOT = Path(__file__).resolve().parents[1]
 API = ROOT / "docs" / "api"
 
 
-def _directives() -> tuple[set[str], set[str]]:
-    """Modules given to ``automodule`` (with members) and objects given to ``autoclass``/``autoexception``/...
-    in the API pages."""
-    text = "\n".join(p.read_text(encoding="utf-8") for p in API.glob("*.md"))
-    modules, objects = set(), set()
-    for kind, name, rest in re.findall(r"^\.\. auto(\w+):: (\S+)\n((?:   .*\n)*)", text, flags=re.M):
-        if kind == "module":
-            if ":no-members:" not in rest:
-                modules.add(name)
-        else:
-            objects.add(name)
+@pytest.fixture(scope="module")
+def apiref():
+    """docs/_ext/apiref.py: the rule of what the reference documents, as the docs build applies it."""
+    return load_script("docs/_ext/apiref.py")
+
+
+def _tables() -> tuple[set[str], dict[str, set[str]]]:
+    """The API index's autosummary entries as full names: the modules (the tables with ``:toctree:``, which generate
+    the module pages, whose own tables generate the function and class pages), and the objects of every other
+    table by the heading above it (a module's name, or ``import PACKAGE`` for the names a package exports)."""
+    text = (API / "index.md").read_text(encoding="utf-8")
+    modules, objects = set(), {}
+    block = r"^\.\. autosummary::\n((?:   :.*\n)*)\n((?:   \S.*\n)+)"
+    for heading, body in re.findall(r"^#+ (.*)\n((?:(?!#).*\n)*)", text, flags=re.M):
+        for options, entries in re.findall(block, body, flags=re.M):
+            names = {e.strip().lstrip("~") for e in entries.splitlines()}
+            if ":toctree:" in options:
+                modules |= names
+            else:
+                objects.setdefault(heading.strip("` "), set()).update(names)
     return modules, objects
 
 
+def _documented_data(module: str) -> set[str]:
+    """Module-level names with a docstring or ``#:`` comment: the constants a module page shows."""
+    from sphinx.pycode import ModuleAnalyzer
+
+    return {name for scope, name in ModuleAnalyzer.for_module(module).find_attr_docs() if not scope}
+
+
+def test_every_module_has_a_page(apiref):
+    modules, _ = _tables()
+    assert modules == set(apiref.modules())
+
+
+def test_every_public_function_and_class_has_a_line_in_the_index(apiref):
+    """Under each module's heading the index lists its functions and classes, the ones its page documents (one
+    page each, from the module page's table)."""
+    _, objects = _tables()
+    wrong = {
+        m: (sorted(want - got), sorted(got - want))
+        for m in apiref.modules()
+        if (want := {f"{m}.{n}" for names in apiref.members(m).values() for n in names})
+        != (got := objects.get(m, set()))
+    }
+    assert wrong == {}, "docs/api/index.md: module -> (missing, not public there)"
+
+
 @pytest.mark.parametrize("package", ["geometry", "landscape", "sim"])
-def test_the_api_reference_documents_every_public_name(package):
-    """Each name a package exports is documented: by ``automodule`` of the module that defines it (listed in that
-    module's ``__all__`` if it has one, and carrying a docstring or ``#:`` comment autodoc shows), or by an
-    explicit directive."""
-    modules, objects = _directives()
+def test_the_api_reference_documents_every_public_name(apiref, package):
+    """Each name a package exports has a line in the index's table of that package, under the module that defines
+    it, whose page documents it: a function or class has its own page, a constant its docstring or ``#:`` comment
+    on the module's page."""
+    _, objects = _tables()
     pkg = importlib.import_module(package)
     missing = []
     for name in pkg.__all__:
         where = pkg._EXPORTS[name]
-        obj = getattr(pkg, name)
-        if f"{where}.{name}" in objects:
-            continue
-        mod = importlib.import_module(where)
-        public = name in getattr(mod, "__all__", [name])
-        defined_here = getattr(obj, "__module__", where) == where or not callable(obj)
-        if not (where in modules and public and defined_here):
-            missing.append(f"{package}.{name} (from {where})")
-    assert not missing, f"not in docs/api/: {missing}"
+        if f"{where}.{name}" not in objects[f"import {package}"]:
+            missing.append(f"{package}.{name} (from {where}) is not in the table `import {package}`")
+        elif callable(getattr(pkg, name)):
+            if name not in {n for names in apiref.members(where).values() for n in names}:
+                missing.append(f"{package}.{name}: {where} does not list it (its __all__?)")
+        elif name not in _documented_data(where):
+            missing.append(f"{package}.{name}: no docstring or #: comment in {where}")
+    assert not missing
 
 
 ISSUE_REFERENCE = re.compile(r"\bissues?\s*#?\d+|\(#\d+\)|(?<![\w&/#])#\d+\b(?!\s*[;{])", flags=re.I)
