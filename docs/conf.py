@@ -107,10 +107,18 @@ sphinx_gallery_conf = {
 # ---------------------------------------------------------------------------------------------- HTML
 html_theme = "pydata_sphinx_theme"
 html_title = "selfrighting-landscape"
-html_static_path: list[str] = []
+html_static_path = ["_static"]
+html_css_files = ["custom.css"]  # long commands wrap; long titles break
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
-    "header_links_before_dropdown": 7,
+    # the header in one row at 1400 px (tests/test_docs_layout.py): every top-level page, the search as an icon
+    "header_links_before_dropdown": 8,
+    "navbar_persistent": ["search-button"],
+    "navbar_align": "left",
+    "secondary_sidebar_items": {"**": ["page-toc"], "getting_started": []},
 }
+# Getting started has no pages under it: its left sidebar lists its own sections instead of an empty section
+# navigation (and the right one, which would repeat them, is left out).
+html_sidebars = {"getting_started": ["page-toc"]}
 html_show_sourcelink = False
