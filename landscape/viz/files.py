@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import json
+import re
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -136,29 +137,39 @@ CSV_DECIMALS = {"_j": 9, "_deg": 6}
 """Decimals a CSV column keeps, by its unit suffix: energies to 1e-9 J, angles to 1e-6 degrees. Reruns on two
 machines differ by floating-point rounding only (about 1e-16 J and 1e-12 degrees), far below these digits, so a
 rerun writes the same bytes."""
+CSV_RATE_DIGITS = 9
+"""Significant digits of a rate column (a unit suffix ``*_per_*``: a gradient in J/m, J/kg or J/deg), whose
+scale varies too much between columns for fixed decimals; below 1e-12 of its unit a rate is written as 0 (a
+rounding residue of an exact zero)."""
+_RATE = re.compile(r"_per_[a-z0-9]+$")
 
 
 def _rounded(key: str, value):
-    """``value`` rounded to the decimals of ``key``'s unit suffix (:data:`CSV_DECIMALS`); -0.0 becomes 0.0."""
+    """``value`` rounded as ``key``'s unit suffix says (:data:`CSV_DECIMALS`, :data:`CSV_RATE_DIGITS`); -0.0
+    becomes 0.0."""
+    if not (isinstance(value, (float, np.floating)) and np.isfinite(value)):
+        return value
+    if _RATE.search(key):
+        return float(f"{round(float(value), 12):.{CSV_RATE_DIGITS}g}") + 0.0
     for suffix, decimals in CSV_DECIMALS.items():
-        if key.endswith(suffix) and isinstance(value, (float, np.floating)) and np.isfinite(value):
+        if key.endswith(suffix):
             return round(float(value), decimals) + 0.0
     return value
 
 
 def write_rows_csv(rows: list[dict], path: Path) -> Path:
     """Write a list of flat dicts as CSV with a header, each number in a ``*_j`` or ``*_deg`` column rounded to
-    :data:`CSV_DECIMALS`.
+    :data:`CSV_DECIMALS`, each in a rate column (``*_per_*``) to :data:`CSV_RATE_DIGITS` significant digits.
 
     Examples
     --------
     >>> import tempfile
     >>> with tempfile.TemporaryDirectory() as d:
-    ...     p = write_rows_csv([{"theta_w_deg": 74.00000000001, "righting_j": 0.0086885123456, "n": 3}],
-    ...                        Path(d) / "t.csv")
-    ...     print(p.read_text(), end="")
-    theta_w_deg,righting_j,n
-    74.0,0.008688512,3
+    ...     row = {"theta_w_deg": 74.00000000001, "righting_j": 0.0086885123456, "righting_theta_w_j_per_deg":
+    ...            -0.0017912345678912, "n": 3}
+    ...     print(write_rows_csv([row], Path(d) / "t.csv").read_text(), end="")
+    theta_w_deg,righting_j,righting_theta_w_j_per_deg,n
+    74.0,0.008688512,-0.00179123457,3
     """
     path.parent.mkdir(parents=True, exist_ok=True)
     with path.open("w", newline="") as f:
