@@ -10,14 +10,20 @@
    by wrapping it) and everything else (Python, model and world set-up), best of ``--repeat``.
 3. Trials per second of a small sweep on all cores (a local process pool; includes worker start-up), and the
    mean core-seconds per trial of that sweep, on the default robot at its default dt.
+4. The two engines side by side (``--engines-only`` runs this alone), interleaved in one run, best of
+   ``--repeat``: core-seconds per simulated second (the trial of 1.) and per trial (the mean over a small grid,
+   ``ENGINE_GRID``, of trials that stop when decided), each engine at its default dt and both at the dt of the
+   other, with MuJoCo's ratio to pybullet at the same dt; and where MuJoCo's time goes (inside ``mj_step`` and
+   elsewhere), the most batching (``mujoco.rollout``) could take off.
 
 Run:  .venv/bin/python benchmarks/sim_speed.py [--lab] [--repeat 3] [--sweep-trials 8] [--workers N]
-      [--split-only]
+      [--split-only | --engines-only]
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import os
 import tempfile
 import time
@@ -25,6 +31,7 @@ from pathlib import Path
 
 import sim.world as world
 from sim.model import default_robot_urdf
+from sim.protocol import MUJOCO_DT_S
 from sim.sweep import run_sweep, sweep_specs
 from sim.trial import DEFAULT_DT_S, OTHER_ROBOT_DT_S, Numerics, run_trial
 from sim.world import Contact
@@ -55,6 +62,75 @@ ROWS = {
         (f"dt {DEFAULT_DT_S:g} (fails the convergence criterion on this robot)", dict(dt_s=DEFAULT_DT_S)),
     ),
 }
+
+
+ENGINE_GRID = tuple((tw, tl, seed) for tw in (70.0, 76.0) for tl in (20.0, 50.0) for seed in (1, 2))
+"""(theta_w, theta_l, seed) of the per-trial cost (phi_1 0.7, Cv 0.1): the paper's corners, two seeds each."""
+
+
+def engine_table(repeat: int) -> list[tuple[str, float, float, float]]:
+    """(engine, dt, best core-s per simulated s, best mean core-s per trial) of each engine at each default dt,
+    the rows interleaved over ``repeat`` rounds."""
+    rows = [
+        (e, dt) for dt in sorted({DEFAULT_DT_S, MUJOCO_DT_S}, reverse=True) for e in ("pybullet", "mujoco")
+    ]
+    for engine, dt in rows:
+        run_trial(**{**CASE, "duration_s": 0.2}, dt_s=dt, engine=engine)  # build and cache the model first
+    per_s = [float("inf")] * len(rows)
+    per_trial = [float("inf")] * len(rows)
+    for _ in range(repeat):
+        for k, (engine, dt) in enumerate(rows):
+            r = run_trial(**CASE, dt_s=dt, engine=engine)
+            per_s[k] = min(per_s[k], r.cpu_s / (r.sim_s + 0.5))  # settling is simulated too
+            cpu = [
+                run_trial(tw, tl, phase=0.7, cv=0.1, rng=seed, dt_s=dt, engine=engine).cpu_s
+                for tw, tl, seed in ENGINE_GRID
+            ]
+            per_trial[k] = min(per_trial[k], sum(cpu) / len(cpu))
+    return [(e, dt, a, b) for (e, dt), a, b in zip(rows, per_s, per_trial, strict=True)]
+
+
+def mujoco_split(repeat: int) -> tuple[float, float]:
+    """(CPU s inside ``mj_step``, CPU s elsewhere) of the trial of 1. in MuJoCo at its default dt, best of
+    ``repeat``."""
+    from sim.mujoco_world import MujocoWorld
+
+    original = MujocoWorld._step
+    inside = [0.0]
+
+    def timed(self, n_steps):
+        t = time.process_time()
+        try:
+            original(self, n_steps)
+        finally:
+            inside[0] += time.process_time() - t
+
+    run_trial(**{**CASE, "duration_s": 0.2}, engine="mujoco")
+    best = None
+    try:
+        MujocoWorld._step = timed
+        for _ in range(repeat):
+            inside[0] = 0.0
+            r = run_trial(**CASE, engine="mujoco")
+            if best is None or r.cpu_s < sum(best):
+                best = (inside[0], r.cpu_s - inside[0])
+    finally:
+        MujocoWorld._step = original
+    return best
+
+
+def _print_engines(repeat: int) -> None:
+    print(f"\n## The engines side by side (built-in robot, best of {repeat} interleaved rounds)\n")
+    print("| engine | dt (s) | core-s per simulated s | core-s per trial | MuJoCo / pybullet per trial |")
+    print("|---|---:|---:|---:|---:|")
+    table = engine_table(repeat)
+    pb = {dt: t for e, dt, _, t in table if e == "pybullet"}
+    for e, dt, s, t in table:
+        ratio = f"{t / pb[dt]:.2f}" if e == "mujoco" else "-"
+        print(f"| {e} | {dt:g} | {s:.4f} | {t:.3f} | {ratio} |", flush=True)
+    inside, other = mujoco_split(repeat)
+    print(f"\nMuJoCo at dt {MUJOCO_DT_S:g} s, one 10 s trial: {inside:.3f} core-s inside mj_step, {other:.3f} elsewhere "
+          f"({inside / (inside + other):.0%} inside)")  # fmt: skip
 
 
 def core_s_table(robots: dict[str, Path], repeat: int) -> list[tuple[str, str, float]]:
@@ -105,9 +181,13 @@ def main() -> None:
     ap.add_argument("--sweep-trials", type=int, default=8)
     ap.add_argument("--workers", type=int, default=os.cpu_count())
     ap.add_argument("--split-only", action="store_true", help="only section 2")
+    ap.add_argument("--engines-only", action="store_true", help="only section 4 (needs the mujoco extra)")
     args = ap.parse_args()
     if args.split_only:
         _print_split(args.repeat)
+        return
+    if args.engines_only:
+        _print_engines(args.repeat)
         return
 
     robots = {"built-in": default_robot_urdf()}
@@ -133,6 +213,8 @@ def main() -> None:
     print("| trials | wall s | trials/s | mean core-s per trial |")
     print("|---:|---:|---:|---:|")
     print(f"| {s.ran} | {s.wall_s:.1f} | {s.trials_per_s:.3f} | {s.cpu_s / s.ran:.2f} |")
+    if importlib.util.find_spec("mujoco") is not None:
+        _print_engines(args.repeat)
 
 
 def _print_split(repeat: int) -> None:

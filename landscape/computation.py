@@ -22,7 +22,7 @@ from .barriers import method as barrier_method
 from .barriers.grid import _exit as _grid_exit
 from .barriers.grid import grid_barrier
 from .energy import G_M_S2, Landscape, _support_inputs, energy_landscape
-from .grid import cells_per_turn, nearest_cell, torus_angles_deg, wrap_deg
+from .grid import DEFAULT_STEP_DEG, cells_per_turn, nearest_cell, torus_angles_deg, wrap_deg
 from .minima import (
     Minimum,
     follow_minimum,
@@ -379,7 +379,7 @@ def compute(
     *,
     theta_w_deg: float | None = 0.0,
     theta_l_deg: float | None = 0.0,
-    step_deg: float = 1.0,
+    step_deg: float = DEFAULT_STEP_DEG,
     start_pitch_deg: float | None = None,
     start_roll_deg: float | None = None,
     connectivity: int = 8,
@@ -628,7 +628,7 @@ def barrier_map(
     theta_w_deg: list[float],
     theta_l_deg: list[float],
     *,
-    step_deg: float = 1.0,
+    step_deg: float = DEFAULT_STEP_DEG,
     method: str = DEFAULT_METHOD,
     progress=None,
     memory_budget_bytes: float = MEMORY_BUDGET_BYTES,

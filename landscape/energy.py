@@ -18,7 +18,7 @@ from geometry.errors import UsageError
 from geometry.frames import cos_sin, up_vector
 
 from . import _energy_kernels
-from .grid import cells_per_turn, torus_angles_deg
+from .grid import DEFAULT_STEP_DEG, cells_per_turn, torus_angles_deg
 
 G_M_S2 = 9.81
 
@@ -66,7 +66,7 @@ def _support_inputs(pose: Pose):
     return d, pose.hull.neighbor_ptr, pose.hull.neighbor_idx
 
 
-def energy_landscape(pose: Pose, *, step_deg: float = 1.0, g_m_s2: float = G_M_S2) -> Landscape:
+def energy_landscape(pose: Pose, *, step_deg: float = DEFAULT_STEP_DEG, g_m_s2: float = G_M_S2) -> Landscape:
     """Potential energy of the posed body resting on flat ground, over the pitch-roll torus.
 
     Parameters
@@ -126,7 +126,7 @@ def brute_force_landscape(
     com_m: ArrayLike,
     mass_kg: float,
     *,
-    step_deg: float = 1.0,
+    step_deg: float = DEFAULT_STEP_DEG,
     g_m_s2: float = G_M_S2,
     rows_per_chunk: int = 8,
 ) -> NDArray[np.float64]:

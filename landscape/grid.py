@@ -5,9 +5,17 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from geometry.bounds import Bounds
 from geometry.errors import UsageError
 
+DEFAULT_STEP_DEG = 1.0
+"""The grid step of every interface when none is given, degrees: the Python API, the command line, the service
+and its page, the report and the renderings all use it, so one pose gets one answer wherever it is asked."""
 STEP_MIN_DEG = 0.05
+STEP_MAX_DEG = 90.0
+"""The coarsest grid that still has four cells a turn, degrees."""
+STEP_DEG_BOUNDS = Bounds(STEP_MIN_DEG, STEP_MAX_DEG, unit="deg", meaning="the grid step, which divides 360")
+"""The grid steps the interfaces accept (each must also divide 360: :func:`cells_per_turn`)."""
 STEP_NOT_DIVIDING = "step {got:g} deg does not divide 360; use e.g. 0.1, 0.25, 0.5, 1, 2, 3, 4, 5"
 
 

@@ -1,8 +1,9 @@
-"""Self-righting trials in pybullet: model (URDF with simplified hulls), world (one DIRECT client per trial),
-actuation profiles, trials and sweeps. See docs/sim.md.
+"""Self-righting trials in pybullet or MuJoCo: model (URDF with simplified hulls), world (one engine instance per
+trial, behind :class:`sim.engine.EngineWorld`), actuation profiles, trials and sweeps. See docs/sim.md.
 
-Imports point down only: ``sim -> geometry``. pybullet is imported by :mod:`sim.world` alone, and names below
-load on first use (PEP 562), so ``sim.protocol`` and ``sim.actuation`` are cheap to import.
+Imports point down only: ``sim -> geometry``. pybullet is imported by :mod:`sim.world` and mujoco by
+:mod:`sim.mujoco_world` alone, and names below load on first use (PEP 562), so ``sim.protocol``, ``sim.engine``
+and ``sim.actuation`` are cheap to import.
 """
 
 from __future__ import annotations
@@ -21,7 +22,10 @@ _EXPORTS = {
         "sim.trial",
     ),
     **dict.fromkeys(("Modifier", "ModelSetError", "register"), "sim.modifier"),
-    **dict.fromkeys(("Contact", "SimulationDiverged"), "sim.world"),
+    **dict.fromkeys(("Contact",), "sim.world"),
+    **dict.fromkeys(
+        ("ENGINES", "EngineError", "MujocoParams", "SimulationDiverged", "open_world"), "sim.engine"
+    ),
     **dict.fromkeys(("TrialSpec", "run_sweep", "sweep_specs"), "sim.sweep"),
     **dict.fromkeys(("TrialStore", "StoreError"), "sim.store"),
 }

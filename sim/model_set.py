@@ -25,12 +25,20 @@ picks a shipped set, ``--model FILE.toml`` any other. Each optional table switch
     damping_n_s_m = 100.0
     solver_iterations = 20
     friction_axes = "body"       # optional (the default): the robot kept at heading 0; "world": pybullet's own (sim.world)
+    [mujoco]                     # optional: MuJoCo's parameters (sim.engine.MujocoParams), any subset
+    solref_time_s = 0.004
 
 Every key is required except the two soft-contact keys (omit both for rigid contact) and the optional keys
 (:data:`OPTIONAL_KEYS`); an unknown key is refused,
 so a typo cannot silently leave a parameter at its default. The set's ``model_set_hash`` hashes its parsed
 content (not the file's bytes: comments and formatting do not change it), so two files with the same parameters
 are the same model.
+
+The engine is part of the identity: a set loads for pybullet (``ModelSet.engine``), and
+:meth:`ModelSet.with_engine` gives the same set for another engine, with its own hash. pybullet's hash is the one
+above, whatever ``[mujoco]`` holds; MuJoCo's hashes the engine's name, its parameters (the set's ``[mujoco]``
+over :data:`sim.engine.MUJOCO_DEFAULTS`) and the content pybullet's own contact keys left out (restitution, the
+soft contact spring, solver iterations, friction axes: MuJoCo does not read them).
 
 One concept, reading a set: its required tables (actuation, measured knots included, and contact) are read here
 and each optional one by its modifier (:mod:`sim.modifier`); hence over 600 lines.
@@ -41,13 +49,14 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
 from .actuation import Actuation, MeasuredActuation
 from .compliance import BodyTorsion, Compliance, LegBend, LegCompliance
+from .engine import DEFAULT_ENGINE, MUJOCO_DEFAULTS, MUJOCO_KEYS, EngineError, MujocoParams, check_engine
 from .head_compliance import HeadCompliance
 from .joint_shift import MAX_JOINT_SHIFT_MM
 from .mass import MAX_COM_OFFSET_MM
@@ -77,6 +86,8 @@ OPTIONAL_TABLES = tuple(registered())
 """The tables a set may add to its required ``[actuation]`` and ``[contact]``: each switches one
 :class:`sim.modifier.Modifier` on."""
 _REQUIRED_TOP = {"name", "version", "actuation", "contact"}
+SHARED_CONTACT_KEYS = ("lateral_friction", "rolling_friction", "spinning_friction")
+"""The ``[contact]`` keys every engine reads (the rest are pybullet's own and leave MuJoCo's hash alone)."""
 _ACTUATION = {"profile", "wing_open_deg_s", "wing_close_deg_s", "wing_close_start_s", "leg_cross_s"}
 _MEASURED = {"profile", "wing_command_deg", "leg_command_deg", "wing", "leg", "servo_sides", "wing_extra_deg"}
 MAX_WING_EXTRA_DEG = 20.0
@@ -140,6 +151,12 @@ class ModelSet:
     modifiers : tuple of sim.modifier.Modifier
         What the set adds to the rigid robot, one per optional table it has, in :data:`OPTIONAL_TABLES` order
         (:mod:`sim.modifier`). The properties below read them by table.
+    engine : {"pybullet", "mujoco"}
+        The engine its trials run in (:meth:`with_engine`); ``model_set_hash`` is this engine's.
+    mujoco : sim.engine.MujocoParams
+        MuJoCo's parameters: the ``[mujoco]`` table over :data:`sim.engine.MUJOCO_DEFAULTS`.
+    canonical_json : str
+        The parsed content pybullet's hash is taken of (JSON, keys sorted).
     """
 
     name: str
@@ -155,6 +172,42 @@ class ModelSet:
     model_set_hash: str
     measured: MeasuredActuation | None = None
     modifiers: tuple[Modifier, ...] = ()
+    engine: str = DEFAULT_ENGINE
+    mujoco: MujocoParams = MUJOCO_DEFAULTS
+    canonical_json: str = field(default="", repr=False, compare=False)
+
+    def with_engine(self, engine: str) -> ModelSet:
+        """This set run in ``engine``: the same content, that engine's ``model_set_hash``.
+
+        Raises
+        ------
+        sim.engine.EngineError
+            If the engine is unknown, or cannot express one of the set's modifiers (each names the engines it
+            runs in, :attr:`sim.modifier.Modifier.ENGINES`) or its contact (MuJoCo: the wings' own soft contact).
+
+        Examples
+        --------
+        >>> paper = load_model_set("paper")
+        >>> mj = paper.with_engine("mujoco")
+        >>> mj.engine, mj.model_set_hash != paper.model_set_hash, mj.with_engine("pybullet") == paper
+        ('mujoco', True, True)
+        """
+        check_engine(engine)
+        if engine != DEFAULT_ENGINE and self.contact.wing_stiffness_n_m is not None:
+            raise EngineError(
+                f"model set '{self.name}': the {engine} engine cannot express [contact] wing_stiffness_n_m and "
+                "wing_damping_n_s_m (the wings' own soft contact); use --engine pybullet or drop them"
+            )
+        for m in self.modifiers:
+            if engine not in m.ENGINES:
+                raise EngineError(
+                    f"model set '{self.name}': the {engine} engine cannot express [{m.TABLE}] ({type(m).__name__}; "
+                    f"it runs in {', '.join(m.ENGINES)}); use --engine {m.ENGINES[0]} or drop [{m.TABLE}]"
+                )
+        if engine == self.engine:
+            return self
+        digest = engine_hash(json.loads(self.canonical_json), engine, self.mujoco)
+        return replace(self, engine=engine, model_set_hash=digest)
 
     def modifier(self, table: str) -> Modifier | None:
         """The set's modifier of ``table`` (``"compliance"``, ``"mass"``, ...), or None without that table."""
@@ -278,8 +331,9 @@ class ModelSet:
 
     @property
     def label(self) -> str:
-        """``name vVERSION (hash)``."""
-        return f"{self.name} v{self.version} ({self.model_set_hash})"
+        """``name vVERSION (hash)``, with `` [mujoco]`` for a set run in another engine than pybullet."""
+        tag = "" if self.engine == DEFAULT_ENGINE else f" [{self.engine}]"
+        return f"{self.name} v{self.version} ({self.model_set_hash}){tag}"
 
     def summary(self) -> dict:
         """What the set is, as ``landscape models --json`` and ``GET /api/model-sets`` list it.
@@ -320,6 +374,25 @@ class ModelSet:
             else {"joint": self.joint_shift_mm[0], "shift_mm": list(self.joint_shift_mm[1])},
             "elements": [m.TABLE for m in self.modifiers if m.active],
         }
+
+
+def engine_hash(canonical: dict, engine: str, mujoco: MujocoParams = MUJOCO_DEFAULTS) -> str:
+    """The ``model_set_hash`` of a set's parsed content ``canonical`` run in ``engine``: 16 hex digits of the
+    SHA-256 of its JSON, for pybullet the content itself; for MuJoCo the content with only the
+    :data:`SHARED_CONTACT_KEYS` of its contact, the engine's name and every MuJoCo parameter.
+
+    Examples
+    --------
+    >>> c = {"name": "x", "contact": {"lateral_friction": 1.0, "restitution": 0.1}}
+    >>> engine_hash(c, "mujoco") == engine_hash({**c, "contact": {"lateral_friction": 1.0}}, "mujoco")
+    True
+    >>> engine_hash(c, "pybullet") == engine_hash({**c, "contact": {"lateral_friction": 1.0}}, "pybullet")
+    False
+    """
+    if check_engine(engine) != DEFAULT_ENGINE:
+        contact = {k: v for k, v in canonical.get("contact", {}).items() if k in SHARED_CONTACT_KEYS}
+        canonical = {**canonical, "contact": contact, "engine": engine, engine: mujoco.canonical()}
+    return hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()[:16]
 
 
 def shipped_model_sets() -> list[str]:
@@ -387,7 +460,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     data = read_toml(path)
     where = f"model set '{path}'"
     # the tables of every registered modifier, one registered after this import too
-    _check_keys(data, _REQUIRED_TOP | {"description", *registered()}, _REQUIRED_TOP, where)
+    _check_keys(data, _REQUIRED_TOP | {"description", "mujoco", *registered()}, _REQUIRED_TOP, where)
     if not isinstance(data["name"], str) or not data["name"].strip():
         raise ModelSetError(f"{where}: name must be a non-empty string; got {data['name']!r}")
     if isinstance(data["version"], bool) or not isinstance(data["version"], int) or data["version"] < 0:
@@ -520,7 +593,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
             m = cls.from_toml(data[table], f"{where} [{table}]")
             canonical[table] = m.canonical()
             modifiers.append(m)
-    digest = hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()[:16]
+    mujoco = _mujoco(data["mujoco"], f"{where} [mujoco]") if "mujoco" in data else MUJOCO_DEFAULTS
     ms = ModelSet(
         data["name"],
         int(data["version"]),
@@ -528,9 +601,11 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
         str(path),
         act["profile"],
         contact=contact,
-        model_set_hash=digest,
+        model_set_hash=engine_hash(canonical, DEFAULT_ENGINE),
         measured=measured,
         modifiers=tuple(modifiers),
+        mujoco=mujoco,
+        canonical_json=json.dumps(canonical, sort_keys=True),
         **timing,
     )
     try:
@@ -541,6 +616,25 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     except ValueError as exc:
         raise ModelSetError(f"{wa}: {exc}") from None
     return ms
+
+
+def _mujoco(table, where: str) -> MujocoParams:
+    """The ``[mujoco]`` table over :data:`sim.engine.MUJOCO_DEFAULTS` (any subset of
+    :data:`sim.engine.MUJOCO_KEYS`; ``solimp`` a list of five numbers)."""
+    tab = dict(_check_keys(table, MUJOCO_KEYS, set(), where))
+
+    def as_float(v):  # a whole number written without a point hashes as the same float
+        return float(v) if isinstance(v, int) and not isinstance(v, bool) else v
+
+    if isinstance(tab.get("solimp"), list):
+        tab["solimp"] = tuple(as_float(x) for x in tab["solimp"])
+    for k in ("solref_time_s", "solref_dampratio", "margin_m", "servo_kv_n_m_s_rad", "impratio"):
+        if k in tab:
+            tab[k] = as_float(tab[k])
+    try:
+        return replace(MUJOCO_DEFAULTS, **tab)
+    except EngineError as exc:
+        raise ModelSetError(f"{where}: {str(exc).removeprefix('mujoco ')}") from None
 
 
 def _knot_table(table, n_cmd: int, where: str, *, closed_ends: bool, period_s: float | None = None):

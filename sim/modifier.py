@@ -9,7 +9,8 @@ a method, so no other signature names it:
 2. :meth:`Modifier.canonical` is its part of the set's ``model_set_hash``;
 3. :meth:`Modifier.edit_robot` and :meth:`Modifier.edit_urdf` change the robot the landscapes pose and the URDF
    the simulation loads (:func:`sim.model.sim_model`);
-4. :meth:`Modifier.attach` tells the :class:`sim.world.World` which joints it drives and how;
+4. :meth:`Modifier.attach` tells the world (:class:`sim.engine.EngineWorld`, either engine's) which joints it
+   drives and how;
 5. :meth:`Modifier.check_stability` refuses values the held explicit update cannot follow, once the world is
    loaded (:func:`sim.trial.simulate_trial`).
 
@@ -24,6 +25,8 @@ import math
 from typing import ClassVar
 
 from geometry.errors import UsageError
+
+from .engine import ENGINES
 
 MODULES = ("sim.compliance", "sim.head_compliance", "sim.mass", "sim.joint_shift")
 """The modules that define the registered modifiers, imported on first use of :func:`registered`."""
@@ -53,6 +56,9 @@ class Modifier:
     """Whether :meth:`edit_urdf` changes the URDF (then the model, its hash and its cache key depend on it)."""
     URDF_ORDER: ClassVar[int] = 0
     """Edits apply in increasing order; :func:`sim.urdf_edits.merge_fixed_links` runs at :data:`MERGE_ORDER`."""
+    ENGINES: ClassVar[tuple[str, ...]] = ENGINES
+    """The engines that can express it (:data:`sim.engine.ENGINES`: every one, unless a subclass says otherwise);
+    :meth:`sim.model_set.ModelSet.with_engine` refuses a set with a modifier its engine cannot express."""
 
     @classmethod
     def from_toml(cls, table: dict, where: str) -> Modifier:
@@ -88,7 +94,8 @@ class Modifier:
         """
 
     def attach(self, world) -> None:
-        """Register what it drives with a loaded :class:`sim.world.World` (soft servos, passive springs)."""
+        """Register what it drives with a loaded world (:class:`sim.engine.EngineWorld`: soft servos, passive
+        springs)."""
 
     def check_stability(self, world, period_s: float) -> None:
         """Refuse values the explicit update renewed every ``period_s`` cannot follow in ``world``.

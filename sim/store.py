@@ -66,14 +66,17 @@ COLUMNS = KEY_COLUMNS + (
     "model_set",
     "model_set_hash",
     "side",
+    "engine",
 )
-"""``model_set``/``model_set_hash``: the model parameter set (:mod:`sim.model_set`); a store made before sets
-existed gets both columns with the ``paper`` set's values (the only model then) when opened for writing.
-``side``: the roll sign a righted trial rolled over to (:class:`sim.trial.TrialResult`); NULL in trials stored
-before it was recorded."""
-LATE_COLUMNS = ("model_set", "model_set_hash", "side")
+"""``model_set``/``model_set_hash``: the model parameter set (:mod:`sim.model_set`; the hash is that of the set in
+the trial's engine); a store made before sets existed gets both columns with the ``paper`` set's values (the only
+model then) when opened for writing. ``side``: the roll sign a righted trial rolled over to
+(:class:`sim.trial.TrialResult`); NULL in trials stored before it was recorded. ``engine``: the physics engine
+(:data:`sim.engine.ENGINES`); a store made before engines existed holds pybullet trials."""
+LATE_COLUMNS = ("model_set", "model_set_hash", "side", "engine")
 """Columns added after the first layout: an older store gets them when opened for writing (read-only: read as
-NULL); a missing ``model_set``/``model_set_hash`` means the ``paper`` set, a missing ``side`` is unknown."""
+NULL); a missing ``model_set``/``model_set_hash`` means the ``paper`` set, a missing ``side`` is unknown, a missing
+``engine`` is pybullet."""
 _TYPES = {
     "robot_hash": "TEXT NOT NULL",
     "theta_w_deg": "REAL NOT NULL",
@@ -106,6 +109,7 @@ _TYPES = {
     "model_set": "TEXT",
     "model_set_hash": "TEXT",
     "side": "INTEGER",
+    "engine": "TEXT",
 }
 SCHEMA = (
     "CREATE TABLE IF NOT EXISTS trials ("
@@ -336,11 +340,18 @@ class TrialStore:
 
     def _add_late_columns(self) -> None:
         """Give an older store the columns of :data:`LATE_COLUMNS` it lacks, in order: its trials get the
-        ``paper`` set (the only model before sets existed) and an unknown (NULL) side."""
+        ``paper`` set (the only model before sets existed), an unknown (NULL) side and the pybullet engine (the
+        only one before engines existed)."""
+        from .engine import DEFAULT_ENGINE
         from .model_set import load_model_set
 
         paper = load_model_set("paper")
-        fill = {"model_set": paper.name, "model_set_hash": paper.model_set_hash, "side": None}
+        fill = {
+            "model_set": paper.name,
+            "model_set_hash": paper.model_set_hash,
+            "side": None,
+            "engine": DEFAULT_ENGINE,
+        }
         self.con.execute("BEGIN IMMEDIATE")
         try:
             names = {r[1] for r in self.con.execute("PRAGMA table_info(trials)")}
@@ -501,6 +512,27 @@ class TrialStore:
                 f"robot file '{robot}' changed: '{self.path}' was swept with it at description hash "
                 f"{self._robots[robot]}, the file now hashes to {robot_hash}; mixing them would pool two robots. "
                 "Sweep the changed robot into a new --db, or restore the robot file"
+            )
+
+    def check_engine(self, engine: str) -> None:
+        """Refuse to add trials of another engine than the one this store's trials were run in.
+
+        Raises
+        ------
+        StoreError
+            If a stored trial ran in another engine (a NULL engine is pybullet's).
+        """
+        from .engine import DEFAULT_ENGINE
+
+        with self._guard("reading the engines"):
+            other = self.con.execute(
+                "SELECT COALESCE(engine, ?) AS e FROM trials WHERE e IS NOT ? LIMIT 1",
+                (DEFAULT_ENGINE, engine),
+            ).fetchone()
+        if other is not None:
+            raise StoreError(
+                f"'{self.path}' holds {other[0]} trials, not {engine} ones; mixing engines would pool two models. "
+                f"Sweep into another --db, or pass --engine {other[0]}"
             )
 
     def check_model_set(self, name: str, model_set_hash: str) -> None:

@@ -38,6 +38,7 @@ from geometry import JointMap
 from geometry.errors import UsageError
 
 from .actuation import Actuation
+from .engine import DEFAULT_ENGINE, require_engine
 from .model import default_robot_urdf, sim_model
 from .protocol import (
     MAX_TRIALS,
@@ -106,7 +107,9 @@ class TrialSpec:
 
     ``robot_hash`` is ``geometry.Robot.robot_hash``: the robot's files and, when ``joints`` is not the default
     map, the joint map too, so the resume key tells apart the same URDF driven through different joints.
-    ``joints`` is the joint map's text (``JointMap.text()``; "" for the default names).
+    ``joints`` is the joint map's text (``JointMap.text()``; "" for the default names). ``engine`` is the physics
+    engine (:data:`sim.engine.ENGINES`); ``model_set_hash`` is the set's hash in that engine, so it travels to the
+    workers (local or Dask) with the spec and keys the stored row.
     """
 
     theta_w_deg: float
@@ -125,6 +128,7 @@ class TrialSpec:
     joints: str = ""
     model_set: str = "paper"
     model_set_hash: str = ""
+    engine: str = DEFAULT_ENGINE
 
     def joint_map(self) -> JointMap | None:
         """The joint map to simulate with (None: the robot's default joint names)."""
@@ -203,6 +207,7 @@ def sweep_specs(
     attempts: int = 0,
     joint_map: JointMap | str | None = None,
     model_set: str | Path = "paper",
+    engine: str = DEFAULT_ENGINE,
 ) -> list[TrialSpec]:
     """Every trial of a full-factorial sweep, in a fixed order.
 
@@ -213,25 +218,29 @@ def sweep_specs(
     ``dt_s`` None takes the robot's default (:func:`sim.trial.default_dt_s`). ``wing_period_s`` (Tw) and
     ``leg_period_s`` (Tl) are swept too; ``attempts`` > 0 limits every trial to that
     many wing openings (1: single-attempt trials for the phase map). ``model_set`` names a shipped model
-    parameter set or a TOML file (:func:`sim.model_set.load_model_set`); its hash goes with every trial.
+    parameter set or a TOML file (:func:`sim.model_set.load_model_set`); ``engine`` the physics engine
+    (:data:`sim.engine.ENGINES`); the set's hash in that engine goes with every trial.
 
     Raises
     ------
     TrialInputError
         If a parameter list is empty, ``trials`` < 1 or a value is out of range.
+    EngineError
+        If the engine is unknown, not installed, or cannot express one of the set's modifiers.
     GeometryError
         If the robot cannot be loaded or the joint map does not fit it (``RobotDescriptionError``,
         ``UnknownJointError``; all are ValueError).
     """
     if isinstance(joint_map, str):
         joint_map = JointMap.parse(joint_map)
+    require_engine(engine)
     grids = _sweep_grids(
         theta_w_deg, theta_l_deg, cv, phase, wing_period_s, leg_period_s, trials=trials, attempts=attempts
     )
     path = Path(robot) if robot is not None else default_robot_urdf()
     from .model_set import MODELS_DIR, load_model_set
 
-    ms = load_model_set(model_set)
+    ms = load_model_set(model_set).with_engine(engine)
     # refuses a joint or part it lacks, every modifier's included
     model = sim_model(path, joint_map=joint_map, modifiers=ms.modifiers)
     joints = "" if joint_map is None or joint_map == JointMap() else joint_map.text()
@@ -239,7 +248,7 @@ def sweep_specs(
     ms_ref = ms.name if Path(ms.source).parent == MODELS_DIR else str(Path(ms.source).resolve())
     robot_str = str(path.resolve())
     n_att = int(attempts)
-    dt_s = default_dt_s(path) if dt_s is None else dt_s
+    dt_s = default_dt_s(path, engine) if dt_s is None else dt_s
     return [
         TrialSpec(
             tw,
@@ -260,6 +269,7 @@ def sweep_specs(
             joints,
             ms_ref,
             ms.model_set_hash,
+            engine,
         )
         for wp, lp, tw, tl, c, ph, k in itertools.product(
             grids["wing-period"],
@@ -283,10 +293,11 @@ def run_spec(spec: TrialSpec) -> dict:
         error=None,
         created_utc=datetime.now(timezone.utc).isoformat(timespec="seconds"),
         side=None,
+        engine=spec.engine,
     )
     from .model_set import load_model_set
 
-    ms = load_model_set(spec.model_set)
+    ms = load_model_set(spec.model_set).with_engine(spec.engine)
     if spec.model_set_hash and ms.model_set_hash != spec.model_set_hash:
         raise RuntimeError(
             f"model set {spec.model_set} changed during the sweep (hash {ms.model_set_hash} != "
@@ -479,14 +490,22 @@ def run_sweep(
         If there are no trials, more than ``MAX_TRIALS``, a trial over the bounds of :func:`sim.trial.run_trial`,
         or ``workers`` < 1.
     StoreError
-        If ``db`` is not a writable trial store, or a robot file changed since it was swept into ``db``
-        (:class:`sim.store.RobotChangedError`).
+        If ``db`` is not a writable trial store, holds trials of another engine or model set, or a robot file
+        changed since it was swept into ``db`` (:class:`sim.store.RobotChangedError`).
+    EngineError
+        If the specs' engine is not installed.
     SweepAborted
         If local workers died more than ``MAX_POOL_RESTARTS`` times, or a trial raised on a worker; the trials
         stored until then are kept.
     """
     if not specs:
         raise TrialInputError("the sweep has no trials; give at least one value per parameter")
+    engines = sorted({s.engine for s in specs})
+    if len(engines) > 1:
+        raise TrialInputError(
+            f"the sweep mixes engines ({', '.join(engines)}); sweep each engine into its own --db"
+        )
+    require_engine(engines[0])
     specs = _unique(specs)
     _check_sweep_cost(specs)
     if not scheduler:
@@ -497,6 +516,7 @@ def run_sweep(
     with TrialStore(db) as store:
         for robot, robot_hash in sorted({(s.robot, s.robot_hash) for s in specs}):
             store.check_robot(robot, robot_hash)
+        store.check_engine(engines[0])
         for name, ms_hash in sorted({(s.model_set, s.model_set_hash) for s in specs}):
             store.check_model_set(name, ms_hash)
         done = store.done_keys()

@@ -7,12 +7,13 @@ Protocol
    left to settle for ``SETTLE_S`` (0.5 s, a fixed time so that every time step starts actuating from the same
    physical state) with the motors holding 0; a warning is logged if the base still moves faster than 5 mm/s
    or 0.05 rad/s. Time t = 0 is the end of settling.
-2. The joints track :mod:`sim.actuation`'s profiles by pybullet position control within each joint's effort
+2. The joints track :mod:`sim.actuation`'s profiles by the engine's position servo (pybullet's position
+   control, or MuJoCo's equivalent position actuator: :mod:`sim.mujoco_world`) within each joint's effort
    limit (the URDF's, 1 N m for the lab robot), with feed-forward of the profile speed (velocity gain 1) and a
    position gain ``dt / SERVO_TAU_S`` per physics step (a 10 ms servo time constant, so the servo does not
    change with ``dt``). The servos are commanded every ``CONTROL_PERIOD_S`` (1 ms, a whole number of physics
    steps; every step if ``dt`` is larger): each command holds the profile's angle at the middle of the period
-   (so a ramp is tracked without lag) and its speed, and pybullet sub-steps through the period in one call.
+   (so a ramp is tracked without lag) and its speed, and the engine sub-steps through the period in one call.
 3. Outcome rule: the robot is **upright** when world-up in the body frame has ``u_z < 0``. The trial succeeds
    when it stays upright for ``UPRIGHT_HOLD_S`` (0.3 s) without interruption; ``time_to_right_s`` is the time the
    robot became upright at the start of that stretch, and the simulation stops there. Otherwise it runs for
@@ -40,6 +41,7 @@ from geometry import JointMap, pitch_roll_from_up
 from geometry.errors import GeometryError, JointLimitError
 
 from .actuation import Actuation, attempt_phases, attempt_starts_s, leg_profile_deg, wing_joint_profiles_deg
+from .engine import DEFAULT_ENGINE, EngineWorld, check_engine, open_world
 from .hulls import HULL_MAX_VERTICES, HULL_TOL_M
 from .model import sim_model
 from .modifier import with_modifier
@@ -50,9 +52,11 @@ from .protocol import (
     MAX_DURATION_S,
     MAX_STEPS,
     MIN_DT_S,
+    MUJOCO_DT_S,
+    MUJOCO_OTHER_ROBOT_DT_S,
     OTHER_ROBOT_DT_S,
 )
-from .world import G_M_S2, Contact, SimulationDiverged, World
+from .world import G_M_S2, Contact, SimulationDiverged
 
 log = logging.getLogger(__name__)
 
@@ -185,6 +189,8 @@ class TrialResult:
     trace : Trace or None
     model_set, model_set_hash : str
         Name and hash of the model parameter set (:mod:`sim.model_set`; "paper" by default).
+    engine : str
+        The physics engine it ran in (:data:`sim.engine.ENGINES`); ``model_set_hash`` is that engine's.
     """
 
     theta_w_deg: float
@@ -210,6 +216,7 @@ class TrialResult:
     model_set: str = "paper"
     model_set_hash: str = ""
     side: int | None = None
+    engine: str = DEFAULT_ENGINE
 
     def to_dict(self) -> dict:
         """Plain JSON-able dict without the trace."""
@@ -240,9 +247,10 @@ def resolve_seed(rng: np.random.Generator | int | None) -> tuple[int, np.random.
     return seed, np.random.default_rng(seed)
 
 
-def default_dt_s(robot: str | Path | None = None) -> float:
-    """Default time step for a robot: ``DEFAULT_DT_S`` for the built-in robot (also an exported copy of it, by its
-    description hash, whatever its joint map), ``OTHER_ROBOT_DT_S`` for any other URDF.
+def default_dt_s(robot: str | Path | None = None, engine: str = DEFAULT_ENGINE) -> float:
+    """Default time step for a robot in an engine: for pybullet ``DEFAULT_DT_S`` for the built-in robot (also an
+    exported copy of it, by its description hash, whatever its joint map), ``OTHER_ROBOT_DT_S`` for any other URDF;
+    for MuJoCo ``MUJOCO_DT_S`` and ``MUJOCO_OTHER_ROBOT_DT_S``.
 
     Only the files are compared (:func:`geometry.urdf.read_urdf`), so no joint map is needed here.
 
@@ -260,11 +268,16 @@ def default_dt_s(robot: str | Path | None = None) -> float:
 
     from .model import default_robot_urdf
 
+    builtin, other = (
+        (DEFAULT_DT_S, OTHER_ROBOT_DT_S)
+        if check_engine(engine) == DEFAULT_ENGINE
+        else (MUJOCO_DT_S, MUJOCO_OTHER_ROBOT_DT_S)
+    )
     default = default_robot_urdf()
     if robot is None or Path(robot).resolve() == default.resolve():
-        return DEFAULT_DT_S
+        return builtin
     same = read_urdf(robot).description_hash == read_urdf(default).description_hash
-    return DEFAULT_DT_S if same else OTHER_ROBOT_DT_S
+    return builtin if same else other
 
 
 def trial_cost(
@@ -450,7 +463,7 @@ class Trial:
     heading_deg : float
         The robot's heading on the ground when it is placed, degrees about world z (0: its x axis along world
         x). On an isotropic floor it would not matter; pybullet's friction is not isotropic (:mod:`sim.world`),
-        so it can change the outcome (``benchmarks/studies/heading.py``).
+        so it can change the outcome there (``benchmarks/studies/heading.py``); MuJoCo's elliptic cone is.
     """
 
     theta_w_deg: float
@@ -487,8 +500,9 @@ def run_trial(
     numerics: Numerics = Numerics(),
     compliance=None,
     heading_deg: float = 0.0,
+    engine: str | None = None,
 ) -> TrialResult:
-    """Run one self-righting trial in a fresh pybullet DIRECT client: the keyword form of :func:`simulate_trial`.
+    """Run one self-righting trial in a fresh engine instance: the keyword form of :func:`simulate_trial`.
 
     Parameters
     ----------
@@ -520,6 +534,9 @@ def run_trial(
         Compliant wing joints instead of the model set's (None in most shipped sets: rigid wings).
     heading_deg : float
         The robot's heading on the ground, degrees (:class:`Trial`).
+    engine : {"pybullet", "mujoco"}, optional
+        Run the model set in this engine (:meth:`sim.model_set.ModelSet.with_engine`); None: the set's own
+        (pybullet for a set as loaded).
 
     Returns
     -------
@@ -527,13 +544,15 @@ def run_trial(
 
     Raises
     ------
-    TrialInputError, JointLimitError, RobotDescriptionError, SimulationDiverged
+    TrialInputError, JointLimitError, RobotDescriptionError, SimulationDiverged, EngineError
         As :func:`simulate_trial` does.
     """
     if model_set is None:
         from .model_set import load_model_set
 
         model_set = load_model_set()
+    if engine is not None:
+        model_set = model_set.with_engine(engine)
     if contact is not None:
         model_set = replace(model_set, contact=contact)
     if compliance is not None:
@@ -557,11 +576,12 @@ def run_trial(
 
 
 def simulate_trial(trial: Trial, *, model_set=None, numerics: Numerics = Numerics()) -> TrialResult:
-    """Run ``trial`` with ``model_set`` and ``numerics`` in a fresh pybullet DIRECT client.
+    """Run ``trial`` with ``model_set`` and ``numerics`` in a fresh instance of the set's engine.
 
-    The model set says what is simulated: its actuation timing (unless ``trial.actuation``), its contact, and
-    its modifiers (:mod:`sim.modifier`), which edit the model, attach to the world and check their stability
-    before the robot settles.
+    The model set says what is simulated: its engine (``ModelSet.engine``, pybullet unless
+    :meth:`~sim.model_set.ModelSet.with_engine` chose another) and its parameters, its actuation timing (unless
+    ``trial.actuation``), its contact, and its modifiers (:mod:`sim.modifier`), which edit the model, attach to
+    the world and check their stability before the robot settles.
 
     Parameters
     ----------
@@ -585,6 +605,8 @@ def simulate_trial(trial: Trial, *, model_set=None, numerics: Numerics = Numeric
         If a modifier's spring is too stiff for the servo command period.
     SimulationDiverged
         If the physics blows up.
+    EngineError
+        If the set's engine is not installed or cannot express what the set asks of it.
     """
     wall0, cpu0 = time.perf_counter(), time.process_time()
     if model_set is None:
@@ -605,7 +627,9 @@ def simulate_trial(trial: Trial, *, model_set=None, numerics: Numerics = Numeric
     heading_deg = float(trial.heading_deg)
     if not np.isfinite(heading_deg):
         raise TrialInputError(f"the heading must be a finite number of degrees; got {trial.heading_deg!r}")
-    duration_s, dt_s = float(trial.duration_s), float(default_dt_s(model.source) if dt_s is None else dt_s)
+    engine = model_set.engine
+    duration_s = float(trial.duration_s)
+    dt_s = float(default_dt_s(model.source, engine) if dt_s is None else dt_s)
     _check_inputs(
         theta_w_deg,
         theta_l_deg,
@@ -640,12 +664,14 @@ def simulate_trial(trial: Trial, *, model_set=None, numerics: Numerics = Numeric
     )
     _check_wing_targets(cmd, model.theta_limits_deg["theta_w"], model_set, theta_w_deg)
     substeps = cmd.sub if numerics.engine_substeps else 1
-    world = World(
+    world = open_world(
+        engine,
         model,
         dt_s=dt_s,
         substeps=substeps,
         contact=model_set.contact,
         modifiers=modifiers,
+        mujoco=model_set.mujoco,
     )
     with world:
         for m in modifiers:
@@ -688,6 +714,7 @@ def simulate_trial(trial: Trial, *, model_set=None, numerics: Numerics = Numeric
         model_set=model_set.name,
         model_set_hash=model_set.model_set_hash,
         side=run.side,
+        engine=engine,
     )
 
 
@@ -798,7 +825,7 @@ def _servo_commands(
     )
 
 
-def _settle(world: World, model, cmd: _Commands, *, heading_rad: float = 0.0) -> None:
+def _settle(world: EngineWorld, model, cmd: _Commands, *, heading_rad: float = 0.0) -> None:
     """Place the robot on its back with the joints at zero, turned by ``heading_rad``, and let it settle for
     ``SETTLE_S``."""
     zeros = np.zeros(len(world.driven))
@@ -829,7 +856,7 @@ class _Run:
     rows: list = field(default_factory=list)
 
 
-def _run(world: World, cmd: _Commands, *, trace: bool) -> _Run:
+def _run(world: EngineWorld, cmd: _Commands, *, trace: bool) -> _Run:
     """Drive the servos period by period; the trial succeeds once the body has stayed upright (u_z < 0) for
     ``UPRIGHT_HOLD_S``, checked every ``CHECK_EVERY_S``."""
     kp = min(1.0, cmd.dt_s / SERVO_TAU_S)
@@ -862,7 +889,9 @@ def _run(world: World, cmd: _Commands, *, trace: bool) -> _Run:
     return run
 
 
-def _trace_row(world: World, t_s: float, wing_cmd_deg: float, leg_cmd_deg: float, n_wing: int) -> list[float]:
+def _trace_row(
+    world: EngineWorld, t_s: float, wing_cmd_deg: float, leg_cmd_deg: float, n_wing: int
+) -> list[float]:
     u = world.up_in_body()
     p, r = pitch_roll_from_up(u)
     q = np.rad2deg(world.joint_positions_rad())

@@ -41,6 +41,8 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from .engine import SimulationDiverged as SimulationDiverged  # re-exported: sim.world.SimulationDiverged
+from .engine import SoftServos, WorldBase, axis_inertia_kg_m2, schur_inertia_kg_m2
 from .model import MESH_PLACEHOLDER, SimModel
 
 
@@ -83,10 +85,6 @@ FRICTION_AXES = ("world", "body")
 """Where the friction directions are fixed (:class:`Contact`)."""
 DEFAULT_FRICTION_AXES = "body"
 """The default of :attr:`Contact.friction_axes`: no trial depends on the robot's heading on the ground."""
-
-
-class SimulationDiverged(RuntimeError):
-    """The physics blew up: a state became non-finite or left any plausible range."""
 
 
 @dataclass(frozen=True)
@@ -211,7 +209,7 @@ def model_urdf_file(model: SimModel) -> Path:
     return urdf
 
 
-class World:
+class World(WorldBase):
     """One pybullet DIRECT client holding the ground and the robot; use as a context manager.
 
     Parameters
@@ -248,38 +246,19 @@ class World:
         contact: Contact | None = None,
         modifiers: tuple | None = None,
     ):
-        self.model = model
-        self.modifiers = tuple(model.modifiers if modifiers is None else modifiers)
-        built = {m for m in self.modifiers if m.EDITS_URDF}
-        edited = {m for m in model.modifiers if m.EDITS_URDF}
-        if built != edited:
-            have = ", ".join(sorted(m.TABLE for m in edited)) or "none"
-            want = ", ".join(sorted(m.TABLE for m in built)) or "none"
-            raise ValueError(
-                f"the World's modifiers that edit the URDF ({want}) must be those the model was built with "
-                f"({have}); build the model with sim_model(..., modifiers=) the same"
-            )
-        self.dt_s = float(dt_s)
-        self.substeps = int(substeps)
+        super().__init__(model, dt_s=dt_s, substeps=substeps, modifiers=modifiers)
         self.contact = contact or Contact()
         self.cid: int | None = None
         self._gains: dict = {}
 
     # ------------------------------------------------------------------ lifecycle
-    def __enter__(self) -> World:
+    def _open(self) -> None:
         urdf = model_urdf_file(self.model)
-        self.cid = pb.connect(pb.DIRECT)
-        if self.cid < 0:
+        cid = pb.connect(pb.DIRECT)
+        if cid < 0:
             raise RuntimeError("pybullet could not connect in DIRECT mode")
-        try:
-            self._build(urdf)
-        except BaseException:
-            self.close()
-            raise
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.close()
+        self.cid = cid
+        self._build(urdf)
 
     def close(self) -> None:
         if self.cid is not None:
@@ -319,17 +298,13 @@ class World:
         self._springs: list[tuple[float, float, int]] = []
         for m in self.modifiers:
             m.attach(self)
-        self._soft_k, self._soft_c, self._soft_ki = (
-            np.array(self._soft_gains, dtype=np.float64).reshape(-1, 3).T
-        )
-        self._integral = np.zeros(len(self._soft))  # a PI servo's integrated error per soft joint, rad s
-        self._last_err = np.zeros(len(self._soft))
-        self._elapsed_s = self._last_drive_s = 0.0
+        self._elapsed_s = 0.0
         self._stiff = [k for k in range(len(self.driven)) if k not in self._soft]
         self.max_force_n_m = np.array(
             [pb.getJointInfo(self.body, j, physicsClientId=cid)[10] for j in self.driven]
         )
         self.max_force_n_m = np.where(self.max_force_n_m > 0, self.max_force_n_m, 1.0)
+        self._soft_servos = SoftServos(self._soft_gains, self.max_force_n_m[self._soft])
         self.links = [-1, *range(self.n_joints)]
         self.link_mass_kg = np.array(
             [pb.getDynamicsInfo(self.body, k, physicsClientId=cid)[0] for k in self.links]
@@ -443,24 +418,15 @@ class World:
         )
 
     def _drive_soft(self, target_rad, speed_rad_s) -> None:
-        k, c, ki = self._soft_k, self._soft_c, self._soft_ki
         joints = [self.driven[i] for i in self._soft]
         states = pb.getJointStates(self.body, joints, physicsClientId=self.cid)
-        lim = self.max_force_n_m[self._soft]
-        err = np.array([target_rad[i] - q for i, (q, *_) in zip(self._soft, states, strict=True)])
-        torque = k * err + c * np.array(
-            [speed_rad_s[i] - s[1] for i, s in zip(self._soft, states, strict=True)]
+        tau = self._soft_servos.torques(
+            [s[0] for s in states],
+            [s[1] for s in states],
+            [target_rad[i] for i in self._soft],
+            [speed_rad_s[i] for i in self._soft],
+            elapsed_s=self._elapsed_s,
         )
-        if ki.any():
-            # the error at the last command, held since then, integrated (left rectangles: one long interval,
-            # such as settling's, adds what was known when it began); the integral's torque clamped at the
-            # effort limit (no wind-up); joints without an integral gain keep theirs at 0
-            dt = self._elapsed_s - self._last_drive_s
-            bound = np.divide(lim, ki, out=np.zeros_like(lim), where=ki > 0)
-            self._integral = np.clip(self._integral + self._last_err * dt, -bound, bound)
-            torque = torque + ki * self._integral
-        self._last_drive_s, self._last_err = self._elapsed_s, err
-        tau = np.clip(torque, -lim, lim).tolist()
         pb.setJointMotorControlArray(
             self.body, joints, pb.TORQUE_CONTROL, forces=tau, physicsClientId=self.cid
         )
@@ -490,16 +456,6 @@ class World:
         """The pybullet index of the joint ``name``, or None if the model has none."""
         return self._joint_names.get(name)
 
-    def add_soft_joints(self, indices, gains) -> None:
-        """Drive the driven joints ``indices`` (positions in :attr:`driven`) with the torque
-        ``k (target - q) + c (speed - dq/dt) + ki * integral(target - q) dt`` instead of the stiff servo;
-        ``gains``: one (k, c, ki) per joint. Only while the world is being built (from a modifier's ``attach``)."""
-        indices = list(indices)
-        if len(indices) != len(gains) or set(indices) & set(self._soft):
-            raise ValueError(f"soft joints {indices} need one gain each and no joint twice; got {len(gains)}")
-        self._soft += indices
-        self._soft_gains += [tuple(float(v) for v in g) for g in gains]
-
     def add_spring(self, joint: int, stiffness: float, damping: float) -> None:
         """Drive the (passive) joint ``joint`` with ``-k q - c dq/dt``, renewed before every ``stepSimulation``
         call, settling's too."""
@@ -520,10 +476,7 @@ class World:
         ]
         q = [pb.getJointState(self.body, j, physicsClientId=cid)[0] for j in movable]
         m = np.asarray(pb.calculateMassMatrix(self.body, q, physicsClientId=cid), dtype=np.float64)
-        i = m.shape[0] - len(movable) + movable.index(joint)
-        rest = [k for k in range(m.shape[0]) if k != i]
-        coupling = m[i, rest]
-        return float(m[i, i] - coupling @ np.linalg.solve(m[np.ix_(rest, rest)], coupling))
+        return schur_inertia_kg_m2(m, m.shape[0] - len(movable) + movable.index(joint))
 
     def child_inertia_kg_m2(self, joints: list[int]) -> float:
         """The smallest moment of inertia of the joints' child links about each joint's axis, kg m² (nan for no
@@ -537,8 +490,9 @@ class World:
             axis = np.asarray(pb.getJointInfo(self.body, j, physicsClientId=cid)[13], dtype=np.float64)
             axis = axis / np.linalg.norm(axis)
             rot = np.array(pb.getMatrixFromQuaternion(orn, physicsClientId=cid)).reshape(3, 3)
-            r = np.asarray(pos, dtype=np.float64)  # the link's CoM in its link (joint) frame
-            out.append(float(axis @ rot @ np.diag(diag) @ rot.T @ axis + mass * (r @ r - (r @ axis) ** 2)))
+            out.append(
+                axis_inertia_kg_m2(mass, pos, rot, diag, axis)
+            )  # pos: the CoM in the link (joint) frame
         return min(out) if out else math.nan
 
     def advance(self, n_steps: int) -> None:
@@ -632,9 +586,4 @@ class World:
         pos, q = self.base_pose()
         v, _ = self.base_velocity()
         speed = math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
-        dist = math.sqrt(pos[0] ** 2 + pos[1] ** 2 + pos[2] ** 2)
-        if not (speed <= max_speed_m_s and dist <= max_dist_m and all(map(math.isfinite, q))):
-            raise SimulationDiverged(
-                f"simulation diverged at t = {t_s:.4f} s (dt = {self.dt_s:g} s): base position {np.round(pos, 3)}"
-                f" m, speed {speed:.3g} m/s; try a smaller --dt"
-            )
+        self._check_base(t_s, pos, speed, all(map(math.isfinite, q)), max_speed_m_s, max_dist_m)

@@ -44,6 +44,19 @@ def run_cli(capsys, *argv):
     return code, out, err
 
 
+def outside(bounds) -> list[str]:
+    """Values just outside a :class:`geometry.bounds.Bounds` at each finite end, and one that is not finite, as
+    typed (whole numbers without a decimal point)."""
+    import math
+
+    vals = [math.nan]
+    if not math.isinf(bounds.lo):
+        vals.append(bounds.lo if bounds.lo_open else bounds.lo - 1)
+    if not math.isinf(bounds.hi):
+        vals.append(bounds.hi if bounds.hi_open else bounds.hi + 1)
+    return ["nan" if math.isnan(v) else str(int(v)) if bounds.integer else repr(float(v)) for v in vals]
+
+
 def csv_rows(path) -> list[dict]:
     """The rows of a CSV file with a header, as dicts of strings."""
     import csv

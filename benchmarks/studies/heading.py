@@ -14,10 +14,12 @@ matters, modulo 90 degrees. This study measures it on the prediction protocol of
    (`landscape analyze prediction` uses the heading at each opening to predict the first righting attempt).
 
 ``--friction-axes body`` runs tables 2 and 3 with ``Contact(friction_axes="body")`` (sim.world: the robot is
-kept at heading 0, so the friction directions turn with it).
+kept at heading 0, so the friction directions turn with it). ``--engine mujoco`` runs all three in MuJoCo, with its
+elliptic cone (the default) or ``--cone pyramidal``.
 
 Run:  PYTHONPATH=. .venv/bin/python benchmarks/studies/heading.py [--workers 2] [--phases 20] [--friction-axes body]
-(the full protocol, 300 trials at each of five headings: 313 s on 2 cores).
+      [--engine mujoco [--cone pyramidal]]
+(the full protocol, 300 trials at each of five headings: 313 s on 2 cores in pybullet).
 """
 
 from __future__ import annotations
@@ -37,16 +39,17 @@ DT_S, DURATION_S = 5e-4, 10.0
 
 
 def _trial(job):
-    """(tw, tl, phase, heading, attempts, trace, friction axes) -> (job, first righting attempt or 0, phases,
-    opening headings)."""
+    """(tw, tl, phase, heading, attempts, trace, friction axes, engine, cone) -> (job, first righting attempt or 0,
+    phases, opening headings)."""
     from dataclasses import replace
 
     from sim.model_set import load_model_set
     from sim.trial import Trial, simulate_trial
 
-    tw, tl, phase, heading, attempts, trace, axes = job
+    tw, tl, phase, heading, attempts, trace, axes, engine, cone = job
     ms = load_model_set()
-    ms = replace(ms, contact=replace(ms.contact, friction_axes=axes))
+    ms = replace(ms, contact=replace(ms.contact, friction_axes=axes), mujoco=replace(ms.mujoco, cone=cone))
+    ms = ms.with_engine(engine)
     act = ms.actuation(THETA_W_DEG, THETA_L_DEG, wing_period_s=tw, leg_period_s=tl)
     r = simulate_trial(
         Trial(THETA_W_DEG, THETA_L_DEG, phase, 0.0, rng=0, duration_s=DURATION_S, dt_s=DT_S, attempts=attempts,
@@ -61,8 +64,10 @@ def _trial(job):
     return job, (r.attempt if r.success else 0), list(r.phases), heads
 
 
-def friction_table() -> list[tuple[float, float, float]]:
+def friction_table(engine: str = "pybullet", cone: str = "elliptic") -> list[tuple[float, float, float]]:
     """(push direction, slide distance mm, path turn deg) of a box pushed along the ground."""
+    if engine == "mujoco":
+        return [_push_mujoco(deg, cone) for deg in (0.0, 30.0, 45.0)]
     from sim.world import _quiet_import_pybullet
 
     pb = _quiet_import_pybullet()
@@ -90,6 +95,34 @@ def friction_table() -> list[tuple[float, float, float]]:
     return out
 
 
+def _push_mujoco(deg: float, cone: str) -> tuple[float, float, float]:
+    """:func:`friction_table`'s box in MuJoCo, with its default contact and ``cone``."""
+    from dataclasses import replace
+
+    import mujoco
+
+    from sim.engine import MUJOCO_DEFAULTS
+    from sim.mujoco_world import apply_params
+    from sim.world import Contact
+
+    spec = mujoco.MjSpec()
+    body = spec.worldbody.add_body(pos=[0.0, 0.0, 0.0101])
+    body.add_freejoint()
+    body.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.05, 0.03, 0.01], mass=0.26)
+    spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0.0, 0.0, 1.0])
+    apply_params(spec, replace(MUJOCO_DEFAULTS, cone=cone), dt_s=DT_S, contact=Contact())
+    m = spec.compile()
+    d = mujoco.MjData(m)
+    mujoco.mj_step(m, d, nstep=200)
+    a = math.radians(deg)
+    d.qvel[:] = 0.0
+    d.qvel[0:2] = (math.cos(a), math.sin(a))
+    p0 = np.array(d.qpos[0:3])
+    mujoco.mj_step(m, d, nstep=2000)
+    dx = np.array(d.qpos[0:3]) - p0
+    return deg, float(np.hypot(dx[0], dx[1])) * 1e3, math.degrees(math.atan2(dx[1], dx[0])) - deg
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--workers", type=int, default=2)
@@ -99,25 +132,35 @@ def main(argv=None) -> int:
     ap.add_argument("--leg-periods", type=float, nargs="+", default=LEG_PERIODS_S)
     ap.add_argument("--wing-periods", type=float, nargs="+", default=WING_PERIODS_S)
     ap.add_argument("--friction-axes", choices=("world", "body"), default="world")
+    ap.add_argument("--engine", choices=("pybullet", "mujoco"), default="pybullet")
+    ap.add_argument(
+        "--cone", choices=("elliptic", "pyramidal"), default="elliptic", help="MuJoCo's friction cone"
+    )
     a = ap.parse_args(argv)
     if a.phases < 1 or a.workers < 1:
         ap.error("--phases and --workers must be at least 1")
     t0 = time.perf_counter()
-    print("1. A box pushed at 1 m/s along the ground, mu = 1 (isotropic Coulomb friction: 51 mm, turn 0)")
+    engine = a.engine if a.engine == "pybullet" else f"mujoco, {a.cone} cone"
+    print(
+        f"1. A box pushed at 1 m/s along the ground, mu = 1 ({engine}; isotropic Coulomb friction: 51 mm, turn 0)"
+    )
     print(f"{'push deg':>9} {'slide mm':>9} {'turn deg':>9}")
-    for deg, mm, turn in friction_table():
+    for deg, mm, turn in friction_table(a.engine, a.cone):
         print(f"{deg:9.0f} {mm:9.1f} {turn:9.1f}")
 
     phases = [k / a.phases for k in range(a.phases)]
     cells = [(tw, tl, ph) for tw in a.wing_periods for tl in a.leg_periods for ph in phases]
     ax = a.friction_axes
-    jobs = [(tw, tl, ph, h, None, h == 0.0, ax) for h in HEADINGS_DEG for tw, tl, ph in cells]
+    jobs = [
+        (tw, tl, ph, h, None, h == 0.0, ax, a.engine, a.cone) for h in HEADINGS_DEG for tw, tl, ph in cells
+    ]
     with ProcessPoolExecutor(a.workers) if a.workers > 1 else _Inline() as ex:
         res = {job[:4]: (att, phs, heads) for job, att, phs, heads in ex.map(_trial, jobs, chunksize=4)}
         base = {c: res[(*c, 0.0)] for c in cells}
         singles = sorted({(tl, ph) for _, tl, ph in cells})
         first = [c for c in cells if c[0] == a.wing_periods[0]]  # attempt 1 is the same at every Tw
-        print(f"\n2. Turned on the ground, friction axes fixed in the {ax}: changes against heading 0 "
+        where = f"friction axes fixed in the {ax}" if a.engine == "pybullet" else engine
+        print(f"\n2. Turned on the ground, {where}: changes against heading 0 "
               f"({len(singles)} single attempts, {len(cells)} trials)")  # fmt: skip
         print(f"{'heading deg':>12} {'single attempt':>15} {'first righting attempt':>23}")
         for h in HEADINGS_DEG[1:]:

@@ -17,20 +17,21 @@ RERUN_TTR_TOL_S = 1e-6
 
 def rerun_trial(row: dict, *, robot_urdf: str | Path, heading_deg: float = 0.0, trace: bool = True):
     """A stored trial run again with a trace, with every parameter of its row (as :func:`sim.sweep.run_spec` runs
-    it): same seed, protocol, model set and robot; ``heading_deg`` turns it on the ground (a sweep runs every
-    trial at 0, :class:`sim.trial.Trial`).
+    it): same seed, protocol, model set, engine and robot; ``heading_deg`` turns it on the ground (a sweep runs
+    every trial at 0, :class:`sim.trial.Trial`).
 
     Raises
     ------
     UsageError
         If the row's model set cannot be loaded or has changed since the trial ran.
     """
+    from sim.engine import DEFAULT_ENGINE
     from sim.model_set import ModelSetError, load_model_set
     from sim.trial import run_trial
 
     name = row.get("model_set") or "paper"
     try:
-        ms = load_model_set(name)
+        ms = load_model_set(name).with_engine(row.get("engine") or DEFAULT_ENGINE)
     except ModelSetError as exc:
         raise UsageError(f"cannot rerun trial {row['trial']}: {exc}") from None
     if row.get("model_set_hash") and ms.model_set_hash != row["model_set_hash"]:

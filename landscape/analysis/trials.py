@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import stats
 
+from landscape.grid import DEFAULT_STEP_DEG
 from sim.actuation import PAPER_LEG_PERIOD_S, PAPER_WING_PERIOD_S, Actuation, attempt_phases, attempt_starts_s
 from sim.trial import UPRIGHT_HOLD_S
 
@@ -503,7 +504,7 @@ def landscape_barriers(
     robot,
     pairs: Iterable[tuple[float, float]],
     *,
-    step_deg: float = 1.0,
+    step_deg: float = DEFAULT_STEP_DEG,
     progress: bool = False,
     wing_joints_deg: dict[float, dict[str, float] | None] | None = None,
 ) -> dict[tuple[float, float], tuple[float, float]]:

@@ -4,14 +4,31 @@
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import asdict
 from pathlib import Path
 
 import click
 
+from geometry.bounds import Bounds
 from geometry.errors import UsageError
-from landscape.cli.options import leg_period_option, no_progress_option, robot_option, wing_period_option
-from sim.protocol import PAPER_LEG_PERIOD_S
+from landscape.cli.options import (
+    CV_HELP,
+    angle_option,
+    grid_step_option,
+    leg_period_option,
+    no_progress_option,
+    ranged_option,
+    robot_option,
+    wing_period_option,
+)
+from sim.protocol import (
+    CV_BOUNDS,
+    PAPER_LEG_PERIOD_S,
+    PERIOD_S_BOUNDS,
+    PHASE_BOUNDS,
+    SEED_BOUNDS,
+)
 
 TRIALS_ROBOT = robot_option(
     extra_help="The robot the trials ran on, if its stored URDF moved.",
@@ -32,11 +49,6 @@ def _out(out: Path) -> Path:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     return out
-
-
-def _check_phase(phase: float | None) -> None:
-    if phase is not None and not 0 <= phase < 1:  # also refuses nan
-        raise UsageError(f"--phase must be a fraction of the leg period in [0, 1); got {phase}")
 
 
 def _sections():
@@ -87,30 +99,34 @@ def analyze():
     """The source paper's analyses from a trial database (CSV + PNG/SVG)."""
 
 
+TRIALS_PHASE_OPT = ranged_option(
+    "--phase",
+    bounds=PHASE_BOUNDS,
+    default=None,
+    help="phi_1 of the trials to use, a fraction of the leg period {range} [default: the most common].",
+)
+SAMPLE_BOUNDS = Bounds(1, math.inf, integer=True, meaning="a count of stored trials")
+FOLLOWED_ATTEMPTS_BOUNDS = Bounds(1, math.inf, integer=True, meaning="wing openings to follow")
+
+
 @analyze.command("probability")
 @DB_OPT
 @OUT_OPT
-@click.option(
-    "--phase",
-    type=float,
-    default=None,
-    help="phi_1 of the trials to use, a fraction of the leg period in [0, 1) [default: the most common].",
-)
+@TRIALS_PHASE_OPT
 def probability_cmd(db, out, phase):
     """Self-righting probability over theta_w x theta_l per Cv, with Wilson 95 % intervals (Fig. 6)."""
-    _check_phase(phase)
     _echo_section(_sections().section_probability(_sections().load_rows(db), _out(out), db, phase=phase))
 
 
 @analyze.command("phase-map")
 @DB_OPT
 @OUT_OPT
-@click.option(
+@ranged_option(
     "--leg-period",
-    type=float,
+    bounds=PERIOD_S_BOUNDS,
     default=PAPER_LEG_PERIOD_S,
     show_default=True,
-    help="Tl, the leg period of the map, s.",
+    help="Tl, the leg period of the map, s, {range}.",
 )
 def phase_map_cmd(db, out, leg_period):
     """Single-attempt outcome against phase and theta_l, per theta_w (Fig. 7)."""
@@ -157,11 +173,12 @@ def prediction_cmd(db, out, as_json, states, robot, no_progress):
 @analyze.command("energy")
 @DB_OPT
 @OUT_OPT
-@click.option(
+@ranged_option(
     "--sample",
-    type=int,
+    bounds=SAMPLE_BOUNDS,
     default=None,
-    help="Multi-attempt trials to rerun with a trace, a count from 1 to those stored [default: 8, or all if fewer].",
+    help="Multi-attempt trials to rerun with a trace, {range}, at most those stored [default: 8, or all if "
+    "fewer].",
 )
 @physical_dir_option(
     "The lab's data-robot folder: put the robot's recorded attempts beside the simulated ones (model set "
@@ -189,53 +206,48 @@ def energy_cmd(db, out, sample, physical_dir, robot, no_progress):
 @analyze.command("evolution")
 @DB_OPT
 @OUT_OPT
-@click.option(
+@angle_option(
     "--theta-w",
-    type=float,
     default=None,
-    help="Wing opening angle, degrees [default: the prediction study's].",
+    help="Wing opening angle, degrees, {range} [default: the prediction study's].",
 )
-@click.option(
+@angle_option(
     "--theta-l",
-    type=float,
     default=None,
-    help="Leg oscillation amplitude, degrees [default: the prediction study's].",
+    help="Leg oscillation amplitude, degrees, {range} [default: the prediction study's].",
 )
-@click.option(
+@ranged_option(
     "--phase",
-    type=float,
+    bounds=PHASE_BOUNDS,
     default=None,
-    help="phi_1, the first attempt's phase, a fraction of the leg period in [0, 1) [default: a start "
+    help="phi_1, the first attempt's phase, a fraction of the leg period {range} [default: a start "
     "that never rights without noise].",
 )
-@click.option(
+@ranged_option(
     "--cv",
-    type=float,
+    bounds=CV_BOUNDS,
     default=0.15,
     show_default=True,
-    help="Noise of the noisy sequence: Cv = sigma / Tl, dimensionless, >= 0.",
+    help=f"{CV_HELP}: the noise of the noisy sequence.",
 )
-@click.option(
+@ranged_option(
     "--seed",
-    type=click.IntRange(min=0),
+    bounds=SEED_BOUNDS,
     default=1,
     show_default=True,
-    help="Random seed of the noisy sequence.",
+    help="Random seed of the noisy sequence, {range}.",
 )
 @wing_period_option
 @leg_period_option
-@click.option(
+@ranged_option(
     "--attempts",
-    type=click.IntRange(min=1),
+    bounds=FOLLOWED_ATTEMPTS_BOUNDS,
     default=12,
     show_default=True,
-    help="Wing openings (attempts) to follow, a count.",
+    help="Wing openings (attempts) to follow, {range}.",
 )
 def evolution_cmd(db, out, theta_w, theta_l, phase, cv, seed, wing_period, leg_period, attempts):
     """Phases visited over attempts, without and with noise, over the phase map (Fig. 9)."""
-    _check_phase(phase)
-    if cv < 0:
-        raise UsageError(f"--cv must be >= 0; got {cv}")
     _echo_section(
         _sections().section_evolution(
             _sections().load_rows(db),
@@ -256,19 +268,14 @@ def evolution_cmd(db, out, theta_w, theta_l, phase, cv, seed, wing_period, leg_p
 @analyze.command("barrier")
 @DB_OPT
 @OUT_OPT
-@click.option(
-    "--step", type=float, default=1.0, show_default=True, help="Grid step of the grid barrier, degrees."
-)
-@click.option(
-    "--phase",
-    type=float,
-    default=None,
-    help="phi_1 of the trials to use, a fraction of the leg period in [0, 1) [default: the most common].",
-)
+@grid_step_option
+@TRIALS_PHASE_OPT
 @TRIALS_ROBOT
 def barrier_cmd(db, out, step, phase, robot):
     """Minimal barrier against self-righting probability and time to right: Spearman rho, logistic fit."""
-    _check_phase(phase)
+    from landscape.cli.options import grid_step
+
+    grid_step(step)
     _echo_section(
         _sections().section_barrier(
             _sections().load_rows(db), _out(out), db, step_deg=step, phase=phase, robot=_robot_file(robot)

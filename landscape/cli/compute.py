@@ -9,18 +9,20 @@ from pathlib import Path
 
 import click
 
+from geometry.bounds import ORIENTATION_DEG_BOUNDS
 from landscape.cli.options import (
     MJ,
     MM,
-    THETA_W_LANDSCAPE_HELP,
     UsageError,
-    finite,
+    angle_option,
     grid_step,
+    grid_step_option,
     memory_budget_bytes,
     method_option,
-    parse_values,
     pose_model_option,
     pose_model_set,
+    pose_options,
+    ranged_option,
     robot_from,
     robot_options,
     writable_dir,
@@ -66,26 +68,18 @@ def human_summary(c, robot, *, mass_note: str = "", units: str | None = None) ->
 
 
 @click.command()
-@click.option("--theta-w", type=float, default=0.0, show_default=True, help=THETA_W_LANDSCAPE_HELP)
-@click.option(
-    "--theta-l",
-    type=float,
-    default=0.0,
-    show_default=True,
-    help="Leg angle, degrees, within the leg joint's limits.",
-)
-@click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees; divides 360.")
-@click.option(
+@pose_options
+@ranged_option(
     "--start-pitch",
-    type=float,
+    bounds=ORIENTATION_DEG_BOUNDS,
     default=None,
-    help="Start by descent from this pitch, degrees [default: the metastable minimum].",
+    help="Start by descent from this pitch, degrees, {range} [default: the metastable minimum].",
 )
-@click.option(
+@ranged_option(
     "--start-roll",
-    type=float,
+    bounds=ORIENTATION_DEG_BOUNDS,
     default=None,
-    help="Start by descent from this roll, degrees [default: the metastable minimum].",
+    help="Start by descent from this roll, degrees, {range} [default: the metastable minimum].",
 )
 @click.option(
     "--connectivity",
@@ -111,18 +105,10 @@ def compute(
     from landscape.computation import compute as run
     from landscape.viz import files
 
-    for name, v in (
-        ("theta-w", theta_w),
-        ("theta-l", theta_l),
-        ("step", step),
-        ("start-pitch", start_pitch),
-        ("start-roll", start_roll),
-    ):
-        finite(v, name)
     grid_step(step)
     if out:
         writable_dir(out, "--out")
-    robot = robot_from(kw, theta_w_deg=theta_w)
+    robot = robot_from(kw, theta_w_deg=theta_w, theta_l_deg=theta_l)
     ms = pose_model_set(pose_model, robot)
     robot = ms.robot_for(robot) if ms else robot
     wing_joints = ms.wing_joints_deg(robot.joint_map.wing, theta_w) if ms else None
@@ -180,24 +166,23 @@ def compute(
 
 
 @click.command("barrier-map")
-@click.option(
+@angle_option(
     "--theta-w",
-    "theta_w",
-    type=str,
+    many=True,
     default="70:76:2",
     show_default=True,
-    help="Wing angles: list 70,72 or range START:STOP:STEP (inclusive), degrees, anywhere within the wing "
-    "joints' limits (below 0 too, where the joints allow it).",
+    help="Wing angles: list 70,72 or range START:STOP:STEP (inclusive), degrees, each {range} and anywhere "
+    "within the wing joints' limits (below 0 too, where the joints allow it).",
 )
-@click.option(
+@angle_option(
     "--theta-l",
-    "theta_l",
-    type=str,
+    many=True,
     default="20:50:10",
     show_default=True,
-    help="Leg angles: list or range, degrees (a body without a leg joint: leave it out).",
+    help="Leg angles: list or range, degrees, each {range} and within the leg joint's limits (a body without "
+    "a leg joint: leave it out).",
 )
-@click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees; divides 360.")
+@grid_step_option
 @method_option
 @robot_options
 @pose_model_option
@@ -216,10 +201,10 @@ def barrier_map(theta_w, theta_l, step, method, pose_model, out, **kw):
     from landscape.computation import barrier_map as run
     from landscape.viz import files, plots
 
-    ws, ls_ = parse_values(theta_w, "theta-w"), parse_values(theta_l, "theta-l")
+    ws, ls_ = theta_w, theta_l
     grid_step(step)
     writable_dir(out, "--out")
-    robot = robot_from(kw, theta_w_deg=ws)
+    robot = robot_from(kw, theta_w_deg=ws, theta_l_deg=ls_)
     if not robot.has_joints:
         if robot.movable_joints:
             raise robot.undriven("theta_w", option="--theta-w", drop=False)

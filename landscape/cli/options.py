@@ -1,7 +1,11 @@
-"""Option parsing shared by the command modules: value lists, finite numbers, the robot options.
+"""Option parsing shared by the command modules: numbers inside their stated ranges, value lists, the robot
+options.
 
+Every numeric option is a :func:`ranged_option`: its type (:class:`RangedParam`) reads the value as typed and
+refuses one outside its :class:`geometry.bounds.Bounds`, and its help states that range in the same words.
 Bad input raises :class:`geometry.errors.UsageError` (re-exported here), which :func:`landscape.cli.main`
-turns into one line on stderr and exit status 2.
+turns into one line on stderr and exit status 2. A value inside its range that looks like a slip of units
+(:func:`geometry.bounds.radians_slip`, :func:`geometry.bounds.mass_slip`) gets one warning line (:func:`warn`).
 """
 
 from __future__ import annotations
@@ -11,10 +15,26 @@ from contextlib import contextmanager
 
 import click
 
+from geometry.bounds import (
+    JOINT_ANGLE_DEG_BOUNDS,
+    MASS_KG_BOUNDS,
+    PLAUSIBLE_MAX_MASS_KG,
+    Bounds,
+    joint_angle_slips,
+    mass_slip,
+)
 from geometry.errors import UsageError
 from geometry.robots import DEFAULT_MESH_MASS_KG
-from landscape.params import parse_values
-from sim.protocol import PAPER_LEG_PERIOD_S, PAPER_WING_PERIOD_S
+from landscape.params import parse_bounded, parse_values
+from sim.engine import DEFAULT_ENGINE, ENGINES
+from sim.protocol import (
+    CV_BOUNDS,
+    DURATION_S_BOUNDS,
+    PAPER_LEG_PERIOD_S,
+    PAPER_WING_PERIOD_S,
+    PERIOD_S_BOUNDS,
+    SEED_BOUNDS,
+)
 
 MJ = 1e3
 MM = 1e3
@@ -25,11 +45,15 @@ __all__ = [
     "THETA_W_LANDSCAPE_HELP",
     "THETA_W_OUT_OF_JOINT_RANGE",
     "THETA_W_OUT_OF_RANGE",
+    "RangedParam",
     "RobotParam",
     "UsageError",
+    "angle_option",
     "check_driven",
     "check_theta_w",
+    "engine_option",
     "finite",
+    "grid_step_option",
     "joints_option",
     "leg_period_option",
     "load_robot",
@@ -37,6 +61,8 @@ __all__ = [
     "model_set_option",
     "no_progress_option",
     "parse_values",
+    "pose_options",
+    "ranged_option",
     "robot_from",
     "robot_option",
     "robot_options",
@@ -44,14 +70,20 @@ __all__ = [
     "validation_cv_option",
     "validation_duration_option",
     "validation_seed_option",
+    "warn",
+    "warn_radians",
     "wing_period_option",
     "wing_range_deg",
     "workers_option",
 ]
 
-THETA_W_HELP = "Wing opening angle, degrees, from 0 (closed) to the wing joints' limit (a trial opens the wings from closed)."
+THETA_W_HELP = (
+    "Wing opening angle, degrees, {range} and from 0 (closed) to the wing joints' limit (a trial opens the wings "
+    "from closed)."
+)
 THETA_W_LANDSCAPE_HELP = (
-    "Wing angle, degrees, anywhere within the wing joints' limits (below 0 too, where the joints allow it)."
+    "Wing angle, degrees, {range} and anywhere within the wing joints' limits (below 0 too, where the joints "
+    "allow it)."
 )
 ROBOT_HELP = "The robot: a URDF file or a registered name (builtin)."
 JOINTS_HELP = (
@@ -69,6 +101,64 @@ THETA_W_OUT_OF_JOINT_RANGE = (
     "inside it"
 )
 """The one message every landscape command (the whole joint range) refuses an out-of-range wing angle with."""
+
+
+class RangedParam(click.ParamType):
+    """A number inside its stated range (:class:`geometry.bounds.Bounds`), or with ``many`` a list ``70,72`` or
+    range ``START:STOP:STEP`` of them (:func:`landscape.params.parse_bounded`).
+
+    The value is read as typed (a percentage '10%' where the bounds take one, a word such as 'protocol' where
+    they list it) and refused outside the range in one line naming the option, e.g. ``--cv 10 is outside [0,
+    1]: Cv is sigma / Tl as a fraction; for 10 % give 0.1 or '10%'``.
+    """
+
+    def __init__(self, bounds: Bounds, *, many: bool = False):
+        self.bounds = bounds
+        self.many = many
+        kind = "LIST" if many else ("INTEGER" if bounds.integer else "NUMBER")
+        self.name = "|".join([kind, *(["N%"] if bounds.percent else []), *bounds.words])
+
+    def convert(self, value, param, ctx):
+        name = param.opts[0] if param is not None and param.opts else "value"
+        if self.many:
+            return parse_bounded(value, self.bounds, name)
+        return self.bounds.parse(value, name)
+
+    def __repr__(self) -> str:
+        return f"RangedParam({self.bounds!r}, many={self.many})"
+
+
+def ranged_option(*decls, bounds: Bounds, help: str, many: bool = False, **kw):
+    """``click.option`` of a number (or with ``many`` a list of numbers) inside ``bounds``: its type is
+    :class:`RangedParam` and ``{range}`` in ``help`` becomes the range as stated (``in [0, 1) s``), so the help
+    and the refusal say the same. Every numeric option of the command line is one of these
+    (tests/cli/test_ranges.py walks them)."""
+    if "{range}" not in help:
+        raise ValueError(f"the help of {decls} must state its range: put {{range}} where it goes")
+    return click.option(
+        *decls, type=RangedParam(bounds, many=many), help=help.replace("{range}", bounds.text), **kw
+    )
+
+
+def angle_option(*decls, help: str, many: bool = False, **kw):
+    """A joint angle (theta_w, theta_l) in degrees: within one turn (:data:`geometry.bounds.JOINT_ANGLE_DEG_BOUNDS`),
+    and within the robot's joint limits, which the command checks once it has the robot."""
+    return ranged_option(*decls, bounds=JOINT_ANGLE_DEG_BOUNDS, help=help, many=many, **kw)
+
+
+def warn(text: str | None) -> None:
+    """One warning line on stderr (``landscape: warning: ...``); the command goes on."""
+    if text:
+        click.echo(f"landscape: warning: {text}", err=True)
+
+
+def warn_radians(robot, **angles) -> None:
+    """Warn of wing or leg angles given in radians by mistake (:func:`geometry.bounds.radians_slip`), for the
+    angles ``theta_w=...``, ``theta_l=...`` (a value or a list) the running command was given explicitly and the
+    robot's joints take."""
+    given = given_angles()
+    for text in joint_angle_slips(robot, {a: v for a, v in angles.items() if a in given}, ANGLE_OPTIONS):
+        warn(text)
 
 
 def finite(value: float | None, name: str) -> float | None:
@@ -95,6 +185,38 @@ def memory_budget_bytes() -> float:
     if not (math.isfinite(gib) and gib > 0):
         raise UsageError(f"LANDSCAPE_MEMORY_GIB must be a positive number of GiB; got {text!r}")
     return gib * 2**30
+
+
+def grid_step_option(f):
+    """``--step``: the grid step, degrees, inside :data:`landscape.grid.STEP_DEG_BOUNDS`, dividing 360; its default is
+    :data:`landscape.grid.DEFAULT_STEP_DEG`, the one default of every interface."""
+    from landscape.grid import DEFAULT_STEP_DEG, STEP_DEG_BOUNDS
+
+    return ranged_option(
+        "--step",
+        bounds=STEP_DEG_BOUNDS,
+        default=DEFAULT_STEP_DEG,
+        show_default=True,
+        help="Grid step, degrees, {range}; divides 360.",
+    )(f)
+
+
+def pose_options(f):
+    """``--theta-w``, ``--theta-l`` (degrees, 0 by default) and ``--step`` of the commands that compute one
+    landscape (``compute``, ``render``)."""
+    opts = [
+        angle_option("--theta-w", default=0.0, show_default=True, help=THETA_W_LANDSCAPE_HELP),
+        angle_option(
+            "--theta-l",
+            default=0.0,
+            show_default=True,
+            help="Leg angle, degrees, {range} and within the leg joint's limits.",
+        ),
+        grid_step_option,
+    ]
+    for o in reversed(opts):
+        f = o(f)
+    return f
 
 
 def grid_step(step_deg: float) -> float:
@@ -242,8 +364,21 @@ model_set_option = click.option(
     help="Model parameter set: a shipped name (paper, physical, physical-head, physical-offset, physical-posed) or a .toml file (sim/model_set.py).",
 )
 """``--model``: the model parameter set of ``simulate``, ``sweep`` and ``physical validate``."""
-workers_option = click.option(
-    "--workers", type=click.IntRange(min=1), default=None, help="Local worker processes [default: all cores]."
+engine_option = click.option(
+    "--engine",
+    type=click.Choice(ENGINES),
+    default=DEFAULT_ENGINE,
+    show_default=True,
+    help="Physics engine: pybullet, or mujoco (the optional extra: pip install 'selfrighting-landscape[mujoco]'). "
+    "The engine and its parameters are part of the model set's identity (docs/sim.md).",
+)
+"""``--engine``: the physics engine of ``simulate``, ``sweep`` and ``physical validate``."""
+WORKERS_BOUNDS = Bounds(1, math.inf, integer=True, meaning="a count of worker processes")
+workers_option = ranged_option(
+    "--workers",
+    bounds=WORKERS_BOUNDS,
+    default=None,
+    help="Local worker processes, {range} [default: all cores].",
 )
 """``--workers N``: local worker processes of a batch of trials."""
 no_progress_option = click.option(
@@ -252,32 +387,37 @@ no_progress_option = click.option(
     help="No progress bar (it is also off when stderr is not a terminal, e.g. redirected to a log).",
 )
 """``--no-progress``: no progress bar over a batch of trials."""
-wing_period_option = click.option(
+wing_period_option = ranged_option(
     "--wing-period",
-    type=float,
+    bounds=PERIOD_S_BOUNDS,
     default=PAPER_WING_PERIOD_S,
     show_default=True,
-    help="Tw, time between wing openings, s.",
+    help="Tw, time between wing openings, s, {range}.",
 )
 """``--wing-period``: one Tw, s (``simulate``, ``analyze evolution``)."""
-leg_period_option = click.option(
+leg_period_option = ranged_option(
     "--leg-period",
-    type=float,
+    bounds=PERIOD_S_BOUNDS,
     default=PAPER_LEG_PERIOD_S,
     show_default=True,
-    help="Tl, leg oscillation period, s.",
+    help="Tl, leg oscillation period, s, {range}.",
 )
 """``--leg-period``: one Tl, s (``simulate``, ``analyze evolution``)."""
-validation_cv_option = click.option(
-    "--cv", type=float, default=0.05, show_default=True, help="Noise Cv = sigma / Tl (>= 0), a fraction."
+CV_HELP = "Noise Cv = sigma / Tl, a fraction {range}"
+"""The help of every --cv: Cv is a fraction, a percentage only when written with '%'."""
+validation_cv_option = ranged_option(
+    "--cv", bounds=CV_BOUNDS, default=0.05, show_default=True, help=CV_HELP + "."
 )
 """``--cv`` of the simulated physical-robot cells (``physical validate``, ``calibrate``)."""
-validation_seed_option = click.option(
-    "--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of phases and noise."
+validation_seed_option = ranged_option(
+    "--seed", bounds=SEED_BOUNDS, default=0, show_default=True, help="Seed of phases and noise, {range}."
 )
 """``--seed`` of the simulated physical-robot cells (``physical validate``, ``calibrate``)."""
-validation_duration_option = click.option(
-    "--duration", type=float, default=None, help="Simulated trial length, s [default: the paper's 10 s]."
+validation_duration_option = ranged_option(
+    "--duration",
+    bounds=DURATION_S_BOUNDS,
+    default=None,
+    help="Simulated trial length, s, {range} [default: the paper's 10 s].",
 )
 """``--duration`` of the simulated physical-robot cells (``physical validate``, ``calibrate``)."""
 
@@ -368,11 +508,13 @@ def robot_options(f):
             default=None,
             help="With --mesh: CoM X,Y,Z in the mesh's units [default: from --com-model].",
         ),
-        click.option(
+        ranged_option(
             "--mass",
-            type=float,
+            bounds=MASS_KG_BOUNDS,
             default=None,
-            help=f"With --mesh: mass, kg [default: {DEFAULT_MESH_MASS_KG:g}].",
+            help="With --mesh: mass, kg, {range} (above "
+            f"{PLAUSIBLE_MAX_MASS_KG:g} kg a warning asks whether it was meant in grams) "
+            f"[default: {DEFAULT_MESH_MASS_KG:g}].",
         ),
         click.option(
             "--units",
@@ -394,13 +536,15 @@ def robot_options(f):
     return f
 
 
-def robot_from(kw: dict, *, theta_w_deg=None):
+def robot_from(kw: dict, *, theta_w_deg=None, theta_l_deg=None):
     """The robot of a landscape command's :func:`robot_options` keywords. An angle option given explicitly that
     no joint of the robot takes is refused (:func:`check_driven`); a wing angle ``theta_w_deg`` (a value or a
-    list) is checked against the wing joints' whole range (:func:`check_theta_w` with ``opening=False``).
+    list) is checked against the wing joints' whole range (:func:`check_theta_w` with ``opening=False``), and
+    angles ``theta_w_deg``, ``theta_l_deg`` that look like radians get a warning (:func:`warn_radians`).
 
     Mesh-only options without ``--mesh`` are refused (they would be ignored). A mesh whose size is implausible
-    in its units gets a warning on stderr naming the ``--units`` fix (:func:`geometry.robots.units_warning`).
+    in its units, or whose ``--mass`` is probably in grams, gets a warning on stderr naming the fix
+    (:func:`geometry.robots.units_warning`, :func:`geometry.bounds.mass_slip`).
     """
     from geometry.robots import mesh_size_m, units_warning
 
@@ -425,12 +569,12 @@ def robot_from(kw: dict, *, theta_w_deg=None):
             com_model=kw["com_model"] or "auto",
             joints=kw["joints"],
         )
-        text = units_warning(mesh_size_m(robot), units, units_as="--units")
-        if text is not None:
-            click.echo(f"landscape: warning: {text}", err=True)
+        warn(units_warning(mesh_size_m(robot), units, units_as="--units"))
+        warn(mass_slip(kw["mass"], "--mass"))
     check_driven(robot)
     if theta_w_deg is not None and robot.drives("theta_w"):
         check_theta_w(theta_w_deg, robot.theta_limits_deg(), robot.name, opening=False)
+    warn_radians(robot, theta_w=theta_w_deg, theta_l=theta_l_deg)
     return robot
 
 

@@ -3,14 +3,20 @@
 
 from __future__ import annotations
 
+import math
+from dataclasses import replace
 from pathlib import Path
 
 import click
 
+from geometry.bounds import Bounds
 from landscape.cli.options import (
+    angle_option,
+    engine_option,
     joints_option,
     model_set_option,
     no_progress_option,
+    ranged_option,
     robot_option,
     sweep_errors,
     validation_cv_option,
@@ -18,6 +24,7 @@ from landscape.cli.options import (
     validation_seed_option,
     workers_option,
 )
+from sim.protocol import DT_S_BOUNDS, PHASE_BOUNDS, TRIALS_BOUNDS
 
 DATA_OPT = click.option(
     "--data",
@@ -30,6 +37,12 @@ DATA_OPT = click.option(
 SIM_ROBOT = robot_option(
     extra_help="The simulated robot (the real robot's CAD is ../shared/ref/lab_robot/lab_robot.urdf)."
 )
+IMU_MOUNTING_DEG_BOUNDS = Bounds(
+    -180.0, 180.0, unit="deg", meaning="a pitch of the body frame below the IMU's"
+)
+COUNT_BOUNDS = Bounds(1, math.inf, integer=True, meaning="a count")
+PHASE_OR_PROTOCOL_BOUNDS = replace(PHASE_BOUNDS, words=("protocol",))
+"""A first-attempt phase in [0, 1), or 'protocol': each cell at the phase the lab's protocol gives it."""
 
 
 @click.group("physical")
@@ -187,18 +200,19 @@ def _report_validation(out: Path, validation, tables: dict, doc_name: str, doc: 
 @SIM_ROBOT
 @joints_option
 @model_set_option
-@click.option(
+@engine_option
+@ranged_option(
     "--trials",
-    type=click.IntRange(min=1),
+    bounds=TRIALS_BOUNDS,
     default=10,
     show_default=True,
-    help="Simulated trials per cell, each with a random first-attempt phase (or all at --phase).",
+    help="Simulated trials per cell, {range}, each with a random first-attempt phase (or all at --phase).",
 )
-@click.option(
+@ranged_option(
     "--phase",
-    type=str,
+    bounds=PHASE_OR_PROTOCOL_BOUNDS,
     default=None,
-    help="Every trial's first attempt at this phase phi_1 in [0, 1), or 'protocol': each cell at the phase the "
+    help="Every trial's first attempt at this phase phi_1, {range}: with 'protocol' each cell at the phase the "
     "lab's protocol gives it (the leg command's lead before the first opening, servo log, minus the measured "
     "leg's lag to the midline at its amplitude, vib_pulse_v2.mat; landscape physical kinematics) [default: a "
     "random phase per trial].",
@@ -212,22 +226,27 @@ def _report_validation(out: Path, validation, tables: dict, doc_name: str, doc: 
     help="Only these cells, WING:LEG in degrees of the wing command, e.g. 60:15,75:0 [default: all 12 recorded].",
 )
 @validation_duration_option
-@click.option(
-    "--dt", type=float, default=None, help="Physics time step, s [default: the robot's converged step]."
-)
-@click.option(
-    "--robot-attempts",
-    type=click.IntRange(min=1),
+@ranged_option(
+    "--dt",
+    bounds=DT_S_BOUNDS,
     default=None,
-    help="Count a robot trial as righted only within its first N wing openings, as the lab's per-attempt table "
+    help="Physics time step, s, {range} [default: the robot's converged step].",
+)
+@ranged_option(
+    "--robot-attempts",
+    bounds=COUNT_BOUNDS,
+    default=None,
+    help="Count a robot trial as righted only within its first N wing openings, {range}, as the lab's "
+    "per-attempt table "
     "counts its 10 s trials (5); the robot's recordings run up to 10 openings [default: every recorded opening].",
 )
-@click.option(
+@ranged_option(
     "--imu-mounting",
-    type=float,
+    bounds=IMU_MOUNTING_DEG_BOUNDS,
     default=0.0,
     show_default=True,
-    help="Judge the robot's uprightness (success, time to right) in a body frame pitched this many degrees below "
+    help="Judge the robot's uprightness (success, time to right) in a body frame pitched this many degrees, {range}, "
+    "below "
     "its IMU's: at 90 deg the robot stands near 90 deg of pitch, and its IMU's frame counts it upright once the "
     "IMU's pitch passes 90 deg (landscape physical kinematics measures it from the robot's two rests).",
 )
@@ -246,6 +265,7 @@ def validate_cmd(
     robot,
     joints,
     model_set,
+    engine,
     trials,
     phase,
     cv,
@@ -265,11 +285,13 @@ def validate_cmd(
 
     from landscape.analysis.physical.validation import validate
     from landscape.cli.options import robot_urdf, robot_urdf_arg, writable_dir
+    from sim.engine import require_engine
     from sim.model_set import load_model_set
 
+    require_engine(engine)
     writable_dir(out, "--out")
     phase = _phase_arg(phase, data)
-    ms = load_model_set(model_set)
+    ms = load_model_set(model_set).with_engine(engine)
     Path(out).mkdir(parents=True, exist_ok=True)
     db = Path(out) / f"trials_{ms.name}_{ms.model_set_hash}.sqlite"
     with sweep_errors():
@@ -290,6 +312,7 @@ def validate_cmd(
             phase=phase,
             robot_attempts=robot_attempts,
             imu_mount_deg=imu_mounting,
+            engine=engine,
         )
     click.echo(
         f"{summary.total} simulated trials: {summary.skipped} already in {db}, ran {summary.ran} in "
@@ -302,6 +325,7 @@ def validate_cmd(
         "cv": cv,
         "seed": seed,
         "store": str(db),
+        "engine": engine,
     }
     _report_validation(Path(out), v, {"validation.csv": list(v.cells)}, "validation.json", doc)
 
@@ -316,12 +340,12 @@ def _phase_doc(phase) -> dict:
     }
 
 
-def _phase_arg(text: str | None, data):
+def _phase_arg(phase, data):
     """``--phase``: None, a number in [0, 1), or ``protocol`` (each cell's phase under the lab's protocol,
     :func:`landscape.analysis.physical.response.protocol_phases`, printed as it is used)."""
-    if text is None:
-        return None
-    if text.strip().lower() == "protocol":
+    if phase is None or not isinstance(phase, str):
+        return phase
+    if phase == "protocol":
         from landscape.analysis.physical.response import protocol_phases
 
         phases = protocol_phases(data)
@@ -330,12 +354,7 @@ def _phase_arg(text: str | None, data):
             "first-attempt phases by the protocol: " + ", ".join(f"leg {leg:g}° {p:.3f}" for leg, p in shown)
         )
         return phases
-    try:
-        return float(text)
-    except ValueError:
-        raise click.BadParameter(
-            f"give a phase in [0, 1) or 'protocol'; got {text!r}", param_hint="--phase"
-        ) from None
+    raise AssertionError(f"--phase {phase!r}: RangedParam returns a number or 'protocol'")
 
 
 @physical.command("calibrate")
@@ -356,25 +375,26 @@ def _phase_arg(text: str | None, data):
     "with slashes is a list, e.g. actuation.wing_extra_deg=15/12/3,15/15/3 (one per wing command); repeat for "
     "more keys: every combination is a candidate.",
 )
-@click.option(
+@ranged_option(
     "--trials",
-    type=click.IntRange(min=1),
+    bounds=TRIALS_BOUNDS,
     default=6,
     show_default=True,
-    help="Simulated trials per fit cell and candidate.",
+    help="Simulated trials per fit cell and candidate, {range}.",
 )
-@click.option(
+@ranged_option(
     "--validate-trials",
-    type=click.IntRange(min=1),
+    bounds=TRIALS_BOUNDS,
     default=10,
     show_default=True,
-    help="Simulated trials per cell when the best candidate is validated on every cell.",
+    help="Simulated trials per cell when the best candidate is validated on every cell, {range}.",
 )
-@click.option(
+@angle_option(
     "--fit-legs",
+    many=True,
     default="0,30",
     show_default=True,
-    help="Leg amplitudes (degrees) of the fit cells; the others (15, 45) are held out.",
+    help="Leg amplitudes (degrees, each {range}) of the fit cells; the others (15, 45) are held out.",
 )
 @click.option(
     "--openings/--outcomes-only",
@@ -383,11 +403,11 @@ def _phase_arg(text: str | None, data):
     help="Also score how each candidate's first opening moves against the robot's (the hold's wobble, the tilt "
     "at closing, the roll past 45°; one opening per fit cell at --opening-phase), not only its outcomes.",
 )
-@click.option(
+@ranged_option(
     "--opening-phase",
-    type=click.FloatRange(0.0, 1.0, max_open=True),
+    bounds=PHASE_BOUNDS,
     default=None,
-    help="Leg phase of the scored openings [default: the protocol's, 0.17].",
+    help="Leg phase of the scored openings, {range} [default: the protocol's, 0.17].",
 )
 @click.option(
     "--side/--no-side",
@@ -403,13 +423,13 @@ def _phase_arg(text: str | None, data):
     help="Also score the time to right: the robot's median in each fit cell where both right under the "
     "candidate's (a spread of a factor of about 1.4).",
 )
-@click.option(
+@ranged_option(
     "--phase",
-    type=str,
+    bounds=PHASE_OR_PROTOCOL_BOUNDS,
     default=None,
-    help="Every simulated trial's first attempt (candidates' and the best one's validation) at this phase phi_1 in "
-    "[0, 1), or 'protocol': each cell at the phase the lab's protocol gives it (as validate --phase protocol) "
-    "[default: a random phase per trial].",
+    help="Every simulated trial's first attempt (candidates' and the best one's validation) at this phase phi_1, "
+    "{range}: with 'protocol' each cell at the phase the lab's protocol gives it (as validate --phase "
+    "protocol) [default: a random phase per trial].",
 )
 @validation_cv_option
 @validation_seed_option
@@ -437,7 +457,6 @@ def calibrate_cmd(
     from geometry.errors import UsageError
     from landscape.analysis.physical.calibration import calibrate, format_value, parse_vary
     from landscape.cli.options import robot_urdf_arg, writable_dir
-    from landscape.params import parse_values
     from landscape.viz.files import json_text
 
     if opening_phase is not None and not openings:
@@ -469,7 +488,7 @@ def calibrate_cmd(
             validate_trials=validate_trials,
             cv=cv,
             seed=seed,
-            fit_legs_deg=parse_values(fit_legs, "fit-legs"),
+            fit_legs_deg=fit_legs,
             duration_s=duration,
             workers=workers,
             progress=not no_progress,

@@ -10,23 +10,21 @@ import click
 
 from landscape.barriers import EXITS
 from landscape.cli.options import (
-    THETA_W_LANDSCAPE_HELP,
     UsageError,
     check_theta_w,
-    finite,
     grid_step,
     memory_budget_bytes,
     method_option,
+    pose_options,
     robot_from,
     robot_options,
+    warn_radians,
     writable_dir,
 )
 
 
 @click.command()
-@click.option("--theta-w", type=float, default=0.0, show_default=True, help=THETA_W_LANDSCAPE_HELP)
-@click.option("--theta-l", type=float, default=0.0, show_default=True, help="Leg angle, degrees.")
-@click.option("--step", type=float, default=1.0, show_default=True, help="Grid step, degrees; divides 360.")
+@pose_options
 @method_option
 @click.option(
     "--exit",
@@ -71,11 +69,10 @@ def render(ctx, theta_w, theta_l, step, method, exit_kind, traces, physical_dir,
     from landscape.computation import compute as run
     from landscape.viz.scene import render_computation
 
-    for name, v in (("theta-w", theta_w), ("theta-l", theta_l), ("step", step)):
-        finite(v, name)
     grid_step(step)
     writable_dir(out, "--out")
     robot = robot_from(kw)
+    warn_radians(robot, theta_w=theta_w, theta_l=theta_l)
     if physical_dir is not None:
         if traces:
             raise UsageError(

@@ -8,9 +8,12 @@ import os
 
 import click
 
+from geometry.bounds import Bounds
 from geometry.errors import UsageError
+from landscape.cli.options import WORKERS_BOUNDS, ranged_option
 
 TOKEN_ENV = "LANDSCAPE_TOKEN"
+PORT_BOUNDS = Bounds(0, 65535, integer=True, meaning="a TCP port (0: any free one)")
 
 
 def is_local(host: str) -> bool:
@@ -36,7 +39,7 @@ def is_local(host: str) -> bool:
     show_default=True,
     help="Address to bind; anything but loopback needs --token.",
 )
-@click.option("--port", type=click.IntRange(0, 65535), default=8000, show_default=True, help="TCP port.")
+@ranged_option("--port", bounds=PORT_BOUNDS, default=8000, show_default=True, help="TCP port, {range}.")
 @click.option(
     "--data",
     "data_dir",
@@ -45,11 +48,11 @@ def is_local(host: str) -> bool:
     show_default=True,
     help="Directory for uploads, the cache and sweep jobs (kept across restarts).",
 )
-@click.option(
+@ranged_option(
     "--workers",
-    type=click.IntRange(min=1),
+    bounds=WORKERS_BOUNDS,
     default=None,
-    help="Local worker processes of sweeps (default: all cores).",
+    help="Local worker processes of sweeps, {range} [default: all cores].",
 )
 @click.option(
     "--scheduler",

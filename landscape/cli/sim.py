@@ -1,5 +1,5 @@
-"""``landscape simulate``, ``sweep`` and ``export``: one pybullet trial, a resumable sweep into SQLite, and the
-stored trials as CSV. pybullet loads only when a command runs."""
+"""``landscape simulate``, ``sweep`` and ``export``: one trial, a resumable sweep into SQLite, and the stored trials
+as CSV, in pybullet or MuJoCo (``--engine``). The engine loads only when a command runs."""
 
 from __future__ import annotations
 
@@ -10,77 +10,88 @@ from pathlib import Path
 import click
 
 from landscape.cli.options import (
+    CV_HELP,
     THETA_W_HELP,
     UsageError,
+    angle_option,
     check_theta_w,
+    engine_option,
     joints_option,
     leg_period_option,
     model_set_option,
     no_progress_option,
-    parse_values,
+    ranged_option,
     robot_option,
     robot_urdf_arg,
     sweep_errors,
+    warn,
     wing_period_option,
     workers_option,
     writable_file,
 )
 from sim.protocol import (
+    ATTEMPTS_BOUNDS,
+    CV_BOUNDS,
     DEFAULT_DT_S,
     DEFAULT_DURATION_S,
-    MAX_DT_S,
-    MAX_DURATION_S,
+    DT_S_BOUNDS,
+    DURATION_S_BOUNDS,
+    HEADING_DEG_BOUNDS,
     MAX_TRIALS,
-    MIN_DT_S,
     OTHER_ROBOT_DT_S,
     PAPER_LEG_PERIOD_S,
     PAPER_TRIALS,
     PAPER_WING_PERIOD_S,
+    PERIOD_S_BOUNDS,
+    PHASE_BOUNDS,
+    SEED_BOUNDS,
+    TRIALS_BOUNDS,
 )
 
-DURATION_OPT = click.option(
+DURATION_OPT = ranged_option(
     "--duration",
-    type=float,
+    bounds=DURATION_S_BOUNDS,
     default=DEFAULT_DURATION_S,
     show_default=True,
-    help=f"Trial length, s (at most {MAX_DURATION_S:g}).",
+    help="Trial length, s, {range}.",
 )
-DT_OPT = click.option(
+DT_OPT = ranged_option(
     "--dt",
-    type=float,
+    bounds=DT_S_BOUNDS,
     default=None,
-    help=f"Physics time step, s, in [{MIN_DT_S:g}, {MAX_DT_S:g}] [default: {DEFAULT_DT_S:g} for the "
+    help=f"Physics time step, s, {{range}} [default: {DEFAULT_DT_S:g} for the "
     f"built-in robot, {OTHER_ROBOT_DT_S:g} for others: the largest steps that pass the "
     "convergence benchmark; a larger one gets a warning].",
 )
 
 
-def _warn_coarse_dt(dt: float | None, robot: str | None) -> None:
+def _warn_coarse_dt(dt: float | None, robot: str | None, engine: str = "pybullet") -> None:
     """A step coarser than the robot's converged default is allowed, with a warning that names the default."""
     if dt is None:
         return
     from sim.trial import default_dt_s
 
-    converged = default_dt_s(robot)
+    converged = default_dt_s(robot, engine)
     if dt > converged * (1 + 1e-9):
-        click.echo(
-            f"landscape: warning: --dt {dt:g} s is coarser than {converged:g} s, the largest step that passes "
-            "the convergence benchmark for this robot (benchmarks/sim_convergence.py); outcomes may differ",
-            err=True,
+        warn(
+            f"--dt {dt:g} s is coarser than {converged:g} s, the largest step that passes "
+            "the convergence benchmark for this robot (benchmarks/sim_convergence.py); outcomes may differ"
         )
 
 
-def _check_wing(theta_w_deg, robot: str | None, joints: str | None) -> None:
+def _check_wing(theta_w_deg, robot: str | None, joints: str | None, theta_l_deg=None) -> None:
     """Before any trial: the robot drives both angles (:func:`sim.model.check_trial_joints` says what a trial
-    needs), and the wing angles lie in its wing opening range, from closed (0) to the joints' limit."""
+    needs), and the wing angles lie in its wing opening range, from closed (0) to the joints' limit; angles that
+    look like radians get a warning (:func:`landscape.cli.options.warn_radians`)."""
     from pathlib import Path
 
-    from landscape.cli.options import load_robot
+    from landscape.cli.options import load_robot, warn_radians
     from sim.model import check_trial_joints
 
     r = load_robot(robot, None, joints=joints)
     check_trial_joints(r, Path(r.source).name if r.source else r.name)
     check_theta_w(theta_w_deg, r.theta_limits_deg(), r.name, opening=True)
+    warn_radians(r, theta_w=theta_w_deg, theta_l=theta_l_deg)
 
 
 SCHEDULER_RE = re.compile(r"(tcp|tls|inproc|ucx)://[^\s:/]+(:\d{1,5})?")
@@ -104,6 +115,7 @@ def _human(r, robot: str) -> str:
     lines = [
         f"robot        {robot}",
         f"model set    {r.model_set} ({r.model_set_hash})",
+        f"engine       {r.engine}",
         f"inputs       theta_w {r.theta_w_deg:g}°  theta_l {r.theta_l_deg:g}°  phase {r.phase:g}  Cv {r.cv:g}  "
         f"seed {r.seed}  duration {r.duration_s:g} s  dt {r.dt_s:g} s",
     ]
@@ -120,21 +132,25 @@ def _human(r, robot: str) -> str:
 
 
 @click.command("simulate")
-@click.option("--theta-w", type=float, required=True, help=THETA_W_HELP)
-@click.option("--theta-l", type=float, required=True, help="Leg oscillation amplitude, degrees.")
-@click.option(
+@angle_option("--theta-w", required=True, help=THETA_W_HELP)
+@angle_option(
+    "--theta-l",
+    required=True,
+    help="Leg oscillation amplitude, degrees, {range} and within the leg joint's limits.",
+)
+@ranged_option(
     "--phase",
-    type=float,
+    bounds=PHASE_BOUNDS,
     default=0.0,
     show_default=True,
-    help="First attempt's phase phi_1 = dt_1 / Tl, in [0, 1).",
+    help="First attempt's phase phi_1 = dt_1 / Tl, {range}.",
 )
-@click.option("--cv", type=float, default=0.0, show_default=True, help="Noise Cv = sigma / Tl (>= 0).")
-@click.option(
+@ranged_option("--cv", bounds=CV_BOUNDS, default=0.0, show_default=True, help=CV_HELP + ".")
+@ranged_option(
     "--seed",
-    type=click.IntRange(min=0),
+    bounds=SEED_BOUNDS,
     default=None,
-    help="Random seed of the noise [default: a fresh seed, reported].",
+    help="Random seed of the noise, {range} [default: a fresh seed, reported].",
 )
 @DURATION_OPT
 @DT_OPT
@@ -158,22 +174,23 @@ def _human(r, robot: str) -> str:
 @joints_option
 @wing_period_option
 @leg_period_option
-@click.option(
+@ranged_option(
     "--attempts",
-    type=click.IntRange(min=0),
+    bounds=ATTEMPTS_BOUNDS,
     default=0,
     show_default=True,
-    help="At most this many wing openings (1: a single attempt, ending one Tw after it); 0: no limit.",
+    help="At most this many wing openings, {range} (1: a single attempt, ending one Tw after it); 0: no limit.",
 )
-@click.option(
+@ranged_option(
     "--heading",
-    type=float,
+    bounds=HEADING_DEG_BOUNDS,
     default=0.0,
     show_default=True,
-    help="The robot's heading on the ground, degrees about the vertical. It matters only because pybullet's "
-    "friction is not isotropic (a quarter turn never changes a trial; see docs/sim.md).",
+    help="The robot's heading on the ground, degrees about the vertical, {range}. It matters only because "
+    "pybullet's friction is not isotropic (a quarter turn never changes a trial; see docs/sim.md).",
 )
 @model_set_option
+@engine_option
 def simulate(
     theta_w,
     theta_l,
@@ -192,21 +209,24 @@ def simulate(
     attempts,
     heading,
     model_set,
+    engine,
 ):
-    """Run one self-righting trial in pybullet and report its outcome."""
+    """Run one self-righting trial (pybullet or MuJoCo) and report its outcome."""
     from geometry import JointMap
     from landscape.viz.files import json_text
+    from sim.engine import require_engine
     from sim.model import default_robot_urdf
     from sim.model_set import load_model_set
     from sim.trial import run_trial
     from sim.world import SimulationDiverged
 
+    require_engine(engine)
     robot_path = robot_urdf_arg(robot) or str(default_robot_urdf())
-    _check_wing(theta_w, robot_path, joints)
-    _warn_coarse_dt(dt, robot_path)
+    _check_wing(theta_w, robot_path, joints, theta_l)
+    _warn_coarse_dt(dt, robot_path, engine)
     if trace_path is not None:
         writable_file(trace_path, "--trace", inputs=(robot_path,))
-    ms = load_model_set(model_set)
+    ms = load_model_set(model_set).with_engine(engine)
     if video_path is not None:
         from landscape.viz.video import check_video_path
 
@@ -271,56 +291,80 @@ def simulate(
 
 
 @click.command("sweep")
-@click.option(
+@angle_option(
     "--theta-w",
+    many=True,
     default="70,72,74,76",
     show_default=True,
-    help="Wing opening angles, degrees, from 0 (closed) to the wing joints' limit: list or START:STOP:STEP.",
+    help="Wing opening angles, degrees, each {range} and from 0 (closed) to the wing joints' limit: list or "
+    "START:STOP:STEP.",
 )
-@click.option("--theta-l", default="20,30,40,50", show_default=True, help="Leg amplitudes, degrees.")
-@click.option(
-    "--cv", default="0,0.05,0.1,0.15,0.2,0.25", show_default=True, help="Noise levels Cv = sigma / Tl."
+@angle_option(
+    "--theta-l",
+    many=True,
+    default="20,30,40,50",
+    show_default=True,
+    help="Leg amplitudes, degrees, each {range} and within the leg joint's limits: list or START:STOP:STEP.",
 )
-@click.option("--phase", default="0.7", show_default=True, help="First-attempt phases phi_1 in [0, 1).")
-@click.option(
+@ranged_option(
+    "--cv",
+    bounds=CV_BOUNDS,
+    many=True,
+    default="0,0.05,0.1,0.15,0.2,0.25",
+    show_default=True,
+    help="Noise levels Cv = sigma / Tl, each a fraction {range} (0%:25%:5%): list or START:STOP:STEP.",
+)
+@ranged_option(
+    "--phase",
+    bounds=PHASE_BOUNDS,
+    many=True,
+    default="0.7",
+    show_default=True,
+    help="First-attempt phases phi_1, each {range}: list or START:STOP:STEP.",
+)
+@ranged_option(
     "--trials",
-    type=click.IntRange(1, MAX_TRIALS),
+    bounds=TRIALS_BOUNDS,
     default=PAPER_TRIALS,
     show_default=True,
-    help=f"Trials per parameter combination (a sweep holds at most {MAX_TRIALS:,} trials).",
+    help=f"Trials per parameter combination, {{range}} (a whole sweep holds at most {MAX_TRIALS:,} trials).",
 )
-@click.option(
+@ranged_option(
     "--wing-period",
+    bounds=PERIOD_S_BOUNDS,
+    many=True,
     default=f"{PAPER_WING_PERIOD_S:g}",
     show_default=True,
-    help="Tw values, s (time between wing openings).",
+    help="Tw values, s (time between wing openings), each {range}.",
 )
-@click.option(
+@ranged_option(
     "--leg-period",
+    bounds=PERIOD_S_BOUNDS,
+    many=True,
     default=f"{PAPER_LEG_PERIOD_S:g}",
     show_default=True,
-    help="Tl values, s (leg oscillation period).",
+    help="Tl values, s (leg oscillation period), each {range}.",
 )
-@click.option(
+@ranged_option(
     "--attempts",
-    type=click.IntRange(min=0),
+    bounds=ATTEMPTS_BOUNDS,
     default=0,
     show_default=True,
-    help="At most this many wing openings per trial (1: single-attempt trials for the phase map); 0: no "
-    "limit.",
+    help="At most this many wing openings per trial, {range} (1: single-attempt trials for the phase map); 0: "
+    "no limit.",
 )
 @click.option(
     "--db", type=click.Path(dir_okay=False, path_type=Path), required=True, help="SQLite results file."
 )
 @DURATION_OPT
 @DT_OPT
-@click.option(
+@ranged_option(
     "--seed",
     "base_seed",
-    type=click.IntRange(min=0),
+    bounds=SEED_BOUNDS,
     default=0,
     show_default=True,
-    help="Base seed mixed into every trial's seed.",
+    help="Base seed mixed into every trial's seed, {range}.",
 )
 @workers_option
 @click.option(
@@ -334,6 +378,7 @@ def simulate(
 @no_progress_option
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object.")
 @model_set_option
+@engine_option
 def sweep(
     theta_w,
     theta_l,
@@ -354,6 +399,7 @@ def sweep(
     no_progress,
     as_json,
     model_set,
+    engine,
 ):
     """Run (or resume) a sweep of self-righting trials into an SQLite database."""
     from dataclasses import asdict
@@ -368,16 +414,13 @@ def sweep(
             f"--scheduler {scheduler!r} is not a scheduler address; give tcp://HOST:PORT "
             "(as printed by `dask scheduler`)"
         )
-    tw, tl, cvs, phs = (
-        parse_values(theta_w, "theta-w"),
-        parse_values(theta_l, "theta-l"),
-        parse_values(cv, "cv"),
-        parse_values(phase, "phase"),
-    )
-    wps, lps = parse_values(wing_period, "wing-period"), parse_values(leg_period, "leg-period")
+    tw, tl, cvs, phs, wps, lps = theta_w, theta_l, cv, phase, wing_period, leg_period
     robot = robot_urdf_arg(robot)
-    _check_wing(tw, robot, joints)
-    _warn_coarse_dt(dt, robot)
+    from sim.engine import require_engine
+
+    require_engine(engine)
+    _check_wing(tw, robot, joints, tl)
+    _warn_coarse_dt(dt, robot, engine)
     specs = sweep_specs(
         tw,
         tl,
@@ -393,6 +436,7 @@ def sweep(
         attempts=attempts,
         joint_map=joints,
         model_set=model_set,
+        engine=engine,
     )
     with sweep_errors():
         summary = run_sweep(specs, db=db, workers=workers, scheduler=scheduler, progress=not no_progress)

@@ -33,7 +33,9 @@ from starlette.background import BackgroundTask
 from starlette.middleware.trustedhost import TrustedHostMiddleware
 from starlette.staticfiles import StaticFiles
 
+from geometry.bounds import JOINT_ANGLE_DEG_BOUNDS, MASS_KG_BOUNDS, ORIENTATION_DEG_BOUNDS, mass_slip
 from geometry.errors import UsageError
+from landscape.grid import DEFAULT_STEP_DEG, STEP_DEG_BOUNDS
 
 from .auth import (
     LINK_COOKIE,
@@ -46,7 +48,8 @@ from .auth import (
 )
 from .config import ServiceConfig
 from .errors import NotFoundError, TimeLimitError, TooLargeError, UploadError, status_of
-from .jobs import MapJobs, SweepJobs
+from .inputs import OUT_OF_RANGE, angle_warnings, ranged
+from .jobs import SWEEP_BOUNDS, MapJobs, SweepJobs
 from .landscapes import Landscapes, ResultCache
 from .poses import PoseCache, check_pose_request
 from .robots import RobotRegistry
@@ -65,6 +68,53 @@ MODEL_HELP = (
     "set every wing joint at theta_w [default: every wing joint at theta_w]"
 )
 SWEEP_EXAMPLE = {"theta_w": "74", "theta_l": "30", "cv": "0,0.1", "trials": 2, "duration": 1.0, "dt": 0.001}
+
+SWEEP_DESCRIPTION = (
+    "Queue a sweep (the options of `landscape sweep`, same names and defaults); answers the job with its id and "
+    "`warnings` (angles that look like radians). Each number is given as a JSON number or as text; the lists "
+    "also as `70,72` or `START:STOP:STEP`. Ranges: "
+    + "; ".join(f"`{k}` {'each ' if many else ''}{b.text}" for k, (b, many) in SWEEP_BOUNDS.items())
+    + " (`dt` null: the robot's default). `robot`: a robot id; `model`: a shipped model set's name."
+)
+
+# The numeric parameters, each read through its stated range (landscape.service.inputs.ranged).
+ThetaW = ranged(
+    JOINT_ANGLE_DEG_BOUNDS, "theta_w", "wing angle, degrees, {range} and within the wing joints' limits"
+)
+ThetaL = ranged(
+    JOINT_ANGLE_DEG_BOUNDS, "theta_l", "leg angle, degrees, {range} and within the leg joint's limits"
+)
+PoseThetaW = ranged(
+    JOINT_ANGLE_DEG_BOUNDS, "theta_w", "wing angle, degrees, {range} (ignored by a rigid robot)"
+)
+PoseThetaL = ranged(
+    JOINT_ANGLE_DEG_BOUNDS, "theta_l", "leg angle, degrees, {range} (ignored by a rigid robot)"
+)
+Step = ranged(
+    STEP_DEG_BOUNDS, "step", f"grid step, degrees, {{range}}; divides 360 [default: {DEFAULT_STEP_DEG:g}]"
+)
+Pitch = ranged(ORIENTATION_DEG_BOUNDS, "pitch", "body pitch, degrees, {range}")
+Roll = ranged(ORIENTATION_DEG_BOUNDS, "roll", "body roll, degrees, {range}")
+ThetaWList = ranged(
+    JOINT_ANGLE_DEG_BOUNDS,
+    "theta_w",
+    "wing angles: list 70,72 or range START:STOP:STEP, degrees, each {range} and within the wing joints' limits",
+    many=True,
+)
+ThetaLList = ranged(
+    JOINT_ANGLE_DEG_BOUNDS,
+    "theta_l",
+    "leg angles: list or range, degrees, each {range} and within the leg joint's limits",
+    many=True,
+)
+MassForm = ranged(
+    MASS_KG_BOUNDS,
+    "mass",
+    "mass of a single mesh, kg, {range} (above 1000 kg a warning asks whether it was meant in grams) "
+    "[default: 1, said as a default]",
+    kind=float | None,
+    where=Form,
+)
 
 
 def _plotly_js() -> Path:
@@ -201,6 +251,8 @@ def create_app(config: ServiceConfig) -> FastAPI:
     async def _invalid(request: Request, exc: RequestValidationError):
         errs = exc.errors()
         e = errs[0] if errs else {"loc": (), "msg": "invalid request"}
+        if e.get("type") == OUT_OF_RANGE:  # the command line's words, naming the parameter
+            return JSONResponse({"detail": clean(e["msg"])}, status_code=422)
         where = ".".join(str(x) for x in e.get("loc", ()) if x not in ("query", "body", "path"))
         got = f" (got {e['input']!r})" if "input" in e and not isinstance(e["input"], dict | list) else ""
         return JSONResponse(
@@ -291,16 +343,12 @@ def create_app(config: ServiceConfig) -> FastAPI:
     async def upload(
         file: Annotated[UploadFile, File(description="a .zip of a URDF and its meshes, or one mesh file")],
         units: Annotated[str, Form(description="units of a single mesh: mm, cm or m")] = "m",
-        mass: Annotated[
-            float | None, Form(description="mass of a single mesh, kg [default: 1, said as a default]")
-        ] = None,
+        mass: MassForm = None,
         com: Annotated[str | None, Form(description="CoM of a single mesh X,Y,Z in its units")] = None,
     ):
         """Store a robot; answers its description (201 new, 200 already stored)."""
         if units not in ("mm", "cm", "m"):
             raise UploadError(f"units must be mm, cm or m; got {units!r}")
-        if mass is not None and not (mass == mass and abs(mass) != float("inf") and mass > 0):
-            raise UploadError(f"mass must be a positive finite number of kg; got {mass!r}")
         c = None
         if com:
             try:
@@ -312,6 +360,9 @@ def create_app(config: ServiceConfig) -> FastAPI:
         info, new = await asyncio.to_thread(
             registry.add_upload, file.filename or "", file.file, units=units, mass_kg=mass, com=c
         )
+        slip = mass_slip(mass, "mass")
+        if slip and slip not in info["warnings"]:
+            info = {**info, "warnings": [*info["warnings"], slip]}
         return JSONResponse(info, status_code=201 if new else 200)
 
     # ------------------------------------------------------------------ model sets
@@ -329,10 +380,10 @@ def create_app(config: ServiceConfig) -> FastAPI:
     @app.get("/api/landscape")
     async def landscape_(
         robot: str = Query("builtin", description="robot id (GET /api/robots) or 'builtin'"),
-        theta_w: float = Query(0.0, description="wing angle, degrees"),
-        theta_l: float = Query(0.0, description="leg angle, degrees"),
+        theta_w: ThetaW = 0.0,
+        theta_l: ThetaL = 0.0,
         method: str = Query("exact", description="barrier method: exact, grid or sphere"),
-        step: float = Query(1.0, description="grid step, degrees; divides 360"),
+        step: Step = DEFAULT_STEP_DEG,
         format: str = Query(
             "json", pattern="^(json|npz|csv)$", description="json (the summary), npz or csv (the energy grid)"
         ),
@@ -340,12 +391,15 @@ def create_app(config: ServiceConfig) -> FastAPI:
         model: str | None = Query(None, description=MODEL_HELP),
     ):
         """The object of ``landscape compute --json`` plus the barrier ``paths`` (and, with ``grid=1``, the grid);
-        with ``model`` also ``model_set`` and ``wing_joints_deg``, as ``landscape compute --model NAME --json``."""
+        with ``model`` also ``model_set`` and ``wing_joints_deg``, as ``landscape compute --model NAME --json``;
+        ``warnings`` when an angle looks like radians (the command line's warning lines)."""
         entry = await asyncio.to_thread(registry.get, robot)
         key = await asyncio.to_thread(landscapes.check, entry, theta_w, theta_l, method, step, model=model)
         if format == "json":
             a = await landscapes.answer(entry, key)
-            return Response(a.body(grid=grid), media_type="application/json")
+            return _with_warnings(
+                a.body(grid=grid), angle_warnings(entry.robot, theta_w=theta_w, theta_l=theta_l)
+            )
         a = landscapes.cache.get(key)
         if a is None or a.computation is None:
             a = await landscapes.answer(entry, key, need_computation=True)
@@ -368,19 +422,26 @@ def create_app(config: ServiceConfig) -> FastAPI:
     @app.get("/api/robot-pose")
     async def robot_pose(
         robot: str = Query("builtin", description="robot id (GET /api/robots) or 'builtin'"),
-        theta_w: float = Query(0.0, description="wing angle, degrees (ignored by a rigid robot)"),
-        theta_l: float = Query(0.0, description="leg angle, degrees (ignored by a rigid robot)"),
-        pitch: float = Query(0.0, description="body pitch, degrees, in [-360, 360]"),
-        roll: float = Query(0.0, description="body roll, degrees, in [-360, 360]"),
+        theta_w: PoseThetaW = 0.0,
+        theta_l: PoseThetaL = 0.0,
+        pitch: Pitch = 0.0,
+        roll: Roll = 0.0,
         model: str | None = Query(None, description=MODEL_HELP),
     ):
         """The robot's part meshes (convex hulls) posed at (theta_w, theta_l) and turned to (pitch, roll), resting
         on the ground in the world frame, m: ``parts`` of ``vertices_m`` and ``faces``, ``com_m``,
         ``com_height_m``, ``com_body_m``; with ``model`` the robot as that set models it (as in its landscape),
-        named by ``model_set``, ``model_set_hash`` and ``wing_joints_deg``."""
+        named by ``model_set``, ``model_set_hash`` and ``wing_joints_deg``; ``warnings`` when an angle looks like
+        radians."""
         entry = await asyncio.to_thread(registry.get, robot)
         key = await asyncio.to_thread(check_pose_request, entry, theta_w, theta_l, pitch, roll, model=model)
         body = await asyncio.to_thread(poses.body, entry, key)
+        return _with_warnings(body, angle_warnings(entry.robot, theta_w=theta_w, theta_l=theta_l))
+
+    def _with_warnings(body: bytes, warnings: list[str]) -> Response:
+        """A JSON answer, with ``warnings`` added when there are any."""
+        if warnings:
+            body = json.dumps({**json.loads(body), "warnings": warnings}).encode()
         return Response(body, media_type="application/json")
 
     # ------------------------------------------------------------------ barrier maps
@@ -401,23 +462,19 @@ def create_app(config: ServiceConfig) -> FastAPI:
     @app.get("/api/barrier-map")
     async def barrier_map_(
         robot: str = Query("builtin"),
-        theta_w: str = Query("70:76:2", description="list 70,72 or range START:STOP:STEP"),
-        theta_l: str = Query("20:50:10", description="list or range, degrees"),
-        step: float = Query(1.0),
+        theta_w: ThetaWList = "70:76:2",
+        theta_l: ThetaLList = "20:50:10",
+        step: Step = DEFAULT_STEP_DEG,
         method: str = Query("exact"),
         format: str = Query("json", pattern="^(json|csv)$"),
         model: str | None = Query(None, description=MODEL_HELP),
     ):
         """Barrier rows over theta_w x theta_l (``landscape barrier-map [--model NAME]``): at once if small, else 202
         and a job (whose ``model_set`` and ``wing_joints_deg`` name the set and its wing joints per theta_w)."""
-        from landscape.params import parse_values
-
         from .model_sets import map_wing_joints_deg
 
         entry = await asyncio.to_thread(registry.get, robot)
-        ws, ls = parse_values(theta_w, "theta_w"), parse_values(theta_l, "theta_l")
-        if not (step == step and abs(step) != float("inf")):
-            raise UsageError(f"step must be a finite number of degrees; got {step!r}")
+        ws, ls = theta_w, theta_l  # lists, each value inside its range (ThetaWList, ThetaLList)
         est = maps.check(entry, ws, ls, step, method)
         joints = await asyncio.to_thread(map_wing_joints_deg, model, entry.robot, ws)
         job = maps.start(entry, ws, ls, step, method, model=model, wing_joints_deg=joints)
@@ -461,11 +518,8 @@ def create_app(config: ServiceConfig) -> FastAPI:
         return job.public()
 
     # ------------------------------------------------------------------ sweeps
-    @app.post("/api/sweeps", status_code=201)
+    @app.post("/api/sweeps", status_code=201, description=SWEEP_DESCRIPTION)
     async def create_sweep(body: Annotated[dict, Body(examples=[SWEEP_EXAMPLE])]):
-        """Queue a sweep (the options of ``landscape sweep``: theta_w, theta_l, cv, phase, trials, wing_period,
-        leg_period, attempts, duration, dt, seed, robot, model: a shipped model set); answers the job with its
-        id."""
         return await asyncio.to_thread(sweeps.create, body)
 
     @app.get("/api/sweeps")

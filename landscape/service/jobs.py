@@ -22,7 +22,9 @@ from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
 
+from geometry.bounds import JOINT_ANGLE_DEG_BOUNDS
 from geometry.errors import UsageError
+from sim import protocol
 
 from .errors import NotFoundError, TooCostlyError
 
@@ -242,6 +244,25 @@ SWEEP_DEFAULTS = {
 shipped model set's name."""
 
 
+SWEEP_BOUNDS = {
+    "theta_w": (JOINT_ANGLE_DEG_BOUNDS, True),
+    "theta_l": (JOINT_ANGLE_DEG_BOUNDS, True),
+    "cv": (protocol.CV_BOUNDS, True),
+    "phase": (protocol.PHASE_BOUNDS, True),
+    "trials": (protocol.TRIALS_BOUNDS, False),
+    "wing_period": (protocol.PERIOD_S_BOUNDS, True),
+    "leg_period": (protocol.PERIOD_S_BOUNDS, True),
+    "attempts": (protocol.ATTEMPTS_BOUNDS, False),
+    "duration": (protocol.DURATION_S_BOUNDS, False),
+    "dt": (protocol.DT_S_BOUNDS, False),
+    "seed": (protocol.SEED_BOUNDS, False),
+}
+"""The range of each numeric option of a sweep job and whether it takes a list: those of ``landscape sweep``
+(:mod:`sim.protocol`), in the same words. ``dt`` may be null (the robot's default)."""
+SWEEP_TEXT = {"robot": "a robot id", "model": "a shipped model set's name"}
+"""The options of a sweep job that are not numbers."""
+
+
 @dataclass
 class _Run:
     """Counters of the run in progress."""
@@ -308,35 +329,24 @@ class SweepJobs:
     # ------------------------------------------------------------------ requests
     def specs(self, request: dict):
         """The trials of a request (:func:`sim.sweep.sweep_specs`), after checking what sweep_specs does not."""
-        from landscape.params import parse_values
         from sim.sweep import sweep_specs
 
+        from .inputs import request_numbers
         from .model_sets import shipped_model_set
 
-        r = {**SWEEP_DEFAULTS, **request}  # a job stored before an option existed takes its default
+        # a job stored before an option existed takes its default
+        r = request_numbers({**SWEEP_DEFAULTS, **request}, SWEEP_BOUNDS)
         model = r["model"]
         shipped_model_set(str(model))  # a name, never a file: null or a number is refused too
-        lists = {
-            k: parse_values(str(r[k]), k.replace("_", "-"))
-            for k in ("theta_w", "theta_l", "cv", "phase", "wing_period", "leg_period")
-        }
+        lists = {k: r[k] for k in ("theta_w", "theta_l", "cv", "phase", "wing_period", "leg_period")}
         trials = r["trials"]
-        if not isinstance(trials, int) or trials < 1:
-            raise UsageError(f"trials must be a whole number >= 1; got {trials!r}")
         n = math.prod(len(v) for v in lists.values()) * trials
         if n > self.limits.max_sweep_trials:
             raise TooCostlyError(
                 f"this sweep has {n:,} trials; a job may have at most "
                 f"{self.limits.max_sweep_trials:,}: use fewer values or trials"
             )
-        dur = r["duration"]
-        if not (isinstance(dur, int | float) and math.isfinite(dur) and 0 < dur <= 3600):
-            raise UsageError(f"duration must be a number of seconds in (0, 3600]; got {dur!r}")
-        dt = r["dt"]
-        if dt is not None and not (isinstance(dt, int | float) and math.isfinite(dt) and 1e-6 <= dt <= 0.05):
-            raise UsageError(
-                f"dt must be a time step in [1e-6, 0.05] s (or null for the robot's default); got {dt!r}"
-            )
+        dur, dt = r["duration"], r["dt"]
         urdf = self.registry.urdf_path(r["robot"])
         return sweep_specs(
             lists["theta_w"],
@@ -347,10 +357,10 @@ class SweepJobs:
             duration_s=float(dur),
             dt_s=None if dt is None else float(dt),
             robot=None if urdf is None else str(urdf),
-            base_seed=int(r["seed"]),
+            base_seed=r["seed"],
             wing_period_s=lists["wing_period"],
             leg_period_s=lists["leg_period"],
-            attempts=int(r["attempts"]),
+            attempts=r["attempts"],
             model_set=model,
         )
 
@@ -364,6 +374,10 @@ class SweepJobs:
         req = {**SWEEP_DEFAULTS, **request}
         req["robot"] = self.registry.resolve_id(str(req["robot"]))
         specs = self.specs(req)
+        from .inputs import angle_warnings, request_numbers
+
+        angles = request_numbers({k: req[k] for k in ("theta_w", "theta_l")}, SWEEP_BOUNDS)
+        warnings = angle_warnings(self.registry.get(req["robot"]).robot, **angles)
         job_id = uuid.uuid4().hex[:12]
         d = self.root / job_id
         d.mkdir()
@@ -381,6 +395,7 @@ class SweepJobs:
             "created_utc": _now(),
             "started_utc": None,
             "finished_utc": None,
+            "warnings": warnings,
         }
         _write_json(d / "job.json", job)
         self._queue.put(job_id)
@@ -407,6 +422,7 @@ class SweepJobs:
             report_url=f"/api/sweeps/{job_id}/report",
             model_set=job["request"].get("model", SWEEP_DEFAULTS["model"]),
             model_set_label=job.get("model_set_label"),  # None for a job stored before labels were
+            warnings=job.get("warnings", []),  # angles that look like radians (the command line's warnings)
         )
         return job
 

@@ -16,10 +16,9 @@ from collections import OrderedDict
 
 import numpy as np
 
+from geometry.bounds import ORIENTATION_DEG_BOUNDS
 from geometry.errors import UsageError
 
-MAX_ABS_ORIENTATION_DEG = 360.0
-"""Largest |pitch| and |roll| accepted, degrees: every orientation is reached within one turn either way."""
 VERTEX_DECIMALS = 7
 """Vertices and CoM are answered rounded to 0.1 um (metres to 7 decimals)."""
 
@@ -44,7 +43,8 @@ def check_pose_request(
     Raises
     ------
     UsageError
-        If an angle is not finite, pitch or roll is outside [-360, 360] degrees, a joint angle is outside its
+        If an angle is not finite, pitch or roll is outside
+        :data:`geometry.bounds.ORIENTATION_DEG_BOUNDS` ([-360, 360] degrees), a joint angle is outside its
         joint's limits (:class:`geometry.errors.JointLimitError`), ``model`` is not a shipped set's name, or the
         set cannot pose this robot at theta_w (:func:`.model_sets.set_wing_joints_deg`).
     """
@@ -59,11 +59,7 @@ def check_pose_request(
         if not math.isfinite(v):
             raise UsageError(f"{name} must be a finite number of degrees; got {v!r}")
     for name, v in (("pitch", pitch_deg), ("roll", roll_deg)):
-        if abs(v) > MAX_ABS_ORIENTATION_DEG:
-            raise UsageError(
-                f"{name} = {v:g} deg is outside [-{MAX_ABS_ORIENTATION_DEG:g}, {MAX_ABS_ORIENTATION_DEG:g}]: "
-                "give the body orientation within one turn"
-            )
+        ORIENTATION_DEG_BOUNDS.check(v, name)
     robot = entry.robot
     if robot.has_joints:
         robot.joint_values_rad(theta_w_deg, theta_l_deg)

@@ -140,10 +140,16 @@ def mark_point(ax, at_deg, *, marker: str, colour: str, text: str, gid: str) -> 
     pt.set_gid(gid)
 
 
+PITCH_LABEL = "pitch (°)"
+ROLL_LABEL = "roll (°)"
+"""A pitch-roll map has pitch on x and roll on y, in every figure: the contour maps here and of the trajectories,
+the 3-D landscape's axes, the HTML landscape, the report, the service's page and the gallery."""
+
+
 def pitch_roll_axes(ax, pitch_deg, roll_deg) -> None:
-    """Label a pitch-roll map's axes in degrees, ticks every 90° inside the drawn range."""
-    ax.set_xlabel("pitch (°)")
-    ax.set_ylabel("roll (°)")
+    """Label a pitch-roll map's axes in degrees (pitch on x, roll on y), ticks every 90° inside the drawn range."""
+    ax.set_xlabel(PITCH_LABEL)
+    ax.set_ylabel(ROLL_LABEL)
     ticks = np.arange(-180, 181, 90)
     ax.set_xticks(ticks[(ticks >= np.min(pitch_deg)) & (ticks <= np.max(pitch_deg))])
     ax.set_yticks(ticks[(ticks >= np.min(roll_deg)) & (ticks <= np.max(roll_deg))])
@@ -476,8 +482,8 @@ def landscape_figure(
     fig.update_layout(
         title={"text": title or "Energy landscape"},
         scene={
-            "xaxis": {"title": {"text": "pitch (°)"}},
-            "yaxis": {"title": {"text": "roll (°)"}},
+            "xaxis": {"title": {"text": PITCH_LABEL}},
+            "yaxis": {"title": {"text": ROLL_LABEL}},
             "zaxis": {"title": {"text": "energy (mJ)"}},
             "aspectmode": "manual",
             "aspectratio": {"x": 1.0, "y": float(np.ptp(r) / np.ptp(p)), "z": 3 * RELIEF},

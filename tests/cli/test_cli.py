@@ -71,7 +71,7 @@ def test_compute_lab_robot(capsys, lab_robot):
         (["compute", "--theta-w", "nan", "--mesh", "{box}"], "finite"),
         (["compute", "--start-pitch", "inf", "--mesh", "{box}"], "finite"),
         (["compute", "--mesh", "{box}", "--com", "1,2"], "three finite numbers"),
-        (["compute", "--mesh", "{box}", "--mass", "-1"], "positive"),
+        (["compute", "--mesh", "{box}", "--mass", "-1"], "--mass must be > 0 kg"),
         (["compute", "--mesh", "{box}", "--robot", "builtin"], "not both"),
         (["barrier-map", "--theta-w", "", "--mesh", "{box}"], "empty"),
         (["compute", "--no-such-option"], "No such option"),

@@ -89,10 +89,10 @@ def test_simulate_human_summary(sim_robot):
 @pytest.mark.parametrize(
     "args, message",
     [
-        (["--theta-w", "80", "--theta-l", "30", "--phase", "1.2"], "phase must be in [0, 1)"),
+        (["--theta-w", "80", "--theta-l", "30", "--phase", "1.2"], "--phase 1.2 is outside [0, 1)"),
         (["--theta-w", "120", "--theta-l", "30"], "--theta-w 120 deg is outside [0, 95] deg"),
         (["--theta-w", "80", "--theta-l", "30", "--robot", "/nonexistent.urdf"], "not found"),
-        (["--theta-w", "80", "--theta-l", "30", "--dt", "0"], "dt must be in"),
+        (["--theta-w", "80", "--theta-l", "30", "--dt", "0"], "--dt 0 s is outside [1e-06, 0.01] s"),
         (["--theta-w", "80", "--theta-l", "30", "--heading", "nan"], "heading must be a finite number"),
     ],
 )
@@ -109,7 +109,7 @@ def test_simulate_bad_input_one_line_exit_2(sim_robot, args, message):
     [
         (["--theta-w", ""], "--theta-w is empty"),
         (["--theta-l", "a,b"], "is not a list of numbers"),
-        (["--cv", "-0.1"], "--cv values must be >= 0"),
+        (["--cv", "-0.1"], "--cv -0.1 is outside [0, 1]"),
         (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
     ],
 )

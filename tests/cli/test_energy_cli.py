@@ -53,7 +53,7 @@ def test_analyze_energy_writes_one_row_per_attempt_and_the_figure(capsys, db, tm
     ("argv", "message"),
     [
         (["--sample", "4"], "not within the 3 multi-attempt trials"),
-        (["--sample", "0"], "ask for 1 to 3"),
+        (["--sample", "0"], "--sample must be >= 1, a count of stored trials; got 0"),
     ],
 )
 def test_analyze_energy_refuses_a_sample_outside_the_store(capsys, db, tmp_path, argv, message):

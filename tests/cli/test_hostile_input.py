@@ -208,11 +208,11 @@ def _limited():
     [
         (
             ["simulate", "--theta-w", "74", "--theta-l", "30", "--duration", "1e308"],
-            "longer than MAX_DURATION_S",
+            "--duration 1e+308 s is outside (0, 600] s",
         ),
         (
             ["simulate", "--theta-w", "74", "--theta-l", "30", "--duration", "1e6"],
-            "longer than MAX_DURATION_S",
+            "--duration 1000000 s is outside (0, 600] s",
         ),
         (["simulate", "--theta-w", "74", "--theta-l", "30", "--dt", "1e-300"], "dt"),
         (["simulate", "--theta-w", "74", "--theta-l", "30", "--dt", "1e-9", "--duration", "0.1"], "dt"),

@@ -187,7 +187,7 @@ def test_slider_updates_the_barrier_without_console_errors(chromium, tmp_path):
             first = _open(cdp, port)
             assert cdp.eval("document.getElementById('theta-w').value") == "74"
             assert cdp.eval("document.querySelector('#contour .main-svg') !== null")
-            s74 = _call(port, "GET", "/api/landscape?theta_w=74&theta_l=0&method=exact&step=2")
+            s74 = _call(port, "GET", "/api/landscape?theta_w=74&theta_l=0&method=exact")
             start74 = _want_view(port, 74, s74["minimum"]["pitch_deg"], s74["minimum"]["roll_deg"])
             _wait_view(cdp, "robot-start", start74)
             cdp.eval(
@@ -195,7 +195,7 @@ def test_slider_updates_the_barrier_without_console_errors(chromium, tmp_path):
                 " s.dispatchEvent(new Event('input', {bubbles: true})); })()"
             )
             second = cdp.wait_for(RIGHTING_SHOWN.format(other_than=first))
-            want = _call(port, "GET", "/api/landscape?theta_w=60&theta_l=0&method=exact&step=2")
+            want = _call(port, "GET", "/api/landscape?theta_w=60&theta_l=0&method=exact")
             assert float(second) == pytest.approx(want["barrier"]["righting_j"] * 1e3, abs=5e-4)
             # the robot views follow the slider: the robot at theta_w 60 at its start and at its saddle
             m, r = want["minimum"], want["paths"]["righting"]
@@ -213,6 +213,66 @@ def test_slider_updates_the_barrier_without_console_errors(chromium, tmp_path):
             time.sleep(0.5)
             cdp.eval("1")  # collect the events logged meanwhile
             assert cdp.errors() == []
+    finally:
+        stop_server(server, signal.SIGTERM)
+
+
+CLI_ROW = re.compile(
+    r"^\s+(righting|pitch-wise|roll-wise|escape)\s+([-\d.]+) mJ\s+= CoM lift\s+([-\d.]+) mm\s+"
+    r"saddle \(\s*([-\d.]+),\s*([-\d.]+)\)\s+(\S+)$"
+)
+CLI_MINIMUM = re.compile(r"^minimum\s+pitch ([-\d.]+)°\s+roll ([-\d.]+)°\s+E ([-\d.]+) mJ\s+h ([-\d.]+) mm")
+PAGE_TABLE = """[...document.querySelectorAll('#barriers tbody tr')].map((tr) =>
+  [...tr.querySelectorAll('th, td')].map((c) => c.textContent))"""
+CONTOUR = """(() => { const d = document.getElementById('contour');
+  return [d.layout.xaxis.title.text, d.layout.yaxis.title.text, d.data[0].x.length, d.data[0].x[0], d.data[0].y[0],
+          d.data[0].z.length, d.data[2].x[0], d.data[2].y[0], d.data[3].x[0], d.data[3].y[0]]; })()"""
+
+
+def test_the_page_shows_what_the_command_line_prints(chromium, tmp_path, capsys):
+    """At its first pose, θw 74°, θl 0°, the page's table is `landscape compute --theta-w 74`'s, digit for digit
+    (energies and lifts to 0.001 mJ and mm, angles to 0.01°), on the same default grid (the page once read a
+    pitch-wise barrier of 42.607 mJ at (88, -180) on a 2° grid for the command line's 41.733 mJ at (89, -180)),
+    and its contour map has pitch on x and roll on y, as contour.png."""
+    from landscape.cli import main
+
+    assert main(["compute", "--theta-w", "74"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    want = {}
+    for line in lines:
+        m = CLI_ROW.match(line)
+        if m:
+            k, mj, mm, p, r, d = m.groups()
+            want[k.replace("-", "_")] = [mj, mm, f"({p}, {r}) {d}"]
+        m = CLI_MINIMUM.match(line)
+        if m:
+            p, r, e, h = m.groups()
+            want["minimum"] = [e, h, f"({p}, {r})"]
+    assert len(want) == 5 and want["pitch_wise"][0] == "41.733", want
+    port = _free_port()
+    server = start_server(tmp_path / "data", port, tmp_path / "server.log")
+    try:
+        with page(chromium) as cdp:
+            _open(cdp, port)
+            assert cdp.eval("document.getElementById('step').value") == "1"
+            rows = {r[0].replace("-", "_"): r for r in cdp.eval(PAGE_TABLE)}
+            for k, cells in want.items():
+                assert rows[k][1:] == cells, (k, rows[k])
+            # the robot views' captions say the table's height and lift
+            saddle = cdp.wait_for(
+                "document.getElementById('robot-saddle-caption').textContent.includes('lifted')"
+                " && document.getElementById('robot-saddle-caption').textContent"
+            )
+            assert saddle.endswith(f"lifted {want['righting'][1]} mm"), saddle
+            start = cdp.eval("document.getElementById('robot-start-caption').textContent")
+            assert start.endswith(f"CoM {want['minimum'][1]} mm above the ground"), start
+            s = _call(port, "GET", "/api/landscape?theta_w=74&theta_l=0")
+            m, r = s["minimum"], s["paths"]["righting"]
+            got = cdp.wait_for(CONTOUR)
+            assert got[:5] == ["pitch (°)", "roll (°)", 361, -180, -180]
+            assert got[5] == 361  # z rows: one per roll
+            assert got[6:8] == pytest.approx([m["pitch_deg"], m["roll_deg"]])  # the start minimum's mark
+            assert got[8:10] == pytest.approx([r["saddle_pitch_deg"], r["saddle_roll_deg"]])  # the saddle's
     finally:
         stop_server(server, signal.SIGTERM)
 
@@ -253,7 +313,7 @@ def test_the_model_set_selector_lists_the_sets_and_the_page_follows_it(chromium,
             )
             assert shown.startswith(f"model set: {offset['label']}; wing joints ")
             want = _call(
-                port, "GET", "/api/landscape?theta_w=74&theta_l=0&method=exact&step=2&model=physical-offset"
+                port, "GET", "/api/landscape?theta_w=74&theta_l=0&method=exact&model=physical-offset"
             )
             got = cdp.wait_for(RIGHTING_SHOWN.format(other_than=first))
             assert float(got) == pytest.approx(want["barrier"]["righting_j"] * 1e3, abs=5e-4)

@@ -58,11 +58,16 @@ def test_cancel_a_sweep(client):
 @pytest.mark.parametrize(
     "body, status, match",
     [
-        ({"trials": 0}, 422, "trials must be a whole number >= 1"),
+        ({"trials": 0}, 422, "trials 0 is outside [1, 1000000]: trials per setting"),
         ({"trials": "many"}, 422, "trials must be a whole number"),
-        ({"duration": float("nan")}, 422, "duration must be a number of seconds"),
-        ({"dt": -1}, 422, "dt must be a time step"),
-        ({"phase": "1.5"}, 422, "--phase values must be in [0, 1)"),
+        ({"duration": float("nan")}, 422, "duration must be a finite number; got nan"),
+        ({"dt": -1}, 422, "dt -1 s is outside [1e-06, 0.01] s: the physics time step"),
+        ({"phase": "1.5"}, 422, "phase 1.5 is outside [0, 1)"),
+        (
+            {"cv": "10"},
+            422,
+            "cv 10 is outside [0, 1]: Cv is sigma / Tl as a fraction; for 10 % give 0.1 or '10%'",
+        ),
         ({"theta_w": "120"}, 422, "outside"),
         ({"theta_w": "x"}, 422, "not a list of numbers"),
         ({"cv": "0:1:0.0001", "trials": 1000}, 422, "a job may have at most"),

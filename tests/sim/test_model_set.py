@@ -118,9 +118,12 @@ def test_a_sweep_stores_its_set_and_a_resumed_sweep_refuses_another(tmp_path):
         run_sweep(other, db=db, workers=1, progress=False)
 
 
-@pytest.mark.parametrize("late", [("model_set", "model_set_hash", "side"), ("side",)])
+@pytest.mark.parametrize(
+    "late", [("model_set", "model_set_hash", "side", "engine"), ("side", "engine"), ("engine",)]
+)
 def test_a_store_made_before_model_sets_reads_as_the_paper_set(tmp_path, late):
-    """A store made before model sets (or before the righting side was stored) gets the late columns."""
+    """A store made before model sets (or before the righting side or the engine was stored) gets the late
+    columns: its trials are the paper set's, in pybullet."""
     db = tmp_path / "old.sqlite"
     old_cols = [c for c in st.COLUMNS if c not in late]
     con = sqlite3.connect(db)
@@ -147,12 +150,13 @@ def test_a_store_made_before_model_sets_reads_as_the_paper_set(tmp_path, late):
     con.commit()
     con.close()
     (r,) = st.read_rows(db)  # read-only: nothing written
-    assert r["side"] is None and (r["model_set"] is None) == ("model_set" in late)
+    assert (r["side"] is None) == ("side" in late) and (r["model_set"] is None) == ("model_set" in late)
+    assert r["engine"] is None
     with TrialStore(db) as s:  # opened for a sweep: the columns are added, the trials are the paper set's
         (r,) = s.rows()
         s.check_model_set("paper", load_model_set("paper").model_set_hash)
     assert (r["model_set"], r["model_set_hash"]) == ("paper", load_model_set("paper").model_set_hash)
-    assert r["side"] is None
+    assert (r["side"] is None) == ("side" in late) and r["engine"] == "pybullet"
     names = [c[1] for c in sqlite3.connect(db).execute("PRAGMA table_info(trials)")]
     assert names == list(st.COLUMNS)  # the same layout as a new store's, in order
 

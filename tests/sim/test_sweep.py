@@ -1,3 +1,4 @@
+import importlib.util
 import os
 import signal
 import socket
@@ -253,6 +254,14 @@ def test_sweep_on_dask_cluster(tmp_path):
             local = run_spec(specs[-1])
             stored = next(r for r in rows if tuple(r[c] for c in KEY_COLUMNS) == specs[-1].key())
             assert _stable(stored) == _stable({**local, "success": bool(local["success"])})
+            if importlib.util.find_spec("mujoco") is not None:  # the engine travels with the spec
+                mj = sweep_specs((74, 80), (50,), (0.1,), trials=1, engine="mujoco", **FAST)
+                assert run_sweep(mj, db=tmp_path / "mj.sqlite", scheduler=addr, progress=False).ran == 2
+                with TrialStore(tmp_path / "mj.sqlite") as store:
+                    mj_rows = store.rows()
+                assert {(r["engine"], r["model_set_hash"], r["status"]) for r in mj_rows} == {
+                    ("mujoco", mj[0].model_set_hash, "ok")
+                }
         finally:
             _shutdown_cluster(distributed, addr, procs)
 

@@ -75,7 +75,7 @@ def upright_rest_deg(robot) -> tuple[float, float]:
     from landscape.minima import local_descent
 
     pose = robot.pose(0.0, 0.0) if robot.has_joints else robot.pose()
-    ls = energy_landscape(pose, step_deg=1.0)
+    ls = energy_landscape(pose)  # the default grid of every interface
     a = np.deg2rad(ls.angles_deg)
     upright = np.cos(a)[:, None] * np.cos(a)[None, :] < 0  # u_z = cos p cos r
     i, j = np.unravel_index(np.argmin(np.where(upright, ls.energy_j, np.inf)), ls.energy_j.shape)

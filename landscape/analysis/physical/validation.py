@@ -114,8 +114,9 @@ def validation_specs(
     dt_s: float | None = None,
     joint_map=None,
     phase: float | Mapping[tuple[float, float], float] | None = None,
+    engine: str = "pybullet",
 ):
-    """The simulated trials of the cells: ``trials`` random phases each (or ``trials`` seeds at the one first-attempt
+    """The simulated trials of the cells, in ``engine``: ``trials`` random phases each (or ``trials`` seeds at the one first-attempt
     ``phase`` in [0, 1), or at each cell's own phase from a mapping ``{(wing command, leg): phase}``, cells it lacks,
     e.g. the leg still, at ``landscape.analysis.physical.response.PROTOCOL_PHASE``), at the cell's measured plateau (or at its
     command for a set with a measured actuation profile, :func:`simulates_commands`).
@@ -155,6 +156,7 @@ def validation_specs(
             base_seed=seed,
             joint_map=joint_map,
             model_set=model_set,
+            engine=engine,
         )
     return specs
 
@@ -473,8 +475,10 @@ def validate(
     phase: float | Mapping[tuple[float, float], float] | None = None,
     robot_attempts: int | None = None,
     imu_mount_deg: float = 0.0,
+    engine: str = "pybullet",
 ) -> tuple[Validation, object]:
-    """Simulate the physical cells with a model set (resuming ``db``) and compare: ``(Validation, SweepSummary)``.
+    """Simulate the physical cells with a model set in ``engine`` (resuming ``db``) and compare:
+    ``(Validation, SweepSummary)``.
     ``phase``: every trial's first attempt at this phase, or at each cell's (a mapping, e.g. the lab protocol's,
     :func:`landscape.analysis.physical.response.protocol_phases`); None: random phases (:func:`validation_specs`).
     ``robot_attempts``: count the robot's rightings within its first that many openings only (:func:`compare`).
@@ -497,7 +501,7 @@ def validate(
     chosen = parse_cells(cells, available) if cells is None or isinstance(cells, str) else list(cells)
     specs = validation_specs(
         chosen, plateaus, trials=trials, cv=cv, seed=seed, robot=robot, model_set=model_set,
-        duration_s=duration_s, dt_s=dt_s, joint_map=joint_map, phase=phase,
+        duration_s=duration_s, dt_s=dt_s, joint_map=joint_map, phase=phase, engine=engine,
     )  # fmt: skip
     summary = run_sweep(specs, db=db, workers=workers, scheduler=scheduler, progress=progress)
     keys = {s.key() for s in specs}

@@ -41,6 +41,8 @@ function say(text, isError = false) {
 }
 
 const fmt = (x, digits = 3) => (x === null || x === undefined ? "none" : Number(x).toFixed(digits));
+// The digits of `landscape compute`'s table: energies (mJ) and CoM heights (mm) 3, angles (degrees) 2.
+const DEG_DIGITS = 2;
 
 async function renewLinkAccess() {
   if (!sessionStorage.getItem("landscape-token")) return;
@@ -190,12 +192,13 @@ function showNumbers(s) {
   $("landscape-model").textContent = "model set: " + setLabel(s.model_set) + joints;
   $("minimum-mj").textContent = fmt(s.minimum.energy_j * 1e3);
   $("minimum-mm").textContent = fmt(s.minimum.height_m * 1e3);
-  $("minimum-deg").textContent = `(${fmt(s.minimum.pitch_deg, 1)}, ${fmt(s.minimum.roll_deg, 1)})`;
+  $("minimum-deg").textContent = `(${fmt(s.minimum.pitch_deg, DEG_DIGITS)}, ${fmt(s.minimum.roll_deg, DEG_DIGITS)})`;
   for (const k of ["righting", "pitch_wise", "roll_wise", "escape"]) {
     const x = s.paths[k];
     $(k + "-mj").textContent = x ? fmt(x.barrier_j * 1e3) : "none";
     $(k + "-mm").textContent = x ? fmt(x.barrier_j / mg * 1e3) : "none";
-    $(k + "-deg").textContent = x ? `(${fmt(x.saddle_pitch_deg, 1)}, ${fmt(x.saddle_roll_deg, 1)}) ${x.direction}` : "";
+    $(k + "-deg").textContent = x ?
+      `(${fmt(x.saddle_pitch_deg, DEG_DIGITS)}, ${fmt(x.saddle_roll_deg, DEG_DIGITS)}) ${x.direction}` : "";
   }
 }
 
@@ -214,6 +217,11 @@ const hasWebGL = (() => {
 // The plots' titles are the HTML captions above them; the top margin keeps plotly's mode bar clear of the plot.
 const MODEBAR_PX = 36;
 
+// A pitch-roll map has pitch on x and roll on y, as every figure of the project (landscape render's contour.png,
+// the report's maps, the gallery). The grid's energy_mj[i][j] is at pitch i, roll j: plotly's z wants rows = y.
+const MAP_AXES = { xaxis: { title: { text: "pitch (°)" } }, yaxis: { title: { text: "roll (°)" } } };
+const transpose = (m) => m[0].map((_, j) => m.map((row) => row[j]));
+
 function draw(s) {
   const g = s.grid;
   const minE = s.minimum.energy_j * 1e3;
@@ -221,12 +229,13 @@ function draw(s) {
   const path = r ? r.path_deg : [];
   const saddleE = r ? minE + r.barrier_j * 1e3 : null;
   const marks = {
-    min: { x: [s.minimum.roll_deg], y: [s.minimum.pitch_deg], name: "start minimum" },
-    saddle: r ? { x: [r.saddle_roll_deg], y: [r.saddle_pitch_deg], name: "saddle" } : null,
-    path: { x: path.map((p) => p[1]), y: path.map((p) => p[0]), name: "righting path" },
+    min: { x: [s.minimum.pitch_deg], y: [s.minimum.roll_deg], name: "start minimum" },
+    saddle: r ? { x: [r.saddle_pitch_deg], y: [r.saddle_roll_deg], name: "saddle" } : null,
+    path: { x: path.map((p) => p[0]), y: path.map((p) => p[1]), name: "righting path" },
   };
+  const zRollRows = transpose(g.energy_mj);
   const contour = [
-    { type: "contour", x: g.roll_deg, y: g.pitch_deg, z: g.energy_mj, colorscale: "Viridis", ncontours: 30,
+    { type: "contour", x: g.pitch_deg, y: g.roll_deg, z: zRollRows, colorscale: "Viridis", ncontours: 30,
       colorbar: { title: { text: "mJ", side: "right" } } },
     Object.assign({ type: "scatter", mode: "lines", line: { color: "white", width: 2 } }, marks.path),
     Object.assign({ type: "scatter", mode: "markers", marker: { color: "cyan", size: 10, symbol: "circle" } }, marks.min),
@@ -235,15 +244,14 @@ function draw(s) {
     contour.push(Object.assign({ type: "scatter", mode: "markers", marker: { color: "red", size: 11, symbol: "x" } },
       marks.saddle));
   }
-  const axes = { xaxis: { title: { text: "roll (°)" } }, yaxis: { title: { text: "pitch (°)" } } };
   Plotly.react("contour", contour, Object.assign({ margin: { t: MODEBAR_PX }, showlegend: false,
-    uirevision: "keep" }, axes), { responsive: true });
+    uirevision: "keep" }, MAP_AXES), { responsive: true });
   if (!hasWebGL) {
     $("surface").textContent = "The 3-D surface needs WebGL, which this browser does not offer; the contour map shows the same landscape.";
     return;
   }
   const surface = [
-    { type: "surface", x: g.roll_deg, y: g.pitch_deg, z: g.energy_mj, colorscale: "Viridis", showscale: false,
+    { type: "surface", x: g.pitch_deg, y: g.roll_deg, z: zRollRows, colorscale: "Viridis", showscale: false,
       opacity: 0.95 },
     Object.assign({ type: "scatter3d", mode: "lines", line: { color: "white", width: 6 },
       z: path.map((p) => energyAt(g, p[0], p[1])) }, marks.path),
@@ -254,8 +262,8 @@ function draw(s) {
       z: [saddleE] }, marks.saddle));
   }
   Plotly.react("surface", surface, { margin: { t: MODEBAR_PX, l: 0, r: 0, b: 0 }, showlegend: false,
-    uirevision: "keep", scene: { xaxis: { title: { text: "roll (°)" } }, yaxis: { title: { text: "pitch (°)" } },
-      zaxis: { title: { text: "mJ" } } } }, { responsive: true });
+    uirevision: "keep", scene: Object.assign({ zaxis: { title: { text: "mJ" } } }, MAP_AXES) },
+    { responsive: true });
 }
 
 // ------------------------------------------------------------------------------------------------ robot view
@@ -326,11 +334,13 @@ async function drawRobots(s, seq) {
     if (seq < state.robotShown || seq < state.shown) return;  // a newer pose is drawn or on its way
     state.robotShown = seq;
     $("robot-model").textContent = "(model set: " + setLabel(start.model_set, start.model_set_hash) + ")";
-    $("robot-start-caption").textContent = `at the start minimum (pitch ${fmt(start.pitch_deg, 1)}°, roll ` +
-      `${fmt(start.roll_deg, 1)}°): CoM ${fmt(start.com_height_m * 1e3, 1)} mm above the ground`;
+    // the heights and the lift of the table (the landscape's, to the digit), which the drawn robots show
+    const h0 = s.minimum.height_m * 1e3, lift = r ? r.barrier_j / (s.mass_kg * s.grid.g_m_s2) * 1e3 : null;
+    $("robot-start-caption").textContent = `at the start minimum (pitch ${fmt(start.pitch_deg, DEG_DIGITS)}°, roll ` +
+      `${fmt(start.roll_deg, DEG_DIGITS)}°): CoM ${fmt(h0)} mm above the ground`;
     $("robot-saddle-caption").textContent = saddle
-      ? `at the righting saddle (pitch ${fmt(saddle.pitch_deg, 1)}°, roll ${fmt(saddle.roll_deg, 1)}°): CoM ` +
-        `${fmt(saddle.com_height_m * 1e3, 1)} mm, lifted ${fmt((saddle.com_height_m - start.com_height_m) * 1e3, 1)} mm`
+      ? `at the righting saddle (pitch ${fmt(saddle.pitch_deg, DEG_DIGITS)}°, roll ${fmt(saddle.roll_deg, DEG_DIGITS)}°): ` +
+        `CoM ${fmt(h0 + lift)} mm, lifted ${fmt(lift)} mm`
       : "no righting saddle at this pose";
     if (!hasWebGL) {
       for (const id of ["robot-start", "robot-saddle"]) {
@@ -354,16 +364,18 @@ for (const id of ["theta-w", "theta-l"]) $(id).addEventListener("input", () => r
 for (const id of ["method", "step"]) $(id).addEventListener("change", () => requestLandscape(0));
 
 // ------------------------------------------------------------------------------------------------ barrier map
+// The barrier map has θl on x and θw on y, as `landscape barrier-map`'s barrier_map.png and the report's maps.
 function drawMap(rows) {
   const ws = [...new Set(rows.map((r) => r.theta_w_deg))], ls = [...new Set(rows.map((r) => r.theta_l_deg))];
-  const z = ls.map((l) => ws.map((w) => {
+  const z = ws.map((w) => ls.map((l) => {
     const r = rows.find((q) => q.theta_w_deg === w && q.theta_l_deg === l);
     return r && r.righting_j !== null ? r.righting_j * 1e3 : null;
   }));
-  Plotly.react("map", [{ type: "heatmap", x: ws, y: ls, z, colorscale: "Viridis",
+  Plotly.react("map", [{ type: "heatmap", x: ls, y: ws, z, colorscale: "Viridis",
     colorbar: { title: { text: "mJ", side: "right" } } }],
     { margin: { t: MODEBAR_PX },
-      xaxis: { title: { text: "θw (°)" } }, yaxis: { title: { text: "θl (°)" } } }, { responsive: true });
+      xaxis: { title: { text: "leg angle θl (°)" } }, yaxis: { title: { text: "wing angle θw (°)" } } },
+    { responsive: true });
 }
 
 $("map-form").addEventListener("submit", async (e) => {

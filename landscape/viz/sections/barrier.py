@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from landscape.analysis import trials as an
+from landscape.grid import DEFAULT_STEP_DEG
 from landscape.viz.report import Figure, Section, Table
 from landscape.viz.sections.data import (
     PAPER_PERIODS,
@@ -21,7 +22,7 @@ def section_barrier(
     db: Path,
     *,
     robot: str | Path | None = None,
-    step_deg: float = 1.0,
+    step_deg: float = DEFAULT_STEP_DEG,
     phase: float | None = None,
 ) -> Section:
     """Barrier against outcome: Spearman rho with bootstrap intervals and a logistic fit, per Cv."""

@@ -66,8 +66,8 @@ class PaperCells:
     """The probability cells of the paper protocol's multi-attempt trials, of one trial protocol and one phi_1.
 
     ``cells`` is empty when there are none; ``missing`` then says why and what to run. ``duration_s`` and
-    ``dt_s`` are the protocol kept; ``other_protocol_trials`` counts trials of other durations or time steps,
-    which are never pooled with them.
+    ``dt_s`` are the protocol kept; ``other_protocol_trials`` counts trials of other durations, time steps, model
+    sets or engines, which are never pooled with them.
     """
 
     cells: list
@@ -77,11 +77,14 @@ class PaperCells:
     other_protocol_trials: int = 0
     missing: str = ""
     model_set: str = "paper"
+    engine: str = "pybullet"
 
     @property
     def protocol_text(self) -> str:
-        return f"{self.duration_s:g} s trials, dt {self.dt_s:g} s" + (
-            f", model {self.model_set}" if self.model_set != "paper" else ""
+        return (
+            f"{self.duration_s:g} s trials, dt {self.dt_s:g} s"
+            + (f", model {self.model_set}" if self.model_set != "paper" else "")
+            + (f", engine {self.engine}" if self.engine != "pybullet" else "")
         )
 
 
@@ -104,13 +107,13 @@ def paper_cells(rows: list[dict], phase: float | None, db) -> PaperCells:
         )
 
     def protocol(r: dict) -> tuple:
-        return r["duration_s"], r["dt_s"], r.get("model_set") or "paper"
+        return r["duration_s"], r["dt_s"], r.get("model_set") or "paper", r.get("engine") or "pybullet"
 
     protocols: dict[tuple, int] = {}
     for r in paper:
         protocols[protocol(r)] = protocols.get(protocol(r), 0) + 1
     chosen = max(protocols, key=lambda k: (protocols[k], k))
-    duration_s, dt_s, model_set = chosen
+    duration_s, dt_s, model_set, engine = chosen
     kept = [r for r in paper if protocol(r) == chosen]
     cells = an.probability_table(kept)
     counts: dict[float, int] = {}
@@ -142,7 +145,9 @@ def paper_cells(rows: list[dict], phase: float | None, db) -> PaperCells:
             f"({sum(c.n for c in at_phase)} trials): a probability needs several; sweep again "
             f"with --trials 2 or more (`{PAPER_SWEEP.format(db=db)} --trials 2 ...`)",
         )
-    return PaperCells(several, phase, duration_s, dt_s, len(paper) - len(kept), model_set=model_set)
+    return PaperCells(
+        several, phase, duration_s, dt_s, len(paper) - len(kept), model_set=model_set, engine=engine
+    )
 
 
 def trials_wing_joints(rows: list[dict], robot, theta_w_deg: set[float]):

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from geometry.errors import UsageError
+from landscape.grid import DEFAULT_STEP_DEG
 from landscape.viz.report import Figure, Section, Table
 from landscape.viz.sections.data import (
     trials_robot,
@@ -23,7 +24,7 @@ def section_physical(
     *,
     data_dir: str | Path,
     robot: str | Path | None = None,
-    step_deg: float = 1.0,
+    step_deg: float = DEFAULT_STEP_DEG,
 ) -> Section:
     """The physical robot's recorded attempts at each commanded wing angle, over the landscape at the measured wing
     plateau and theta_l 0 (as ``landscape render --physical`` draws them, into ``out/physical/wing_W``), and

@@ -8,6 +8,7 @@ import numpy as np
 
 from geometry.errors import UsageError
 from landscape.analysis.reruns import RERUN_TTR_TOL_S, reproduces, rerun_trial
+from landscape.grid import DEFAULT_STEP_DEG
 from landscape.viz.report import Figure, Section, Table
 from landscape.viz.sections.data import (
     PAPER_PERIODS,
@@ -47,7 +48,7 @@ def section_trajectories(
     *,
     robot: str | Path | None = None,
     max_trials: int = TRAJECTORY_TRIALS,
-    step_deg: float = 1.0,
+    step_deg: float = DEFAULT_STEP_DEG,
 ) -> Section:
     """Trajectories of the sweep's trials at its most uncertain setting, drawn over that setting's landscape.
 
@@ -74,8 +75,8 @@ def section_trajectories(
         if r["status"] == "ok"
         and r["attempts"] == 0
         and (r["wing_period_s"], r["leg_period_s"]) == PAPER_PERIODS
-        and (r["duration_s"], r["dt_s"], r.get("model_set") or "paper")
-        == (pc.duration_s, pc.dt_s, pc.model_set)
+        and (r["duration_s"], r["dt_s"], r.get("model_set") or "paper", r.get("engine") or "pybullet")
+        == (pc.duration_s, pc.dt_s, pc.model_set, pc.engine)
         and (r["theta_w_deg"], r["theta_l_deg"], r["cv"], r["phase"])
         == (cell.theta_w_deg, cell.theta_l_deg, cell.cv, cell.phase)
     ]

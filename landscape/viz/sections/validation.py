@@ -52,7 +52,8 @@ def section_validation(
     )
     for k, doc in enumerate(docs):
         v = validation_from_json(doc)
-        tag = f"{v.model_set} ({v.model_set_hash})"
+        engine = doc.get("engine") or "pybullet"
+        tag = f"{v.model_set} ({v.model_set_hash})" + ("" if engine == "pybullet" else f" in {engine}")
         fit, held, every = v.agree_counts["fit"], v.agree_counts["held-out"], v.agree_counts["all"]
         s = v.side
         side = f"{s.sim_positive}/{s.sim_events}" if s.sim_events else "no righting events"
@@ -180,7 +181,7 @@ def _body_frame_rows(data_dir, docs: list[dict]):
         if not doc.get("robot"):
             continue
         try:
-            ms = load_model_set(doc["model_set"])
+            ms = load_model_set(doc["model_set"]).with_engine(doc.get("engine") or "pybullet")
         except ModelSetError:
             continue  # a file set given by path: its name alone does not find it again
         key = (ms.model_set_hash, doc["robot"])

@@ -24,3 +24,31 @@ def test_a_box_pushed_off_a_world_axis_turns_and_the_study_prints_its_tables(cap
     assert "fixed in the body" in capsys.readouterr().out
     with pytest.raises(SystemExit):
         bench.main(["--phases", "0"])
+
+
+def test_in_mujoco_the_elliptic_cone_stops_the_box_alike_in_every_direction_the_pyramidal_does_not(capsys):
+    """The elliptic cone limits the friction force to a circle: the box slides v^2 / (2 mu g) whichever way it is
+    pushed (its path turns by about a degree off its axes, as the load shifts to its leading corners). The pyramidal
+    cone's square lets it slide further along a diagonal."""
+    pytest.importorskip("mujoco")
+    bench = load_script("benchmarks/studies/heading.py")
+    elliptic = {deg: (mm, turn) for deg, mm, turn in bench.friction_table("mujoco", "elliptic")}
+    pyramidal = {deg: (mm, turn) for deg, mm, turn in bench.friction_table("mujoco", "pyramidal")}
+    for deg in (0.0, 30.0, 45.0):
+        assert elliptic[deg][0] == pytest.approx(1e3 / (2 * 9.81), rel=0.01) and abs(elliptic[deg][1]) < 2.0
+    assert pyramidal[0.0][0] == pytest.approx(elliptic[0.0][0], rel=0.01)
+    assert pyramidal[45.0][0] > 1.2 * pyramidal[0.0][0]
+    args = [
+        "--phases",
+        "1",
+        "--leg-periods",
+        "0.8",
+        "--wing-periods",
+        "2.0",
+        "--workers",
+        "1",
+        "--engine",
+        "mujoco",
+    ]
+    assert bench.main(args) == 0
+    assert "mujoco, elliptic cone" in capsys.readouterr().out

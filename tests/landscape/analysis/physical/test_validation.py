@@ -256,10 +256,11 @@ def test_validate_command_bad_input_is_one_line(tmp_path, capsys):
     capsys.readouterr()
     assert main(base + ["--phase", "1.5"]) == 2
     err = capsys.readouterr().err
-    assert "--phase must be a first-attempt phase in [0, 1); got 1.5" in err and "Traceback" not in err
+    assert "--phase 1.5 is outside [0, 1): a phase is a fraction of the leg period Tl" in err
+    assert "Traceback" not in err and err.count("\n") == 1
     assert main(base + ["--phase", "sideways"]) == 2
     err = capsys.readouterr().err
-    assert "give a phase in [0, 1) or 'protocol'; got 'sideways'" in err and err.count("\n") == 1
+    assert "--phase must be a number in [0, 1) or 'protocol'; got 'sideways'" in err and err.count("\n") == 1
     assert main(["physical", "validate", "--data", str(tmp_path / "nowhere"), "--out", str(tmp_path)]) == 2
 
 
