@@ -410,7 +410,9 @@ def test_the_body_axes_turn_is_exact_in_free_flight():
             zeros = np.zeros(len(w.driven))
             w.place(0.3, 0.2, joints_rad=zeros)
             pos, q = w.base_pose()
-            pb.resetBasePositionAndOrientation(w.body, [pos[0], pos[1], pos[2] + 5.0], q, physicsClientId=w.cid)
+            pb.resetBasePositionAndOrientation(
+                w.body, [pos[0], pos[1], pos[2] + 5.0], q, physicsClientId=w.cid
+            )
             pb.resetBaseVelocity(w.body, [0.1, 0.0, 0.0], [1.0, -2.0, 3.0], physicsClientId=w.cid)
             w.drive(zeros, zeros, kp=0.05, kd=1.0)
             out = []
@@ -420,5 +422,7 @@ def test_the_body_axes_turn_is_exact_in_free_flight():
             return np.array(out)
 
     world, body = flight("world"), flight("body")
-    assert np.abs(world[:, 6]).max() > 0.5 and np.abs(body[:, 6]).max() < 1e-12  # it spins; the turn undoes it
+    assert (
+        np.abs(world[:, 6]).max() > 0.5 and np.abs(body[:, 6]).max() < 1e-12
+    )  # it spins; the turn undoes it
     np.testing.assert_allclose(body[:, :6], world[:, :6], rtol=0.0, atol=1e-12)
