@@ -16,17 +16,26 @@ contact, servos commanded every 1 ms as in every run). Against it:
    chaotic, so this is the comparison that says whether the time step changes the answer.
 
 The chosen dt is the largest with < 0.5 deg orientation difference over the first second and the same success
-flags as the reference. Prints markdown tables on stdout and its progress on stderr (trials done of the planned
+flags as the reference.
+
+``--borderline`` runs the criterion that sets each engine's default step instead: the 100 single attempts of the
+source paper's Fig. 8 protocol that lie near the success boundary (theta_w 72 deg, theta_l 30 deg, Tw 2 s, Tl
+0.6 ... 1.4 s x 20 phases, no noise), each at a step dt and at dt / 4; the default step is the largest with at
+least 95 of 100 outcomes the same. The same attempts turned on the ground by 0.0001, 5, 45 and 90 degrees at the
+default step then show that no engine's outcome depends on the robot's heading (``--engines`` picks the engines,
+``--workers`` the processes). Prints markdown tables on stdout and its progress on stderr (trials done of the planned
 total, elapsed time and ETA: a bar on a terminal, a line every 30 s in a log).
 
 Run:  .venv/bin/python benchmarks/sim_convergence.py [--robot builtin|lab|URDF] [--quick]
       [--grid-theta-w 70,74,76] [--grid-theta-l 20,30] [--rate-seeds 40]
+      .venv/bin/python benchmarks/sim_convergence.py --borderline [--engines pybullet,mujoco] [--workers 2]
 """
 
 from __future__ import annotations
 
 import argparse
 import itertools
+import math
 import sys
 import time
 from dataclasses import replace
@@ -54,6 +63,123 @@ RATE_SETTINGS = {
     "lab": ((74.0, 30.0), (76.0, 30.0), (72.0, 40.0), (70.0, 40.0)),
     "builtin": ((70.0, 30.0), (72.0, 25.0), (74.0, 25.0), (76.0, 25.0)),
 }
+
+
+BORDERLINE_THETA_DEG = (72.0, 30.0)
+"""theta_w and theta_l of the borderline single attempts (the source paper's Fig. 8 protocol), degrees."""
+BORDERLINE_WING_PERIOD_S = 2.0
+BORDERLINE_LEG_PERIODS_S = (0.6, 0.8, 1.0, 1.2, 1.4)
+BORDERLINE_PHASES = tuple(k / 20 for k in range(20))
+BORDERLINE_DTS = {"pybullet": (1e-3, 5e-4, 2.5e-4), "mujoco": (2e-3, 1e-3, 5e-4, 2.5e-4)}
+"""The steps tried per engine, each against a quarter of itself, s."""
+BORDERLINE_MATCH = 95
+"""Outcomes of 100 that must match a run at a quarter of the step."""
+HEADINGS_DEG = (1e-4, 5.0, 45.0, 90.0)
+"""Headings the borderline attempts are turned to, degrees (against 0)."""
+
+
+def borderline_trials(model_set, *, dt_s: float | None = None, heading_deg: float = 0.0) -> list:
+    """The 100 borderline single attempts (:data:`BORDERLINE_LEG_PERIODS_S` x :data:`BORDERLINE_PHASES`, no noise)
+    as :class:`sim.trial.Trial` specs of ``model_set``'s actuation, at ``dt_s`` (None: the engine's default) and
+    turned by ``heading_deg``."""
+    from sim.trial import Trial
+
+    tw, tl = BORDERLINE_THETA_DEG
+    out = []
+    for leg_period_s in BORDERLINE_LEG_PERIODS_S:
+        act = model_set.actuation(tw, tl, wing_period_s=BORDERLINE_WING_PERIOD_S, leg_period_s=leg_period_s)
+        out += [
+            Trial(tw, tl, phase, 0.0, rng=0, dt_s=dt_s, attempts=1, actuation=act, heading_deg=heading_deg)
+            for phase in BORDERLINE_PHASES
+        ]
+    return out
+
+
+def _borderline_one(job) -> tuple[bool, float, float]:
+    from sim.trial import simulate_trial
+
+    trial, model_set = job
+    r = simulate_trial(trial, model_set=model_set)
+    return r.success, r.cpu_s, r.sim_s
+
+
+def borderline_outcomes(model_set, *, dt_s: float | None = None, heading_deg: float = 0.0, workers: int = 1):
+    """(success, CPU s, simulated s) of each borderline attempt (:func:`borderline_trials`), in their order."""
+    jobs = [(t, model_set) for t in borderline_trials(model_set, dt_s=dt_s, heading_deg=heading_deg)]
+    if workers <= 1:
+        out = []
+        for job in jobs:
+            out.append(_borderline_one(job))
+            if PROGRESS is not None:
+                PROGRESS.step()
+        return out
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(workers) as pool:
+        out = []
+        for r in pool.map(_borderline_one, jobs, chunksize=4):
+            out.append(r)
+            if PROGRESS is not None:
+                PROGRESS.step()
+        return out
+
+
+def borderline(engines: list[str], workers: int) -> dict[str, float]:
+    """Print the step table and the heading table for ``engines``; return each engine's chosen step, s."""
+    from sim.model_set import load_model_set
+    from sim.trial import default_dt_s
+
+    n = len(BORDERLINE_LEG_PERIODS_S) * len(BORDERLINE_PHASES)
+    print(
+        f"## The {n} borderline single attempts at a step and at a quarter of it\n\n"
+        f"theta_w {BORDERLINE_THETA_DEG[0]:g} deg, theta_l {BORDERLINE_THETA_DEG[1]:g} deg, Tw "
+        f"{BORDERLINE_WING_PERIOD_S:g} s, Tl {'/'.join(f'{x:g}' for x in BORDERLINE_LEG_PERIODS_S)} s x "
+        f"{len(BORDERLINE_PHASES)} phases, no noise, one attempt each; built-in robot, the paper set\n"
+    )
+    print(
+        "| engine | dt (s) | righted at dt | righted at dt / 4 | same outcome | CPU per attempt at dt (s) |"
+    )
+    print("|---|---:|---:|---:|---:|---:|")
+    chosen = {}
+    for engine in engines:
+        ms = load_model_set().with_engine(engine)
+        ok = []
+        for dt in BORDERLINE_DTS[engine]:
+            a = borderline_outcomes(ms, dt_s=dt, workers=workers)
+            b = borderline_outcomes(ms, dt_s=dt / 4, workers=workers)
+            same = sum(x[0] == y[0] for x, y in zip(a, b, strict=True))
+            if same >= BORDERLINE_MATCH:
+                ok.append(dt)
+            cpu = sum(x[1] for x in a) / len(a)
+            print(
+                f"| {engine} | {dt:g} | {sum(x[0] for x in a)} | {sum(y[0] for y in b)} | {same}/{len(a)} | "
+                f"{cpu:.3f} |",
+                flush=True,
+            )
+        chosen[engine] = max(ok) if ok else math.nan
+    print()
+    for engine in engines:
+        print(
+            f"{engine}: largest step with >= {BORDERLINE_MATCH} of {n} the same = {chosen[engine]:g} s "
+            f"(default {default_dt_s(None, engine):g} s)"
+        )
+    print("\n## The same attempts turned on the ground, at each engine's default step\n")
+    print("| engine | dt (s) | " + " | ".join(f"{h:g} deg: changed" for h in HEADINGS_DEG) + " |")
+    print("|---|---:|" + "---:|" * len(HEADINGS_DEG))
+    for engine in engines:
+        ms = load_model_set().with_engine(engine)
+        base = borderline_outcomes(ms, workers=workers)
+        changed = []
+        for h in HEADINGS_DEG:
+            turned = borderline_outcomes(ms, heading_deg=h, workers=workers)
+            changed.append(sum(x[0] != y[0] for x, y in zip(base, turned, strict=True)))
+        print(
+            f"| {engine} | {default_dt_s(None, engine):g} | "
+            + " | ".join(f"{c}/{n}" for c in changed)
+            + " |",
+            flush=True,
+        )
+    return chosen
 
 
 LINE_EVERY_S = 30.0
@@ -196,8 +322,28 @@ def main() -> None:
         action="store_true",
         help="run section 5 only, at the default dt against the next smaller one",
     )
+    ap.add_argument(
+        "--borderline",
+        action="store_true",
+        help="only the borderline single attempts: each engine's step against a quarter of it, then headings",
+    )
+    ap.add_argument("--engines", default="pybullet,mujoco", help="engines of --borderline (default: both)")
+    ap.add_argument("--workers", type=int, default=1, help="processes of --borderline (default 1)")
     args = ap.parse_args()
     t0 = time.perf_counter()
+    if args.borderline:
+        engines = [e.strip() for e in args.engines.split(",") if e.strip()]
+        n = len(BORDERLINE_LEG_PERIODS_S) * len(BORDERLINE_PHASES)
+        total = sum(2 * n * len(BORDERLINE_DTS[e]) + n * (1 + len(HEADINGS_DEG)) for e in engines)
+        global PROGRESS
+        PROGRESS = Progress(total)
+        try:
+            borderline(engines, args.workers)
+        finally:
+            PROGRESS.close()
+            PROGRESS = None
+        print(f"\ntotal wall time {time.perf_counter() - t0:.0f} s")
+        return
     kind = args.robot if args.robot in ("builtin", "lab") else "lab"
     path = {"builtin": default_robot_urdf(), "lab": LAB_URDF}.get(args.robot, Path(args.robot))
     gw, gl = GRID_DEFAULTS[kind]
@@ -209,7 +355,6 @@ def main() -> None:
         )
     )
     robot = dict(robot=path)
-    global PROGRESS
     PROGRESS = Progress(
         planned_trials(
             quick=args.quick,

@@ -24,7 +24,7 @@ picks a shipped set, ``--model FILE.toml`` any other. Each optional table switch
     stiffness_n_m = 1e4          # both omitted: pybullet's rigid contact
     damping_n_s_m = 100.0
     solver_iterations = 20
-    friction_axes = "world"      # optional: "body" keeps the robot at heading 0 (sim.world)
+    friction_axes = "body"       # optional (the default): the robot kept at heading 0; "world": pybullet's own (sim.world)
     [mujoco]                     # optional: MuJoCo's parameters (sim.engine.MujocoParams), any subset
     solref_time_s = 0.004
 
@@ -63,7 +63,7 @@ from .mass import MAX_COM_OFFSET_MM
 from .modifier import ModelSetError, Modifier, registered
 from .modifier import check_keys as _check_keys
 from .modifier import number as _number
-from .world import FRICTION_AXES, MAX_ROLLING_FRICTION, Contact
+from .world import DEFAULT_FRICTION_AXES, FRICTION_AXES, MAX_ROLLING_FRICTION, Contact
 
 __all__ = [
     "MAX_COM_OFFSET_MM",
@@ -401,7 +401,7 @@ def shipped_model_sets() -> list[str]:
     Examples
     --------
     >>> shipped_model_sets()
-    ['paper', 'paper-body-friction', 'physical', 'physical-head', 'physical-offset', 'physical-posed']
+    ['paper', 'physical', 'physical-head', 'physical-offset', 'physical-posed']
     """
     return sorted(p.stem for p in MODELS_DIR.glob("*.toml"))
 
@@ -510,7 +510,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
             if v > MAX_ROLLING_FRICTION:
                 raise ModelSetError(f"{w}: {k} must be in [0, {MAX_ROLLING_FRICTION:g}]; got {v!r}")
             rolling[k] = v
-    axes = con.get("friction_axes", FRICTION_AXES[0])
+    axes = con.get("friction_axes", DEFAULT_FRICTION_AXES)
     if axes not in FRICTION_AXES:
         raise ModelSetError(f"{w}: friction_axes must be one of {', '.join(FRICTION_AXES)}; got {axes!r}")
     contact = Contact(
@@ -578,7 +578,7 @@ def load_model_set(name_or_file: str | Path = DEFAULT_MODEL_SET) -> ModelSet:
     if wing_soft:
         con_canon["wing_stiffness_n_m"] = contact.wing_stiffness_n_m
         con_canon["wing_damping_n_s_m"] = contact.wing_damping_n_s_m
-    if axes != FRICTION_AXES[0]:
+    if axes != "world":  # "world" was the default once: sets that ask for it keep the hashes they had
         con_canon["friction_axes"] = axes
     canonical = {
         "name": data["name"],

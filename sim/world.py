@@ -12,12 +12,16 @@ Physics settings (measured in ``benchmarks/sim_convergence.py``; see ``docs/sim.
   0 on every body; with its default pybullet drops the restitution term. :class:`Contact` can also make the
   contact soft (``contactStiffness``/``contactDamping``). Bullet then computes ERP/CFM from the spring, and
   restitution no longer enters.
-- Bullet's friction is not isotropic: its two friction directions per contact are fixed in the world (from the
-  ground's normal), so the same trial turned about world z can end differently; turning it by 90 degrees does not
-  change it. ``benchmarks/studies/heading.py`` measures how much; :class:`sim.trial.Trial` takes the heading.
-  ``Contact(friction_axes="body")`` turns the whole robot back to heading 0 about the vertical through its base's
-  CoM after every ``stepSimulation`` call (positions, orientation and velocities rotated together, an exact
-  symmetry of a flat floor), so the friction directions follow the robot and no trial depends on its heading.
+- Bullet's friction is not isotropic. Its friction cone is on (pybullet's default ``enableConeFriction``; with it
+  off the force is clamped per direction, a pyramid), but Bullet solves the friction along two directions per
+  contact that it derives from the contact normal alone, so on flat ground they are fixed in the world, each
+  with its own effective mass; no pybullet setting removes that for a multibody. So the same trial turned about
+  world z can end differently; a quarter turn does not change it. ``benchmarks/studies/heading.py`` measures how
+  much; :class:`sim.trial.Trial` takes the heading. With ``Contact(friction_axes="body")`` (the default) the whole
+  robot is turned back to heading 0 about the vertical through its base's CoM after every ``stepSimulation``
+  call (positions, orientation and velocities rotated together, in float64: an exact symmetry of a flat floor),
+  so the friction directions follow the robot and no trial depends on its heading. ``"world"`` is pybullet's own
+  behaviour.
 - ``numSolverIterations`` 20 (pybullet's default is 50) and a fixed time step ``dt_s``. With ``substeps`` > 1 one
   ``stepSimulation`` call advances ``substeps`` physics steps (``fixedTimeStep = substeps * dt_s``,
   ``numSubSteps = substeps``), and the motor force limits are divided by ``substeps``, because pybullet caps a
@@ -79,6 +83,8 @@ on a hard floor, about 0.01)."""
 
 FRICTION_AXES = ("world", "body")
 """Where the friction directions are fixed (:class:`Contact`)."""
+DEFAULT_FRICTION_AXES = "body"
+"""The default of :attr:`Contact.friction_axes`: no trial depends on the robot's heading on the ground."""
 
 
 @dataclass(frozen=True)
@@ -105,10 +111,10 @@ class Contact:
         Soft contact spring and damper of the links the wing joints carry (the wing plates and their roll
         motors), N/m and N s/m, instead of ``stiffness_n_m`` and ``damping_n_s_m`` there: a thin wing that bends
         where it touches the ground. None (the default): the wings touch like every other link.
-    friction_axes : {"world", "body"}
-        Where pybullet's two friction directions are fixed (module docstring): "world" (the default, pybullet's
-        own: a trial's outcome depends on the robot's heading modulo 90 degrees) or "body" (the robot is kept at
-        heading 0, so the directions turn with it and the heading no longer matters).
+    friction_axes : {"body", "world"}
+        Where pybullet's two friction directions are fixed (module docstring): "body" (the default: the robot is
+        kept at heading 0, so the directions turn with it and the heading does not matter) or "world" (pybullet's
+        own: a trial's outcome depends on the robot's heading modulo 90 degrees).
     """
 
     friction: float = 1.0
@@ -120,7 +126,7 @@ class Contact:
     spinning_friction: float = 0.0
     wing_stiffness_n_m: float | None = None
     wing_damping_n_s_m: float | None = None
-    friction_axes: str = "world"
+    friction_axes: str = DEFAULT_FRICTION_AXES
 
     def __post_init__(self) -> None:
         if self.friction_axes not in FRICTION_AXES:
@@ -150,6 +156,25 @@ class Contact:
     def rigid(cls, **kw) -> Contact:
         """pybullet's rigid contact (restitution applies); does not converge with the time step here."""
         return cls(stiffness_n_m=None, damping_n_s_m=None, **kw)
+
+
+def _turned_about_z(q, angle_rad: float) -> tuple[float, float, float, float]:
+    """The quaternion (x, y, z, w) of the orientation ``q`` turned by ``angle_rad`` about world z, in float64."""
+    x, y, z, w = (float(c) for c in q)
+    s, c = math.sin(0.5 * angle_rad), math.cos(0.5 * angle_rad)
+    return (c * x - s * y, c * y + s * x, c * z + s * w, c * w - s * z)
+
+
+def _rotation_matrix(q) -> NDArray[np.float64]:
+    """The rotation matrix of the unit quaternion ``q`` = (x, y, z, w), in float64."""
+    x, y, z, w = (float(c) for c in q)
+    return np.array(
+        [
+            [1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - z * w), 2.0 * (x * z + y * w)],
+            [2.0 * (x * y + z * w), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - x * w)],
+            [2.0 * (x * z - y * w), 2.0 * (y * z + x * w), 1.0 - 2.0 * (x * x + y * y)],
+        ]
+    )
 
 
 def _cache_dir() -> Path:
@@ -491,8 +516,9 @@ class World(WorldBase):
             return
         cid = self.cid
         v, w = self.base_velocity()
-        turn = pb.getQuaternionFromEuler([0.0, 0.0, -psi], physicsClientId=cid)
-        _, q = pb.multiplyTransforms([0.0, 0.0, 0.0], turn, [0.0, 0.0, 0.0], q, physicsClientId=cid)
+        # in float64 (pybullet's own quaternion helpers compute in float32: the 1e-8 they leave in |q| at every
+        # step would add up to a drift of the whole trajectory)
+        q = _turned_about_z(q, -psi)
         c, s = math.cos(psi), math.sin(psi)
         v = [c * v[0] + s * v[1], -s * v[0] + c * v[1], v[2]]
         w = [c * w[0] + s * w[1], -s * w[0] + c * w[1], w[2]]
@@ -521,7 +547,7 @@ class World(WorldBase):
 
     def _heading_of(self, q_inertial) -> float:
         """:meth:`heading_rad` of the base's inertial-frame orientation ``q_inertial``."""
-        m = np.array(pb.getMatrixFromQuaternion(q_inertial, physicsClientId=self.cid)).reshape(3, 3)
+        m = _rotation_matrix(q_inertial)
         if self._inertial_rot is not None:  # world-from-inertial times inertial-from-link
             m = m @ self._inertial_rot.T
         return float(math.atan2(m[1, 0], m[0, 0]))

@@ -59,6 +59,28 @@ def wilson_interval(k: int, n: int, z: float = Z95) -> tuple[float, float]:
     return min(lo, p), max(hi, p)  # the estimate lies inside, also under rounding
 
 
+CONSISTENT_P = 0.05
+"""A cell is *consistent* (two sets of trials, such as recorded and simulated, cannot tell the two success
+probabilities apart) when Fisher's exact test gives p >= this."""
+
+
+def fisher_p(k1: int, n1: int, k2: int, n2: int) -> float:
+    """Two-sided p-value of Fisher's exact test of k1 of n1 against k2 of n2 successes (one shared probability).
+
+    Unlike the Wilson rule (:func:`landscape.analysis.physical.validation.fractions_agree`), a perfect model passes it in at least 95 % of cells
+    whatever the robot's probability; the Wilson rule needs a simulation that rights every trial to agree with
+    a cell the robot righted 5 of 5 (``benchmarks/physical/referee_power.py``).
+
+    Examples
+    --------
+    >>> round(fisher_p(5, 5, 17, 20), 3), round(fisher_p(0, 5, 10, 10), 4)
+    (1.0, 0.0003)
+    """
+    from scipy.stats import fisher_exact
+
+    return float(fisher_exact([[k1, n1 - k1], [k2, n2 - k2]]).pvalue)
+
+
 def _ok(rows: Iterable[dict]) -> list[dict]:
     return [r for r in rows if r["status"] == "ok"]
 

@@ -203,6 +203,82 @@ def energy_cmd(db, out, sample, physical_dir, robot, no_progress):
     )
 
 
+@analyze.command("compare")
+@click.option(
+    "--db",
+    "dbs",
+    type=click.Path(dir_okay=False, path_type=Path),
+    multiple=True,
+    required=True,
+    help="Two SQLite trial databases (from `landscape sweep`), given as --db A --db B: two engines, model sets or "
+    "time steps over the same settings.",
+)
+@OUT_OPT
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object and nothing else.")
+def compare_cmd(dbs, out, as_json):
+    """Two databases setting by setting: each multi-attempt setting's success counts by Fisher's exact test
+    (consistent when p >= 0.05) and the noise-free single attempts outcome for outcome; writes compare.csv."""
+    import csv
+
+    from landscape.analysis.compare import compare_probabilities, compare_single_attempts, source
+    from landscape.analysis.trials import CONSISTENT_P
+
+    if len(dbs) != 2:
+        raise UsageError(f"compare takes two databases (--db A --db B); got {len(dbs)}")
+    sections = _sections()
+    rows_a, rows_b = (sections.load_rows(db) for db in dbs)
+    cells = compare_probabilities(rows_a, rows_b)
+    singles = compare_single_attempts(rows_a, rows_b)
+    if not cells and not singles.n:
+        raise UsageError(
+            f"'{dbs[0]}' and '{dbs[1]}' share no setting; sweep the same settings into both (only the engine, the "
+            "model set or the step should differ)"
+        )
+    consistent = sum(c.consistent for c in cells)
+    if as_json:
+        doc = {
+            "a": {"db": str(dbs[0]), "source": source(rows_a)},
+            "b": {"db": str(dbs[1]), "source": source(rows_b)},
+            "settings": len(cells),
+            "consistent": consistent,
+            "consistent_p": CONSISTENT_P,
+            "cells": [asdict(c) for c in cells],
+            "single_attempts": {k: v for k, v in asdict(singles).items() if k != "differ"},
+        }
+        click.echo(json.dumps(doc, indent=1))
+        return
+    out = _out(out)
+    for label, db, rows in (("A", dbs[0], rows_a), ("B", dbs[1], rows_b)):
+        click.echo(f"{label}: {db}  {source(rows)}")
+    if cells:
+        share = 100.0 * consistent / len(cells)
+        click.echo(
+            f"multi-attempt settings in both: {len(cells)}; Fisher's exact test cannot tell A from B (p >= "
+            f"{CONSISTENT_P:g}) in {consistent} ({share:.1f} %)"
+        )
+        odd = [c for c in cells if not c.consistent]
+        if odd:
+            click.echo("  theta_w  theta_l    cv  phase   Tw    Tl      A        B       p")
+            for c in odd:
+                click.echo(
+                    f"  {c.theta_w_deg:7g}  {c.theta_l_deg:7g}  {c.cv:4g}  {c.phase:5g}  {c.wing_period_s:3g}  "
+                    f"{c.leg_period_s:4g}  {c.k_a:3d}/{c.n_a:<3d}  {c.k_b:3d}/{c.n_b:<3d}  {c.fisher_p:.4f}"
+                )
+    if singles.n:
+        click.echo(
+            f"noise-free single attempts in both: {singles.n}; the same outcome in {singles.same} (righted: A "
+            f"{singles.righted_a}, B {singles.righted_b})"
+        )
+    path = out / "compare.csv"
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["theta_w_deg", "theta_l_deg", "cv", "phase", "wing_period_s", "leg_period_s", "successes_a",
+                    "trials_a", "successes_b", "trials_b", "fisher_p"])  # fmt: skip
+        for c in cells:
+            w.writerow([*asdict(c).values()])
+    click.echo(f"wrote {path}")
+
+
 @analyze.command("evolution")
 @DB_OPT
 @OUT_OPT

@@ -363,7 +363,7 @@ model_set_option = click.option(
     type=str,
     default="paper",
     show_default=True,
-    help="Model parameter set: a shipped name (paper, paper-body-friction, physical, physical-head, physical-offset, physical-posed) or a .toml file (sim/model_set.py).",
+    help="Model parameter set: a shipped name (paper, physical, physical-head, physical-offset, physical-posed) or a .toml file (sim/model_set.py).",
 )
 """``--model``: the model parameter set of ``simulate``, ``sweep`` and ``physical validate``."""
 engine_option = click.option(

@@ -71,7 +71,7 @@ INTERNAL = (
 _PATH = re.compile(r"(?<![\w.:/])/(?!api/)(?:[\w.+@-]+/){2,}([\w.+@-]*)")
 _JSON_BODY_BYTES = 1 << 20
 MODEL_HELP = (
-    "a shipped model set (GET /api/model-sets: paper, paper-body-friction, physical, physical-head, physical-offset, physical-posed) that poses the wings, as `landscape compute --model NAME`: a "
+    "a shipped model set (GET /api/model-sets: paper, physical, physical-head, physical-offset, physical-posed) that poses the wings, as `landscape compute --model NAME`: a "
     "measured set holds each wing servo at its own plateau for the wing command theta_w (60-90); an idealised "
     "set every wing joint at theta_w [default: every wing joint at theta_w]"
 )

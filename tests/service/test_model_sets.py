@@ -37,7 +37,7 @@ def test_the_route_lists_the_shipped_sets_as_the_library_reads_them(client):
     assert (
         [m["name"] for m in got]
         == shipped_model_sets()
-        == ["paper", "paper-body-friction", "physical", "physical-head", "physical-offset", "physical-posed"]
+        == ["paper", "physical", "physical-head", "physical-offset", "physical-posed"]
     )
     for m in got:
         ms = load_model_set(m["name"])
@@ -156,7 +156,7 @@ def test_only_a_shipped_set_name_is_taken(client, url, model):
     r = client.get(url, params={"theta_w": "75", "theta_l": "0", "model": model})
     _refused(
         r,
-        "model must be a shipped model set (paper, paper-body-friction, physical, physical-head, physical-offset, physical-posed)",
+        "model must be a shipped model set (paper, physical, physical-head, physical-offset, physical-posed)",
     )
 
 
@@ -232,6 +232,6 @@ def test_a_sweep_takes_only_a_shipped_set_name(client, model):
     r = client.post("/api/sweeps", json={**TINY, "model": model})
     _refused(
         r,
-        "model must be a shipped model set (paper, paper-body-friction, physical, physical-head, physical-offset, physical-posed)",
+        "model must be a shipped model set (paper, physical, physical-head, physical-offset, physical-posed)",
     )
     assert client.get("/api/sweeps").json() == []

@@ -210,7 +210,7 @@ def test_the_pose_cache_key_holds_the_set(client):
     [
         (
             {"model": "nosuch"},
-            "model must be a shipped model set (paper, paper-body-friction, physical, physical-head, physical-offset, physical-posed)",
+            "model must be a shipped model set (paper, physical, physical-head, physical-offset, physical-posed)",
         ),
         ({"model": "../sim/models/physical.toml"}, "the service reads no model files"),
         (

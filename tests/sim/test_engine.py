@@ -101,7 +101,6 @@ def test_soft_servos_torque_is_the_spring_damper_and_integral_capped():
 # ------------------------------------------------------------------------------------------------ identity
 MUJOCO_HASHES = {
     "paper": "21b75935aaa2cfa3",
-    "paper-body-friction": "7eba4c0333ab29c1",
     "physical": "286f3d4d7b1aa1f5",
     "physical-head": "deaa8e2a82e8e07c",
     "physical-offset": "3fb2ee512d21866e",

@@ -21,7 +21,6 @@ def test_the_paper_set_holds_the_defaults_of_before():
     ms = load_model_set()
     assert ms.name == "paper" and shipped_model_sets() == [
         "paper",
-        "paper-body-friction",
         "physical",
         "physical-head",
         "physical-offset",
@@ -51,7 +50,7 @@ def test_the_hash_follows_the_values_not_the_comments(tmp_path):
     assert load_model_set(tmp_path / "b.toml").model_set_hash != paper.model_set_hash
 
 
-def test_friction_axes_in_the_body_are_read_and_change_the_hash_world_is_the_default(tmp_path):
+def test_friction_axes_body_is_the_default_and_world_changes_the_hash(tmp_path):
     (tmp_path / "w.toml").write_text(
         PAPER_TEXT.replace("solver_iterations = 20", 'solver_iterations = 20\nfriction_axes = "world"')
     )
@@ -59,10 +58,10 @@ def test_friction_axes_in_the_body_are_read_and_change_the_hash_world_is_the_def
         PAPER_TEXT.replace("solver_iterations = 20", 'solver_iterations = 20\nfriction_axes = "body"')
     )
     paper = load_model_set("paper")
-    assert paper.contact.friction_axes == "world"
-    assert load_model_set(tmp_path / "w.toml").model_set_hash == paper.model_set_hash
-    body = load_model_set(tmp_path / "b.toml")
-    assert body.contact.friction_axes == "body" and body.model_set_hash != paper.model_set_hash
+    assert paper.contact.friction_axes == "body" == Contact().friction_axes
+    assert load_model_set(tmp_path / "b.toml").model_set_hash == paper.model_set_hash
+    world = load_model_set(tmp_path / "w.toml")
+    assert world.contact.friction_axes == "world" and world.model_set_hash != paper.model_set_hash
 
 
 @pytest.mark.parametrize(
@@ -99,8 +98,7 @@ def test_a_bad_set_is_refused_in_one_line(tmp_path, edit, match):
 def test_an_unknown_name_says_what_exists():
     with pytest.raises(
         ModelSetError,
-        match="unknown model set 'papr'.*paper, paper-body-friction, physical, physical-head, physical-offset, "
-        "physical-posed",
+        match="unknown model set 'papr'.*paper, physical, physical-head, physical-offset, physical-posed",
     ):
         load_model_set("papr")
     with pytest.raises(ModelSetError, match="not found"):
@@ -164,14 +162,26 @@ def test_a_store_made_before_model_sets_reads_as_the_paper_set(tmp_path, late):
 
 
 SHIPPED_HASHES = {
-    "paper": "63cfd0473108cf16",
-    "paper-body-friction": "a015d5a01fe8b6b9",
-    "physical": "4507da0aa90ae140",
-    "physical-head": "a974cc95a862cf17",
-    "physical-offset": "19529bcb520bfde4",
-    "physical-posed": "1c77594c535e39d3",
+    "paper": "f9e7b9717973cf94",
+    "physical": "a647e37a39bc20bd",
+    "physical-head": "e2a1c88afadbaca1",
+    "physical-offset": "da26596813d19ff8",
+    "physical-posed": "84d61ac3f25f3910",
 }
-"""Every shipped set's hash, as stored trials carry it (computed before the modifiers became one protocol)."""
+"""Every shipped set's hash, as stored trials carry it (since friction turns with the robot by default)."""
+WORLD_FRICTION_HASHES = {"paper": "63cfd0473108cf16", "physical-offset": "19529bcb520bfde4"}
+"""The hashes the sets had when pybullet's friction was fixed in the world: a set that asks for it gets them back."""
+
+
+@pytest.mark.parametrize("name", sorted(WORLD_FRICTION_HASHES))
+def test_a_set_with_world_friction_has_the_hash_of_before(name, tmp_path):
+    text = (Path(st.__file__).parent / "models" / f"{name}.toml").read_text()
+    (tmp_path / "w.toml").write_text(
+        text.replace("solver_iterations = 20", 'solver_iterations = 20\nfriction_axes = "world"')
+    )
+    world = load_model_set(tmp_path / "w.toml")
+    assert world.contact.friction_axes == "world" and load_model_set(name).contact.friction_axes == "body"
+    assert world.model_set_hash == WORLD_FRICTION_HASHES[name] != load_model_set(name).model_set_hash
 
 
 @pytest.mark.parametrize("name", sorted(SHIPPED_HASHES))

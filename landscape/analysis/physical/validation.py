@@ -35,7 +35,7 @@ from landscape.analysis.physical.attempts import LAB_ATTEMPTS_PER_TRIAL, Attempt
 from landscape.analysis.physical.cells import lateralisation
 from landscape.analysis.physical.outcome import PhysicalTrial, physical_trials
 from landscape.analysis.physical.recording import WING_COMMANDS_DEG, measured_plateaus_deg
-from landscape.analysis.trials import wilson_interval
+from landscape.analysis.trials import fisher_p, wilson_interval
 
 HELD_OUT_LEGS_DEG = (15.0, 45.0)
 """Leg amplitudes of the held-out cells (fit on 0 and 30 degrees, report 15 and 45 on their own)."""
@@ -267,28 +267,6 @@ class Validation:
     robot_attempts: int | None = None
     late_rightings: tuple = ()
     imu_mount_deg: float = 0.0
-
-
-CONSISTENT_P = 0.05
-"""A cell is *consistent* (the recorded and the simulated trials cannot tell the two success probabilities apart)
-when Fisher's exact test gives p >= this."""
-
-
-def fisher_p(k1: int, n1: int, k2: int, n2: int) -> float:
-    """Two-sided p-value of Fisher's exact test of k1 of n1 against k2 of n2 successes (one shared probability).
-
-    Unlike the Wilson rule (:func:`fractions_agree`), a perfect model passes it in at least 95 % of cells
-    whatever the robot's probability; the Wilson rule needs a simulation that rights every trial to agree with
-    a cell the robot righted 5 of 5 (``benchmarks/physical/referee_power.py``).
-
-    Examples
-    --------
-    >>> round(fisher_p(5, 5, 17, 20), 3), round(fisher_p(0, 5, 10, 10), 4)
-    (1.0, 0.0003)
-    """
-    from scipy.stats import fisher_exact
-
-    return float(fisher_exact([[k1, n1 - k1], [k2, n2 - k2]]).pvalue)
 
 
 def fractions_agree(k1: int, n1: int, k2: int, n2: int) -> bool:
