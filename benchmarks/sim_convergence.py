@@ -70,7 +70,7 @@ BORDERLINE_THETA_DEG = (72.0, 30.0)
 BORDERLINE_WING_PERIOD_S = 2.0
 BORDERLINE_LEG_PERIODS_S = (0.6, 0.8, 1.0, 1.2, 1.4)
 BORDERLINE_PHASES = tuple(k / 20 for k in range(20))
-BORDERLINE_DTS = {"pybullet": (1e-3, 5e-4, 2.5e-4), "mujoco": (2e-3, 1e-3, 5e-4, 2.5e-4)}
+BORDERLINE_DTS = {"pybullet": (1e-3, 5e-4, 2.5e-4, 1.25e-4), "mujoco": (2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4)}
 """The steps tried per engine, each against a quarter of itself, s."""
 BORDERLINE_MATCH = 95
 """Outcomes of 100 that must match a run at a quarter of the step."""

@@ -24,18 +24,19 @@ PAPER_PHASE = 0.7
 """First-attempt phase phi_1 of the default sweep."""
 DEFAULT_DURATION_S = 10.0
 """Trial length, s (the source paper's)."""
-DEFAULT_DT_S = 5e-4
-"""Default physics time step of the built-in robot, s: the largest with < 0.5 deg orientation difference over the
-first second and the same outcomes as dt = 5e-5 with 50 solver iterations (``benchmarks/sim_convergence.py``;
-see docs/sim.md)."""
-OTHER_ROBOT_DT_S = 2e-4
-"""Default time step of any other robot, s: the lab URDF passes the convergence criterion at it, not at
-``DEFAULT_DT_S`` (docs/sim.md); run the convergence benchmark on a new robot before trusting a larger one."""
-MUJOCO_DT_S = 5e-4
-"""Default MuJoCo time step of the built-in robot, s (provisional, the same as pybullet's until the convergence
-study of both engines chooses it; docs/sim.md)."""
-MUJOCO_OTHER_ROBOT_DT_S = 2e-4
-"""Default MuJoCo time step of any other robot, s (provisional, as pybullet's)."""
+DEFAULT_DT_S = 1.25e-4
+"""Default pybullet time step of the built-in robot, s: the largest of 1e-3, 5e-4, 2.5e-4 and 1.25e-4 s at which
+at least 95 of the 100 borderline single attempts end as at a quarter of the step
+(``benchmarks/sim_convergence.py --borderline``; docs/sim.md)."""
+OTHER_ROBOT_DT_S = 1.25e-4
+"""Default pybullet time step of any other robot, s: no larger than the built-in robot's (the lab URDF passed the
+earlier orientation criterion at 2e-4 s); run the convergence benchmark on a new robot before trusting a larger
+one."""
+MUJOCO_DT_S = 1.25e-4
+"""Default MuJoCo time step of the built-in robot, s: the largest of 2e-3 ... 1.25e-4 s that passes the same
+criterion (``benchmarks/sim_convergence.py --borderline``; docs/sim.md)."""
+MUJOCO_OTHER_ROBOT_DT_S = 1.25e-4
+"""Default MuJoCo time step of any other robot, s (no larger than the built-in robot's)."""
 
 # Bounds: a request past them is refused up front with its cost (``sim.trial.check_trial_cost``).
 MAX_DURATION_S = 600.0

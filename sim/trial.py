@@ -263,7 +263,7 @@ def default_dt_s(robot: str | Path | None = None, engine: str = DEFAULT_ENGINE) 
     Examples
     --------
     >>> default_dt_s()
-    0.0005
+    0.000125
     """
     from geometry.urdf import read_urdf
 

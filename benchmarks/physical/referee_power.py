@@ -73,7 +73,8 @@ def main(argv=None) -> int:
 def agreeing_counts(k: int, n: int, n_sim: int, rule: str = "wilson") -> np.ndarray:
     """The simulated success counts (0..n_sim) that agree with k of n: by the validation's Wilson rule, or
     (``rule="fisher"``) those Fisher's exact test cannot tell apart (p >= ``CONSISTENT_P``)."""
-    from landscape.analysis.physical.validation import CONSISTENT_P, fisher_p, fractions_agree
+    from landscape.analysis.physical.validation import fractions_agree
+    from landscape.analysis.trials import CONSISTENT_P, fisher_p
 
     if rule == "fisher":
         return np.array([m for m in range(n_sim + 1) if fisher_p(k, n, m, n_sim) >= CONSISTENT_P], dtype=int)

@@ -38,6 +38,8 @@ from sim.protocol import (
     DURATION_S_BOUNDS,
     HEADING_DEG_BOUNDS,
     MAX_TRIALS,
+    MUJOCO_DT_S,
+    MUJOCO_OTHER_ROBOT_DT_S,
     OTHER_ROBOT_DT_S,
     PAPER_LEG_PERIOD_S,
     PAPER_TRIALS,
@@ -59,9 +61,9 @@ DT_OPT = ranged_option(
     "--dt",
     bounds=DT_S_BOUNDS,
     default=None,
-    help=f"Physics time step, s, {{range}} [default: {DEFAULT_DT_S:g} for the "
-    f"built-in robot, {OTHER_ROBOT_DT_S:g} for others: the largest steps that pass the "
-    "convergence benchmark; a larger one gets a warning].",
+    help=f"Physics time step, s, {{range}} [default: pybullet {DEFAULT_DT_S:g}, MuJoCo {MUJOCO_DT_S:g} for the "
+    f"built-in robot, {OTHER_ROBOT_DT_S:g} and {MUJOCO_OTHER_ROBOT_DT_S:g} for others: the largest steps that "
+    "pass the convergence benchmark; a larger one gets a warning].",
 )
 
 

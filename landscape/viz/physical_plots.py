@@ -227,9 +227,9 @@ def robot_rule_text(v) -> str:
 
 
 def consistent_text(v) -> str:
-    """How many cells the trials cannot tell apart (Fisher's exact test, :data:`validation.CONSISTENT_P`), all and
+    """How many cells the trials cannot tell apart (Fisher's exact test, :data:`landscape.analysis.trials.CONSISTENT_P`), all and
     per split, and the cells that differ with their p-values; '' for a validation stored without the test."""
-    from landscape.analysis.physical.validation import CONSISTENT_P
+    from landscape.analysis.trials import CONSISTENT_P
 
     cells = [c for c in v.cells if math.isfinite(c.fisher_p)]
     if not cells or len(cells) < len(v.cells):

@@ -21,10 +21,10 @@ PHYSICAL = SHARED / "ref" / "physical_robot"
 
 @pytest.fixture(scope="module")
 def db(tmp_path_factory):
-    """Built-in robot, paper protocol, Cv 0.5, 3.3 s trials: at 74 deg every trial rights on its first attempt;
+    """Built-in robot, paper protocol, Cv 0.5, 3.5 s trials: at 74 deg every trial rights on its first attempt;
     at 78 deg the first attempt fails and the second rights in time only for some seeds."""
     path = tmp_path_factory.mktemp("db") / "t.sqlite"
-    specs = sweep_specs((74.0, 78.0), (30.0,), (0.5,), phase=(0.1,), trials=4, duration_s=3.3, dt_s=1e-3)
+    specs = sweep_specs((74.0, 78.0), (30.0,), (0.5,), phase=(0.1,), trials=4, duration_s=3.5, dt_s=1e-3)
     run_sweep(specs, db=path, workers=1, progress=False)
     return path
 
