@@ -65,7 +65,8 @@ def _trial(job):
 
 
 def friction_table(engine: str = "pybullet", cone: str = "elliptic") -> list[tuple[float, float, float]]:
-    """(push direction, slide distance mm, path turn deg) of a box pushed along the ground."""
+    """(push direction, slide distance mm, path turn deg) of a box pushed along the ground. In pybullet ``cone``
+    "elliptic" is its cone friction (``enableConeFriction``, on by default) and "pyramidal" that option off."""
     if engine == "mujoco":
         return [_push_mujoco(deg, cone) for deg in (0.0, 30.0, 45.0)]
     from sim.world import _quiet_import_pybullet
@@ -75,7 +76,12 @@ def friction_table(engine: str = "pybullet", cone: str = "elliptic") -> list[tup
     for deg in (0.0, 30.0, 45.0):
         cid = pb.connect(pb.DIRECT)
         pb.setGravity(0.0, 0.0, -9.81, physicsClientId=cid)
-        pb.setPhysicsEngineParameter(fixedTimeStep=DT_S, numSolverIterations=20, physicsClientId=cid)
+        pb.setPhysicsEngineParameter(
+            fixedTimeStep=DT_S,
+            numSolverIterations=20,
+            enableConeFriction=int(cone == "elliptic"),
+            physicsClientId=cid,
+        )
         plane = pb.createMultiBody(0.0, pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=cid),
                                    physicsClientId=cid)  # fmt: skip
         shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[0.05, 0.03, 0.01], physicsClientId=cid)
@@ -147,6 +153,12 @@ def main(argv=None) -> int:
     print(f"{'push deg':>9} {'slide mm':>9} {'turn deg':>9}")
     for deg, mm, turn in friction_table(a.engine, a.cone):
         print(f"{deg:9.0f} {mm:9.1f} {turn:9.1f}")
+    if a.engine == "pybullet":  # what its cone friction (on above, its default) does: off, a pyramid
+        print(
+            "   the same with pybullet's enableConeFriction off (friction clamped per direction: a pyramid)"
+        )
+        for deg, mm, turn in friction_table("pybullet", "pyramidal"):
+            print(f"{deg:9.0f} {mm:9.1f} {turn:9.1f}")
 
     phases = [k / a.phases for k in range(a.phases)]
     cells = [(tw, tl, ph) for tw in a.wing_periods for tl in a.leg_periods for ph in phases]

@@ -13,6 +13,10 @@ def test_a_box_pushed_off_a_world_axis_turns_and_the_study_prints_its_tables(cap
     rows = {deg: (mm, turn) for deg, mm, turn in bench.friction_table()}
     assert abs(rows[0.0][1]) < 0.1 and rows[45.0][1] > 1.0  # isotropic friction would not turn it
     assert rows[0.0][0] == pytest.approx(1e3 / (2 * 9.81), rel=0.05)  # v^2 / (2 mu g)
+    # pybullet's cone friction is on: off, the force is clamped per direction (a pyramid) and a diagonal push
+    # stops sqrt(2) sooner; on, the box still turns (the two directions' own effective masses)
+    pyramid = {deg: (mm, turn) for deg, mm, turn in bench.friction_table("pybullet", "pyramidal")}
+    assert pyramid[45.0][0] == pytest.approx(rows[0.0][0] / 2**0.5, rel=0.05) and rows[45.0][0] > rows[0.0][0]
     args = ["--phases", "1", "--leg-periods", "0.8", "--wing-periods", "2.0", "--workers", "1"]
     assert bench.main(args) == 0
     out = capsys.readouterr().out
