@@ -10,6 +10,7 @@ import pytest
 
 from sim.engine import MUJOCO_EXTRA
 from sim.model_set import load_model_set
+from sim.protocol import MUJOCO_DT_S
 from tests.conftest import SHARED, run_cli
 
 TRIAL = ("--theta-w", 74, "--theta-l", 30, "--phase", 0.7, "--cv", 0, "--seed", 1, "--duration", 0.6)
@@ -67,7 +68,7 @@ def test_simulate_and_sweep_run_in_mujoco(capsys, tmp_path):
     assert code == 0, err
     d = json.loads(out)
     mj = load_model_set().with_engine("mujoco")
-    assert d["engine"] == "mujoco" and d["model_set_hash"] == mj.model_set_hash and d["dt_s"] == 5e-4
+    assert d["engine"] == "mujoco" and d["model_set_hash"] == mj.model_set_hash and d["dt_s"] == MUJOCO_DT_S
     code, out, _ = run_cli(capsys, "simulate", *TRIAL, "--engine", "mujoco")
     assert code == 0 and "engine       mujoco\n" in out and f"model set    paper ({mj.model_set_hash})" in out
     db = tmp_path / "mj.sqlite"
