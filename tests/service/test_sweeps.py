@@ -169,6 +169,7 @@ def stop_server(proc: subprocess.Popen, sig=signal.SIGKILL) -> None:
     proc.wait(timeout=30)
 
 
+@pytest.mark.e2e  # a server process killed mid-sweep and a second one resuming it
 def test_sweep_survives_a_server_crash(tmp_path):
     """Kill the server (and its workers) mid-sweep; the restarted server resumes the job, and the database ends
     with every trial of the sweep exactly once."""

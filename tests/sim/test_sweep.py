@@ -149,6 +149,7 @@ def test_two_sweeps_share_one_db(tmp_path):
     assert sum(ran) == 9  # "ran" counts the rows each sweep stored: a trial both simulated is counted once
 
 
+@pytest.mark.e2e  # a sweep process killed mid-run and resumed
 def test_killed_sweep_loses_at_most_in_flight_and_resumes(tmp_path):
     db, f = tmp_path / "killed.sqlite", _script(tmp_path)
     total = 12

@@ -36,6 +36,7 @@ def test_kinetic_energy_of_a_spinning_body(bench):
     assert math.isclose(bench.kinetic_energy_j(pose, w, up), expected, rel_tol=1e-12)
 
 
+@pytest.mark.e2e  # dozens of simulated attempts at the lab robot's small step
 @needs_data
 @pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
 def test_the_robot_is_thrown_further_and_its_climb_is_paid_for(bench, capsys):

@@ -197,6 +197,7 @@ def test_a_phase_per_cell_gives_each_cell_its_own_and_the_leg_still_the_protocol
         va.validation_specs(cells, {75.0: 73.6}, phase={(75.0, 15.0): 1.2})
 
 
+@pytest.mark.e2e  # dozens of simulated attempts at the lab robot's small step
 @needs_data
 def test_validate_command_end_to_end_and_resumes(tmp_path, capsys):
     args = [
