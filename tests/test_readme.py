@@ -205,6 +205,22 @@ def test_the_readme_shows_examples():
         assert any(c.startswith(f"landscape {cmd} ") for c in readme), f"the README's tour lost {cmd}"
 
 
+def test_the_tour_pictures_come_from_the_tours_own_commands():
+    """figures/tour_figures.py runs the README's render, sweep and report commands as written and copies the
+    pictures the README shows."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("tour_figures", ROOT / "figures" / "tour_figures.py")
+    tour = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tour)
+    readme = [c for page, c, _ in EXAMPLES if page == README]
+    for command in tour.COMMANDS:
+        assert f"landscape {command}" in readme, command
+    text = README.read_text(encoding="utf-8")
+    for name in tour.COPIES.values():
+        assert f"figures/tour/{name}" in text and (ROOT / "figures" / "tour" / name).is_file(), name
+
+
 def _run(cmd: str, cwd: Path):
     import shlex
     import subprocess
