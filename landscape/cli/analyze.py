@@ -28,6 +28,7 @@ from sim.protocol import (
     PERIOD_S_BOUNDS,
     PHASE_BOUNDS,
     SEED_BOUNDS,
+    TRIALS_BOUNDS,
 )
 
 TRIALS_ROBOT = robot_option(
@@ -213,11 +214,20 @@ def energy_cmd(db, out, sample, physical_dir, robot, no_progress):
     help="Two SQLite trial databases (from `landscape sweep`), given as --db A --db B: two engines, model sets or "
     "time steps over the same settings.",
 )
+@ranged_option(
+    "--min-trials",
+    bounds=TRIALS_BOUNDS,
+    default=20,
+    show_default=True,
+    help="Test a multi-attempt setting only if each database holds at least this many of its trials, {range} "
+    "(a setting of one trial against one cannot tell two probabilities apart; the paper's sweep has 40).",
+)
 @OUT_OPT
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object and nothing else.")
-def compare_cmd(dbs, out, as_json):
-    """Two databases setting by setting: each multi-attempt setting's success counts by Fisher's exact test
-    (consistent when p >= 0.05) and the noise-free single attempts outcome for outcome; writes compare.csv."""
+def compare_cmd(dbs, min_trials, out, as_json):
+    """Two databases setting by setting: each multi-attempt setting with enough trials in both by Fisher's exact
+    test of its success counts (consistent when p >= 0.05) and the noise-free single attempts outcome for outcome;
+    writes compare.csv."""
     import csv
 
     from landscape.analysis.compare import compare_probabilities, compare_single_attempts, source
@@ -227,9 +237,11 @@ def compare_cmd(dbs, out, as_json):
         raise UsageError(f"compare takes two databases (--db A --db B); got {len(dbs)}")
     sections = _sections()
     rows_a, rows_b = (sections.load_rows(db) for db in dbs)
-    cells = compare_probabilities(rows_a, rows_b)
+    every_cell = compare_probabilities(rows_a, rows_b)
+    cells = [c for c in every_cell if min(c.n_a, c.n_b) >= min_trials]
+    few = len(every_cell) - len(cells)
     singles = compare_single_attempts(rows_a, rows_b)
-    if not cells and not singles.n:
+    if not every_cell and not singles.n:
         raise UsageError(
             f"'{dbs[0]}' and '{dbs[1]}' share no setting; sweep the same settings into both (only the engine, the "
             "model set or the step should differ)"
@@ -239,7 +251,9 @@ def compare_cmd(dbs, out, as_json):
         doc = {
             "a": {"db": str(dbs[0]), "source": source(rows_a)},
             "b": {"db": str(dbs[1]), "source": source(rows_b)},
+            "min_trials": min_trials,
             "settings": len(cells),
+            "settings_with_fewer_trials": few,
             "consistent": consistent,
             "consistent_p": CONSISTENT_P,
             "cells": [asdict(c) for c in cells],
@@ -253,9 +267,11 @@ def compare_cmd(dbs, out, as_json):
     if cells:
         share = 100.0 * consistent / len(cells)
         click.echo(
-            f"multi-attempt settings in both: {len(cells)}; Fisher's exact test cannot tell A from B (p >= "
-            f"{CONSISTENT_P:g}) in {consistent} ({share:.1f} %)"
+            f"multi-attempt settings in both with at least {min_trials} trials each: {len(cells)}; Fisher's exact "
+            f"test cannot tell A from B (p >= {CONSISTENT_P:g}) in {consistent} ({share:.1f} %)"
         )
+    if few:
+        click.echo(f"multi-attempt settings with fewer trials in either (not tested; --min-trials): {few}")
         odd = [c for c in cells if not c.consistent]
         if odd:
             click.echo("  theta_w  theta_l    cv  phase   Tw    Tl      A        B       p")

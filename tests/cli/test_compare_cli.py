@@ -29,10 +29,12 @@ def dbs(tmp_path_factory):
 
 
 def test_compare_tests_each_setting_and_names_both_engines(dbs, tmp_path, capsys):
-    code, stdout, err = run(capsys, "analyze", "compare", "--db", dbs[0], "--db", dbs[1], "--out", tmp_path)
+    args = ("analyze", "compare", "--db", dbs[0], "--db", dbs[1], "--min-trials", "3")
+    code, stdout, err = run(capsys, *args, "--out", tmp_path)
     assert code == 0, err
     assert "A: " in stdout and "pybullet, paper (" in stdout and "mujoco, paper (" in stdout
-    assert "multi-attempt settings in both: 4;" in stdout  # theta_l 30/50 x phase 0.25/0.7
+    assert "multi-attempt settings in both with at least 3 trials each: 4;" in stdout  # theta_l 30/50 x 0.25/0.7
+    assert "fewer trials" not in stdout
     assert "noise-free single attempts in both: 2;" in stdout
     rows = csv_rows(tmp_path / "compare.csv")
     assert (
@@ -40,14 +42,27 @@ def test_compare_tests_each_setting_and_names_both_engines(dbs, tmp_path, capsys
     )
     for r in rows:
         assert 0.0 < float(r["fisher_p"]) <= 1.0
-    code, stdout, err = run(capsys, "analyze", "compare", "--db", dbs[0], "--db", dbs[1], "--json")
+    code, stdout, err = run(capsys, *args, "--json")
     doc = json.loads(stdout)
-    assert doc["settings"] == 4 and 0 <= doc["consistent"] <= 4 and doc["single_attempts"]["n"] == 2
+    assert doc["settings"] == 4 and doc["settings_with_fewer_trials"] == 0 and 0 <= doc["consistent"] <= 4 and doc["single_attempts"]["n"] == 2
     assert doc["consistent"] == sum(c["fisher_p"] >= 0.05 for c in doc["cells"])
 
 
+def test_settings_with_too_few_trials_are_counted_not_tested(dbs, tmp_path, capsys):
+    """By default a setting needs 20 trials in each database: the fixture's 3 are too few, and it says so."""
+    code, stdout, err = run(capsys, "analyze", "compare", "--db", dbs[0], "--db", dbs[1], "--out", tmp_path)
+    assert code == 0, err
+    assert "Fisher" not in stdout
+    assert "multi-attempt settings with fewer trials in either (not tested; --min-trials): 4" in stdout
+    assert "noise-free single attempts in both: 2;" in stdout and not csv_rows(tmp_path / "compare.csv")
+    code, _, err = run(capsys, "analyze", "compare", "--db", dbs[0], "--db", dbs[1], "--min-trials", "0")
+    assert code == 2 and "--min-trials" in err and err.count("\n") == 1
+
+
 def test_compare_against_itself_is_consistent_everywhere(dbs, tmp_path, capsys):
-    code, stdout, err = run(capsys, "analyze", "compare", "--db", dbs[1], "--db", dbs[1], "--out", tmp_path)
+    code, stdout, err = run(
+        capsys, "analyze", "compare", "--db", dbs[1], "--db", dbs[1], "--min-trials", "3", "--out", tmp_path
+    )
     assert code == 0, err
     assert "in 4 (100.0 %)" in stdout and "the same outcome in 2 " in stdout
 
