@@ -33,7 +33,9 @@ def test_compare_tests_each_setting_and_names_both_engines(dbs, tmp_path, capsys
     code, stdout, err = run(capsys, *args, "--out", tmp_path)
     assert code == 0, err
     assert "A: " in stdout and "pybullet, paper (" in stdout and "mujoco, paper (" in stdout
-    assert "multi-attempt settings in both with at least 3 trials each: 4;" in stdout  # theta_l 30/50 x 0.25/0.7
+    assert (
+        "multi-attempt settings in both with at least 3 trials each: 4;" in stdout
+    )  # theta_l 30/50 x 0.25/0.7
     assert "fewer trials" not in stdout
     assert "noise-free single attempts in both: 2;" in stdout
     rows = csv_rows(tmp_path / "compare.csv")
@@ -44,7 +46,12 @@ def test_compare_tests_each_setting_and_names_both_engines(dbs, tmp_path, capsys
         assert 0.0 < float(r["fisher_p"]) <= 1.0
     code, stdout, err = run(capsys, *args, "--json")
     doc = json.loads(stdout)
-    assert doc["settings"] == 4 and doc["settings_with_fewer_trials"] == 0 and 0 <= doc["consistent"] <= 4 and doc["single_attempts"]["n"] == 2
+    assert (
+        doc["settings"] == 4
+        and doc["settings_with_fewer_trials"] == 0
+        and 0 <= doc["consistent"] <= 4
+        and doc["single_attempts"]["n"] == 2
+    )
     assert doc["consistent"] == sum(c["fisher_p"] >= 0.05 for c in doc["cells"])
 
 
