@@ -5,6 +5,7 @@ and tables into figures/analysis/.
 
     python figures/make_figures.py [--db figures/results.sqlite] [--workers N] [--check] [--quick] [--dry-run]
     python figures/make_figures.py --only barrier-map
+    python figures/make_figures.py --engine mujoco [--db figures/mujoco/results.sqlite]
 
 Every step is a `landscape` command, printed with its number before it runs ("[2/6] ..."), with the elapsed and
 the estimated remaining time after it; the sweeps and the barrier map draw their own progress bars on a terminal.
@@ -16,7 +17,8 @@ an hour) into figures/quick/ (database, report and figures), leaving the committ
 the whole chain works, not the paper's numbers. ``--only barrier-map`` runs the first step alone (seconds): it
 regenerates figures/barrier_map/, the heat map of the README and the docs' front page, with the same command and
 grid as the README's tour, which writes to barrier-map/ instead. ``--dry-run`` prints the steps without running
-them.
+them. ``--engine mujoco`` runs the sweeps in MuJoCo instead of pybullet, into figures/mujoco/ (database, report,
+figures and tables), the other engine's side of docs/concepts/engines.md.
 """
 
 from __future__ import annotations
@@ -75,9 +77,12 @@ class Step(NamedTuple):
     args: str
 
 
-def plan(*, quick: bool, db: Path, out: Path, workers: int | None, check: bool) -> list[Step]:
-    """The steps, in order: the barrier map, the four sweeps into ``db``, the report into ``out / 'report'``."""
-    w = f" --workers {workers}" if workers else ""
+def plan(
+    *, quick: bool, db: Path, out: Path, workers: int | None, check: bool, engine: str = "pybullet"
+) -> list[Step]:
+    """The steps, in order: the barrier map, the four sweeps into ``db`` (in ``engine``), the report into
+    ``out / 'report'``."""
+    w = (f" --engine {engine}" if engine != "pybullet" else "") + (f" --workers {workers}" if workers else "")
     bm, sweeps = (QUICK_BARRIER_MAP, QUICK_SWEEPS) if quick else (BARRIER_MAP, SWEEPS)
     steps = [
         Step(
@@ -135,11 +140,17 @@ def main(argv: list[str] | None = None) -> None:
         default=None,
         help="run one step alone: barrier-map regenerates figures/barrier_map/ (seconds)",
     )
+    ap.add_argument(
+        "--engine",
+        choices=["pybullet", "mujoco"],
+        default="pybullet",
+        help="the sweeps' engine; mujoco writes into figures/mujoco/ (or figures/quick/mujoco/) [default: pybullet]",
+    )
     ap.add_argument("--dry-run", action="store_true", help="print the steps and exit")
     args = ap.parse_args(argv)
-    out = ROOT / "figures" / ("quick" if args.quick else "")
+    out = ROOT / "figures" / ("quick" if args.quick else "") / ("mujoco" if args.engine == "mujoco" else "")
     db = args.db or out / "results.sqlite"
-    steps = plan(quick=args.quick, db=db, out=out, workers=args.workers, check=args.check)
+    steps = plan(quick=args.quick, db=db, out=out, workers=args.workers, check=args.check, engine=args.engine)
     if args.only == "barrier-map":
         steps = steps[:1]
     if args.dry_run:

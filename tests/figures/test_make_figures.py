@@ -67,3 +67,15 @@ def test_only_the_barrier_map_regenerates_the_committed_map(mf, capsys):
         "[1/1] barrier map, 96 poses (Fig. 5)"
     ]
     assert f"--out {Path(mf.ROOT) / 'figures' / 'barrier_map'}" in out and "sweep" not in out
+
+
+def test_the_other_engine_sweeps_in_mujoco_into_its_own_folder(mf, capsys):
+    """--engine mujoco: every sweep (and nothing else) gets --engine mujoco, and the database, report and copied
+    figures go to figures/mujoco/, leaving pybullet's committed figures alone."""
+    mf.main(["--engine", "mujoco", "--dry-run"])
+    out = capsys.readouterr().out
+    commands = [line for line in out.splitlines() if line.startswith("$ landscape")]
+    assert len(commands) == 6
+    assert all(("--engine mujoco" in c) == (" sweep " in c) for c in commands)
+    assert f"--db {Path(mf.ROOT) / 'figures' / 'mujoco' / 'results.sqlite'}" in out
+    assert f"--out {Path(mf.ROOT) / 'figures' / 'mujoco' / 'report'}" in out
