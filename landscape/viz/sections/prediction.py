@@ -118,9 +118,8 @@ def section_prediction(
         )
         paras.append(
             "Misses: " + "; ".join(f"{k} {v}" for k, v in miss.items()) + ". The map's attempts start from "
-            "rest at heading 0 and 20 phases; a later attempt opens where the failed ones left the robot, nearly "
-            "still but turned on the ground (in the simulation the heading changes the outcome), and at a phase "
-            "between the map's (below)."
+            "rest and at 20 phases; a later attempt opens where the failed ones left the robot, nearly still, and at "
+            "a phase between the map's (below)."
         )
     if noisy:
         n_tr = sum(c.n for c in noisy)
@@ -149,10 +148,10 @@ def section_prediction(
             )
             + ". The second predictor runs, for each attempt, a single attempt from rest at that attempt's own "
             f"phase and the robot's heading when it opens ({res.from_rest_runs} single attempts): the phase map "
-            "evaluated where each attempt falls instead of at the nearest of its phases. The heading enters "
-            "because pybullet's friction directions are fixed in the world unless the model set's [contact] "
-            'friction_axes is "body" (benchmarks/studies/heading.py; a physical robot on an isotropic floor '
-            "would not care). The state predictor (landscape.analysis.prediction) is fitted on the other "
+            "evaluated where each attempt falls instead of at the nearest of its phases. The heading matters only "
+            "to a pybullet set whose friction directions are fixed in the world ([contact] friction_axes = "
+            '"world"); by default they turn with the robot, and MuJoCo\'s elliptic cone has none, so no single '
+            "attempt depends on it (benchmarks/studies/heading.py). The state predictor (landscape.analysis.prediction) is fitted on the other "
             "settings' trials for each setting it predicts. Both read each attempt's opening state from the "
             f"trials rerun with a trace ({res.reproduced} of {res.reruns} reproduce their stored outcome)."
         )
