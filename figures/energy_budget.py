@@ -1,6 +1,6 @@
 """The energy budget against time of one simulated and one recorded trial (docs/concepts/energy_budget.md).
 
-Simulated: the built-in robot, model set ``paper``, theta_w 72 deg, theta_l 30 deg, Tw 2 s, Tl 0.8 s, phi_1 0.2,
+Simulated: the built-in robot, model set ``paper``, theta_w 72 deg, theta_l 30 deg, Tw 2 s, Tl 0.6 s, phi_1 0.2,
 no noise (a trial of the Fig. 8 study that fails its first two attempts and rights in its third). Recorded: the
 physical robot's trial run5_60_60_60_60_30_2 (wing command 60 deg, leg 30 deg; it rights in its second opening),
 posed on the lab robot by model set ``physical-head`` (needs ../shared/ref).
@@ -22,6 +22,7 @@ DATA = SHARED / "physical_robot"
 LAB = SHARED / "lab_robot" / "lab_robot.urdf"
 RECORDED = "run5_60_60_60_60_30_2.bag.mat"
 SIMULATED = dict(theta_w_deg=72.0, theta_l_deg=30.0, phase=0.2, cv=0.0, rng=0, duration_s=10.0)
+LEG_PERIOD_S = 0.6
 
 
 def main(argv=None) -> int:
@@ -37,8 +38,9 @@ def main(argv=None) -> int:
     from sim.trial import run_trial
 
     paper = load_model_set("paper")
-    res = run_trial(**SIMULATED, model_set=paper, trace=True)
-    sim = en.simulated_motion(res, trial="72/30, Tw 2 s, Tl 0.8 s, phi1 0.2")
+    act = paper.actuation(SIMULATED["theta_w_deg"], SIMULATED["theta_l_deg"], leg_period_s=LEG_PERIOD_S)
+    res = run_trial(**SIMULATED, model_set=paper, actuation=act, trace=True)
+    sim = en.simulated_motion(res, trial=f"72/30, Tw 2 s, Tl {LEG_PERIOD_S:g} s, phi1 0.2")
     _, (sim_et,), sim_rows = en.energy_budget([sim], en.body_model(load_builtin_robot(), paper))
     items = [(f"simulated (built-in robot, paper): rights in attempt {res.attempt}", sim, sim_et)]
     rows = list(sim_rows)

@@ -14,9 +14,5 @@ def test_the_figure_draws_the_simulated_trial_that_rights_in_its_third_attempt(t
     out = capsys.readouterr().out
     sim = [line.split() for line in out.splitlines() if line.startswith("simulated ")]
     assert [(r[1], r[2]) for r in sim] == [("1", "0"), ("2", "0"), ("3", "1")]
-    assert [float(r[-1]) > 0 for r in sim] == [
-        False,
-        False,
-        True,
-    ]  # the margin's sign follows the outcome here
+    assert float(sim[-1][-1]) > 0  # the righting attempt has a positive margin: necessary, not sufficient
     assert (tmp_path / "e.png").stat().st_size > 10_000 and (tmp_path / "e.svg").is_file()

@@ -140,7 +140,7 @@ def test_calibrate_command_picks_the_likeliest_candidate_and_holds_cells_out(tmp
     assert main(args[:-5] + ["--fit-legs", "0,15", "--out", str(tmp_path)]) == 2
     assert "held-out" in capsys.readouterr().err
     assert main([*args, "--phase", "late"]) == 2
-    assert "give a phase in [0, 1) or 'protocol'" in capsys.readouterr().err
+    assert "--phase must be a number in [0, 1) or 'protocol'; got 'late'" in capsys.readouterr().err
 
 
 @pytest.mark.e2e
