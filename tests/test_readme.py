@@ -185,6 +185,7 @@ def _slow(cmd: str) -> bool:
         or " report" in cmd
         or " physical validate" in cmd
         or " physical calibrate" in cmd
+        or " analyze compare" in cmd  # two paper-sized databases, one per engine
     )
 
 
