@@ -35,12 +35,16 @@ COPIES = {
 
 
 def make(scratch: Path) -> list[Path]:
-    exe = Path(sys.executable).parent / "landscape"
     for command in COMMANDS:
         print(f"$ landscape {command}", flush=True)
-        r = subprocess.run([str(exe), *command.split()], cwd=scratch)
+        r = subprocess.run([sys.executable, "-m", "landscape", *command.split()], cwd=scratch)
         if r.returncode != 0:
             raise SystemExit(f"tour_figures: `landscape {command}` failed (exit {r.returncode})")
+    missing = [src for src in COPIES if not (scratch / src).is_file()]
+    if missing:
+        raise SystemExit(
+            f"tour_figures: the tour wrote no {', '.join(missing)} in {scratch}; see its output above"
+        )
     OUT.mkdir(exist_ok=True)
     written = []
     for src, name in COPIES.items():

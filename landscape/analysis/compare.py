@@ -18,7 +18,18 @@ from dataclasses import dataclass
 
 from .trials import CONSISTENT_P, fisher_p, probability_table
 
-__all__ = ["CellPair", "SingleAttemptPairs", "compare_probabilities", "compare_single_attempts", "source"]
+__all__ = [
+    "MIN_TRIALS",
+    "CellPair",
+    "SingleAttemptPairs",
+    "compare_probabilities",
+    "compare_single_attempts",
+    "source",
+]
+
+MIN_TRIALS = 20
+"""Trials each database must hold of a multi-attempt setting for Fisher's test of it (one trial against one cannot
+tell two probabilities apart; the paper's sweep has 40)."""
 
 
 @dataclass(frozen=True)
@@ -53,8 +64,11 @@ class CellPair:
         return self.fisher_p >= CONSISTENT_P
 
 
-def compare_probabilities(rows_a: Iterable[dict], rows_b: Iterable[dict]) -> list[CellPair]:
-    """The multi-attempt settings both databases hold, each with Fisher's exact test of its success counts.
+def compare_probabilities(
+    rows_a: Iterable[dict], rows_b: Iterable[dict], *, min_trials: int = 1
+) -> tuple[list[CellPair], int]:
+    """The multi-attempt settings both databases hold with at least ``min_trials`` trials in each, each with
+    Fisher's exact test of its success counts, and how many settings both hold with fewer (not tested).
 
     Examples
     --------
@@ -62,21 +76,28 @@ def compare_probabilities(rows_a: Iterable[dict], rows_b: Iterable[dict]) -> lis
     ...            wing_period_s=2.0, leg_period_s=0.8, success=True, time_to_right_s=2.5, attempt=2, mode="roll")
     >>> a = [row] * 9 + [{**row, "success": False}]
     >>> b = [row] * 2 + [{**row, "success": False}] * 8
-    >>> c = compare_probabilities(a, b)[0]
-    >>> (c.k_a, c.n_a, c.k_b, c.n_b), round(c.fisher_p, 4), c.consistent
-    ((9, 10, 2, 10), 0.0055, False)
+    >>> cells, fewer = compare_probabilities(a, b)
+    >>> c = cells[0]
+    >>> (c.k_a, c.n_a, c.k_b, c.n_b), round(c.fisher_p, 4), c.consistent, fewer
+    ((9, 10, 2, 10), 0.0055, False, 0)
+    >>> compare_probabilities(a, b, min_trials=MIN_TRIALS)
+    ([], 1)
     """
     table_b = {_key(c): c for c in probability_table(rows_b)}
-    out = []
+    out, fewer = [], 0
     for c in probability_table(rows_a):
         d = table_b.get(_key(c))
-        if d is not None:
-            out.append(
-                CellPair(
-                    *_key(c), c.successes, c.n, d.successes, d.n, fisher_p(c.successes, c.n, d.successes, d.n)
-                )
+        if d is None:
+            continue
+        if min(c.n, d.n) < min_trials:
+            fewer += 1
+            continue
+        out.append(
+            CellPair(
+                *_key(c), c.successes, c.n, d.successes, d.n, fisher_p(c.successes, c.n, d.successes, d.n)
             )
-    return out
+        )
+    return out, fewer
 
 
 def _key(c) -> tuple[float, ...]:

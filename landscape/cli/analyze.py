@@ -217,7 +217,7 @@ def energy_cmd(db, out, sample, physical_dir, robot, no_progress):
 @ranged_option(
     "--min-trials",
     bounds=TRIALS_BOUNDS,
-    default=20,
+    default=20,  # landscape.analysis.compare.MIN_TRIALS (kept out of this module's imports: the CLI loads lazily)
     show_default=True,
     help="Test a multi-attempt setting only if each database holds at least this many of its trials, {range} "
     "(a setting of one trial against one cannot tell two probabilities apart; the paper's sweep has 40).",
@@ -237,11 +237,9 @@ def compare_cmd(dbs, min_trials, out, as_json):
         raise UsageError(f"compare takes two databases (--db A --db B); got {len(dbs)}")
     sections = _sections()
     rows_a, rows_b = (sections.load_rows(db) for db in dbs)
-    every_cell = compare_probabilities(rows_a, rows_b)
-    cells = [c for c in every_cell if min(c.n_a, c.n_b) >= min_trials]
-    few = len(every_cell) - len(cells)
+    cells, few = compare_probabilities(rows_a, rows_b, min_trials=min_trials)
     singles = compare_single_attempts(rows_a, rows_b)
-    if not every_cell and not singles.n:
+    if not cells and not few and not singles.n:
         raise UsageError(
             f"'{dbs[0]}' and '{dbs[1]}' share no setting; sweep the same settings into both (only the engine, the "
             "model set or the step should differ)"

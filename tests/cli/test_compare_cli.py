@@ -85,3 +85,15 @@ def test_compare_bad_input_is_one_line(dbs, tmp_path, capsys):
     )
     code, _, err = run(capsys, "analyze", "compare", "--db", dbs[0], "--db", other)
     assert code == 2 and "share no setting" in err and err.count("\n") == 1
+
+
+def test_the_command_line_default_is_the_librarys():
+    """--min-trials defaults to landscape.analysis.compare.MIN_TRIALS, so the command and the Python API test the
+    same settings."""
+    import click
+
+    from landscape.analysis.compare import MIN_TRIALS
+    from landscape.cli.analyze import compare_cmd
+
+    (opt,) = [p for p in compare_cmd.params if isinstance(p, click.Option) and p.name == "min_trials"]
+    assert opt.default == MIN_TRIALS
