@@ -13,8 +13,9 @@
 4. The two engines side by side (``--engines-only`` runs this alone), interleaved in one run, best of
    ``--repeat``: core-seconds per simulated second (the trial of 1.) and per trial (the mean over a small grid,
    ``ENGINE_GRID``, of trials that stop when decided), each engine at its default dt and both at the dt of the
-   other, with MuJoCo's ratio to pybullet at the same dt; and where MuJoCo's time goes (inside ``mj_step`` and
-   elsewhere), the most batching (``mujoco.rollout``) could take off.
+   other, with MuJoCo's ratio to pybullet at the same dt, MuJoCo also with every trial settling afresh (its trials
+   reuse the settled state by default: ``Numerics.reuse_settled``); and where the time of MuJoCo's 10 s trial
+   goes (inside ``mj_step`` and elsewhere), the most batching (``mujoco.rollout``) could take off.
 
 Run:  .venv/bin/python benchmarks/sim_speed.py [--lab] [--repeat 3] [--sweep-trials 8] [--workers N]
       [--split-only | --engines-only]
@@ -69,25 +70,36 @@ ENGINE_GRID = tuple((tw, tl, seed) for tw in (70.0, 76.0) for tl in (20.0, 50.0)
 
 
 def engine_table(repeat: int) -> list[tuple[str, float, float, float]]:
-    """(engine, dt, best core-s per simulated s, best mean core-s per trial) of each engine at each default dt,
-    the rows interleaved over ``repeat`` rounds."""
+    """(row, dt, best core-s per simulated s, best mean core-s per trial) of each engine at each default dt, and
+    of MuJoCo with every trial settling afresh (``Numerics(reuse_settled=False)``: what the trials cost before
+    they reused the settled state), the rows interleaved over ``repeat`` rounds. Per simulated second every
+    trial settles (0.5 s simulated too)."""
+    fresh = Numerics(reuse_settled=False)
     rows = [
-        (e, dt) for dt in sorted({DEFAULT_DT_S, MUJOCO_DT_S}, reverse=True) for e in ("pybullet", "mujoco")
+        (label, e, dt, num)
+        for dt in sorted({DEFAULT_DT_S, MUJOCO_DT_S}, reverse=True)
+        for label, e, num in (
+            ("pybullet", "pybullet", Numerics()),
+            ("mujoco", "mujoco", Numerics()),
+            ("mujoco, every trial settles", "mujoco", fresh),
+        )
     ]
-    for engine, dt in rows:
-        run_trial(**{**CASE, "duration_s": 0.2}, dt_s=dt, engine=engine)  # build and cache the model first
+    for _, engine, dt, num in rows:
+        run_trial(
+            **{**CASE, "duration_s": 0.2}, dt_s=dt, engine=engine, numerics=num
+        )  # build the model first
     per_s = [float("inf")] * len(rows)
     per_trial = [float("inf")] * len(rows)
     for _ in range(repeat):
-        for k, (engine, dt) in enumerate(rows):
-            r = run_trial(**CASE, dt_s=dt, engine=engine)
+        for k, (_, engine, dt, num) in enumerate(rows):
+            r = run_trial(**CASE, dt_s=dt, engine=engine, numerics=fresh)
             per_s[k] = min(per_s[k], r.cpu_s / (r.sim_s + 0.5))  # settling is simulated too
             cpu = [
-                run_trial(tw, tl, phase=0.7, cv=0.1, rng=seed, dt_s=dt, engine=engine).cpu_s
+                run_trial(tw, tl, phase=0.7, cv=0.1, rng=seed, dt_s=dt, engine=engine, numerics=num).cpu_s
                 for tw, tl, seed in ENGINE_GRID
             ]
             per_trial[k] = min(per_trial[k], sum(cpu) / len(cpu))
-    return [(e, dt, a, b) for (e, dt), a, b in zip(rows, per_s, per_trial, strict=True)]
+    return [(label, dt, a, b) for (label, _, dt, _), a, b in zip(rows, per_s, per_trial, strict=True)]
 
 
 def mujoco_split(repeat: int) -> tuple[float, float]:
@@ -111,7 +123,7 @@ def mujoco_split(repeat: int) -> tuple[float, float]:
         MujocoWorld._step = timed
         for _ in range(repeat):
             inside[0] = 0.0
-            r = run_trial(**CASE, engine="mujoco")
+            r = run_trial(**CASE, engine="mujoco", numerics=Numerics(reuse_settled=False))
             if best is None or r.cpu_s < sum(best):
                 best = (inside[0], r.cpu_s - inside[0])
     finally:
@@ -126,7 +138,7 @@ def _print_engines(repeat: int) -> None:
     table = engine_table(repeat)
     pb = {dt: t for e, dt, _, t in table if e == "pybullet"}
     for e, dt, s, t in table:
-        ratio = f"{t / pb[dt]:.2f}" if e == "mujoco" else "-"
+        ratio = f"{t / pb[dt]:.2f}" if e != "pybullet" else "-"
         print(f"| {e} | {dt:g} | {s:.4f} | {t:.3f} | {ratio} |", flush=True)
     inside, other = mujoco_split(repeat)
     print(f"\nMuJoCo at dt {MUJOCO_DT_S:g} s, one 10 s trial: {inside:.3f} core-s inside mj_step, {other:.3f} elsewhere "

@@ -247,6 +247,13 @@ class EngineWorld(Protocol):
     def check_finite(self, t_s: float, *, max_speed_m_s: float = 50.0, max_dist_m: float = 100.0) -> None:
         """Raise :class:`SimulationDiverged` if the base state is non-finite or implausible."""
 
+    def snapshot(self) -> object | None:
+        """The world's whole state, from which :meth:`restore` continues exactly as this world would, or None
+        if the engine cannot (pybullet)."""
+
+    def restore(self, snapshot: object) -> None:
+        """Continue from a :meth:`snapshot` of a world of the same engine, model, step and parameters."""
+
     def joint_index(self, name: str) -> int | None:
         """The engine's index of the (movable) joint ``name``, or None."""
 
@@ -364,6 +371,13 @@ class WorldBase:
             raise ValueError(f"soft joints {indices} need one gain each and no joint twice; got {len(gains)}")
         self._soft += indices
         self._soft_gains += [tuple(float(v) for v in g) for g in gains]
+
+    def snapshot(self) -> object | None:
+        """None: this engine's state cannot be restored exactly (each trial settles afresh)."""
+        return None
+
+    def restore(self, snapshot: object) -> None:
+        raise NotImplementedError(f"{type(self).__name__} cannot restore a snapshot")
 
     def _check_base(
         self, t_s: float, pos, speed_m_s: float, finite: bool, max_speed_m_s: float, max_dist_m: float

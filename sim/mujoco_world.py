@@ -27,6 +27,7 @@ Model (docs/sim.md, "The MuJoCo engine"):
 
 from __future__ import annotations
 
+import copy
 import math
 
 import mujoco
@@ -47,6 +48,8 @@ from .world import G_M_S2, Contact, model_urdf_file
 
 __all__ = ["MujocoWorld", "apply_params", "mujoco_version"]
 
+_STATE = mujoco.mjtState.mjSTATE_INTEGRATION
+"""What :meth:`MujocoWorld.snapshot` keeps: everything ``mj_step`` reads (MuJoCo's own definition)."""
 _CONES = {"elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC, "pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL}
 _INTEGRATORS = {
     "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
@@ -265,6 +268,23 @@ class MujocoWorld(WorldBase):
                 [speed_rad_s[i] for i in self._soft],
                 elapsed_s=self._elapsed_s,
             )
+
+    def snapshot(self) -> tuple:
+        """The whole state: MuJoCo's integration state (``mjSTATE_INTEGRATION``: positions, velocities, controls,
+        applied forces and the solver's warm start, all ``mj_step`` reads) and this world's own (the soft servos'
+        integrals, the elapsed time); :meth:`restore` continues from it bit for bit as this world would."""
+        m, d = self.m, self.d
+        state = np.empty(mujoco.mj_stateSize(m, _STATE))
+        mujoco.mj_getState(m, d, state, _STATE)
+        return state, copy.deepcopy(self._soft_servos), self._elapsed_s
+
+    def restore(self, snapshot: tuple) -> None:
+        """Continue from a :meth:`snapshot` of a world of the same model, step and parameters."""
+        state, soft, elapsed_s = snapshot
+        mujoco.mj_setState(self.m, self.d, state, _STATE)
+        self._soft_servos, self._elapsed_s = copy.deepcopy(soft), elapsed_s
+        self._gains = None  # the next drive() sets the servos' gains in this world's model
+        self._fresh = False
 
     # ------------------------------------------------------------------ what modifiers attach
     def joint_index(self, name: str) -> int | None:

@@ -138,6 +138,29 @@ def test_a_trial_is_deterministic_and_carries_its_engine():
     assert a.trace.energy_j == pytest.approx(0.26 * 9.81 * a.trace.com_height_m, rel=1e-9)
 
 
+@pytest.mark.parametrize("name", ["paper", "physical-posed"])
+def test_a_trial_from_a_reused_settled_state_is_the_same_bit_for_bit(name):
+    """Numerics(reuse_settled=True), the default: the second trial of a process restores the settled state the
+    first left (another trial's angles, phase and noise; the soft wing servos of physical-posed too) and ends
+    exactly as a trial that settles afresh."""
+    from sim.trial import _SETTLED, Numerics
+
+    ms = load_model_set(name).with_engine("mujoco")
+    kw = dict(cv=0.1, dt_s=DT, model_set=ms, trace=True, heading_deg=20.0, duration_s=3.0)
+    _SETTLED.clear()
+    run_trial(68.0, 30.0, phase=0.2, rng=1, **kw)  # settles and keeps the state
+    assert len(_SETTLED) == 1
+    reused = run_trial(64.0, 25.0, phase=0.7, rng=3, **kw)
+    fresh = run_trial(64.0, 25.0, phase=0.7, rng=3, numerics=Numerics(reuse_settled=False), **kw)
+    assert len(_SETTLED) == 1
+    da, db = reused.to_dict(), fresh.to_dict()
+    for d in (da, db):
+        d.pop("wall_s"), d.pop("cpu_s")
+    assert da == db
+    np.testing.assert_array_equal(reused.trace.as_array(), fresh.trace.as_array())
+    np.testing.assert_array_equal(reused.trace.omega_body_rad_s, fresh.trace.omega_body_rad_s)
+
+
 BORDER_PHASES = (0.1, 0.15, 0.25, 0.3, 0.6, 0.65, 0.75, 0.8)
 """Phases of single attempts at theta_w 72, theta_l 30 next to the success boundary of the MuJoCo phase map (at
 dt 5e-4: the attempts at 0.15, 0.3, 0.65 and 0.8 fail, their neighbours right)."""
