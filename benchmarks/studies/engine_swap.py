@@ -19,7 +19,8 @@ many end as in pybullet's default, as in MuJoCo's default and as in the variant'
 
 A part whose ordinary change alone moves as many attempts as the engine swap does is enough to explain the
 disagreement; a part that brings MuJoCo closer to pybullet is one cause of it. The start variants patch the
-worlds' ``place`` in this process only (the shipped placement is not an option of the product).
+worlds' ``place`` in this process only (the shipped placement is not an option of the product), so every trial
+settles afresh (``Numerics(reuse_settled=False)``).
 
 Run:  PYTHONPATH=. .venv/bin/python benchmarks/studies/engine_swap.py [--workers 2] [--only pybullet|mujoco]
 (2 cores: about 10 min with the quarter steps, ``--no-quarter`` leaves them out).
@@ -135,7 +136,7 @@ def pybullet_drop_m() -> float:
 
 def _one(job) -> tuple[bool, float]:
     from sim.model_set import load_model_set
-    from sim.trial import default_dt_s, simulate_trial
+    from sim.trial import Numerics, default_dt_s, simulate_trial
 
     variant, k, drop_hint = job
     _patch_place(variant.drop_m)
@@ -148,7 +149,9 @@ def _one(job) -> tuple[bool, float]:
     ms = ms.with_engine(variant.engine)
     dt = default_dt_s(None, variant.engine) * variant.dt_factor
     trial = borderline_trials(ms, dt_s=dt)[k]
-    r = simulate_trial(trial, model_set=ms)
+    r = simulate_trial(
+        trial, model_set=ms, numerics=Numerics(reuse_settled=False)
+    )  # the placement is patched
     return r.success, r.cpu_s
 
 
