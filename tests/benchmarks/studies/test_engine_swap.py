@@ -35,6 +35,7 @@ def test_the_start_variants_place_the_hull_where_they_say():
         assert bench.hull_gap_m(w) == pytest.approx(drop, abs=1e-6)
 
 
+@pytest.mark.e2e  # the whole study on two attempts: 24 trials, about 25 s
 def test_the_study_prints_its_table(capsys):
     bench = load_script("benchmarks/studies/engine_swap.py")
     assert bench.main(["--limit", "2", "--workers", "1", "--no-quarter"]) == 0
