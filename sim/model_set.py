@@ -354,7 +354,7 @@ class ModelSet:
         --------
         >>> s = load_model_set("physical-offset").summary()
         >>> s["label"], s["elements"], s["com_offset_y_mm"]
-        ('physical-offset v1 (da26596813d19ff8)', ['compliance', 'mass'], -1.5)
+        ('physical-offset v2 (12ee2dcaffb82b60)', ['compliance', 'mass'], -2.0)
         """
         return {
             "name": self.name,

@@ -57,7 +57,7 @@ def test_the_route_lists_the_shipped_sets_as_the_library_reads_them(client):
         "physical-posed",
     ]
     assert [n for n, m in by.items() if m["moves_com"]] == ["physical-offset"]
-    assert by["physical-offset"]["com_offset_y_mm"] == -1.5
+    assert by["physical-offset"]["com_offset_y_mm"] == -2.0
     assert [n for n, m in by.items() if m["joint_shift"]] == ["physical-head"]
     assert by["physical-head"]["joint_shift"] == {"joint": "head_mount", "shift_mm": [-17.0, 0.0, 0.0]}
     assert by["paper"]["wing_command_deg"] is None and by["physical"]["wing_command_deg"] == [
@@ -108,7 +108,7 @@ def test_physical_landscape_is_compute_with_the_sets_wing_joints(client, capsys)
 
 
 def test_a_set_that_moves_the_com_moves_it_in_the_service(client, capsys):
-    """physical-offset moves the CoM 1.5 mm towards -y: the service's landscape and barrier map are those of the
+    """physical-offset moves the CoM 2 mm towards -y: the service's landscape and barrier map are those of the
     moved robot, as `landscape compute --model physical-offset` gives them."""
     from geometry.robots import load_robot
     from landscape.cli import main

@@ -114,7 +114,7 @@ def _displacements(a: dict, b: dict) -> list[np.ndarray]:
 
 
 def test_a_set_poses_the_robot_as_its_landscape_does(client):
-    """physical-offset at theta_w 75 (wings at its plateaus, CoM 1.5 mm off the midline): the pose at the set's
+    """physical-offset at theta_w 75 (wings at its plateaus, CoM 2 mm off the midline): the pose at the set's
     start minimum has the CoM at the minimum's height and the saddle lifts it by the barrier over m g, as without
     a set; the robot without the set, at the same orientation, does not."""
     from geometry.robots import load_robot
@@ -145,7 +145,7 @@ def test_a_set_poses_the_robot_as_its_landscape_does(client):
 
 @pytest.mark.parametrize("pitch, roll", [(0.0, 0.0), (20.0, 150.0)])
 def test_the_offset_set_moves_the_com_by_its_offset(client, pitch, roll):
-    """At theta_w 60 physical-offset holds the wings where physical-posed does and moves the CoM by (0, -1.5, 0)
+    """At theta_w 60 physical-offset holds the wings where physical-posed does and moves the CoM by (0, -2, 0)
     mm in the body frame: the body-frame CoM differs by that; in the world every vertex moves by minus its
     horizontal part (the CoM stays above the origin, the lowest point on the ground) and the CoM rises by its
     vertical part."""
@@ -153,7 +153,7 @@ def test_the_offset_set_moves_the_com_by_its_offset(client, pitch, roll):
     from sim.model_set import load_model_set
 
     offset_m = np.array(load_model_set("physical-offset").com_offset_m)
-    assert offset_m.tolist() == [0.0, -1.5e-3, 0.0]
+    assert offset_m.tolist() == [0.0, -2e-3, 0.0]
     q = {"theta_w": 60, "theta_l": 10, "pitch": pitch, "roll": roll}
     posed = client.get("/api/robot-pose", params={**q, "model": "physical-posed"}).json()
     moved = client.get("/api/robot-pose", params={**q, "model": "physical-offset"}).json()

@@ -103,7 +103,7 @@ MUJOCO_HASHES = {
     "paper": "21b75935aaa2cfa3",
     "physical": "286f3d4d7b1aa1f5",
     "physical-head": "deaa8e2a82e8e07c",
-    "physical-offset": "3fb2ee512d21866e",
+    "physical-offset": "20e89a458ef0d8b2",
     "physical-posed": "8bad56033acec4f2",
 }
 """Every shipped set's hash in MuJoCo with the measured defaults (:data:`sim.engine.MUJOCO_DEFAULTS`)."""

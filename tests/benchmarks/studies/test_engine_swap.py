@@ -16,7 +16,9 @@ def test_the_start_variants_place_the_hull_where_they_say():
     from sim.model import sim_model
 
     drop = bench.pybullet_drop_m()
-    assert 0.02 < drop < 0.06  # pybullet's bounding boxes (with its collision margin) leave the hull this high
+    assert (
+        0.02 < drop < 0.06
+    )  # pybullet's bounding boxes (with its collision margin) leave the hull this high
     model = sim_model()
     pose = dict(pitch_rad=np.deg2rad(model.rest_pitch_deg), roll_rad=0.0, joints_rad=np.zeros(5))
     try:
