@@ -138,14 +138,13 @@ def test_a_trial_is_deterministic_and_carries_its_engine():
     assert a.trace.energy_j == pytest.approx(0.26 * 9.81 * a.trace.com_height_m, rel=1e-9)
 
 
-@pytest.mark.parametrize("name", ["paper", "physical-posed"])
-def test_a_trial_from_a_reused_settled_state_is_the_same_bit_for_bit(name):
+def test_a_trial_from_a_reused_settled_state_is_the_same_bit_for_bit():
     """Numerics(reuse_settled=True), the default: the second trial of a process restores the settled state the
-    first left (another trial's angles, phase and noise; the soft wing servos of physical-posed too) and ends
-    exactly as a trial that settles afresh."""
+    first left (another trial's angles, phase and noise; physical-posed's soft wing servos, whose state Python
+    holds, as well as MuJoCo's) and ends exactly as a trial that settles afresh."""
     from sim.trial import _SETTLED, Numerics
 
-    ms = load_model_set(name).with_engine("mujoco")
+    ms = load_model_set("physical-posed").with_engine("mujoco")
     kw = dict(cv=0.1, dt_s=DT, model_set=ms, trace=True, heading_deg=20.0, duration_s=3.0)
     _SETTLED.clear()
     run_trial(68.0, 30.0, phase=0.2, rng=1, **kw)  # settles and keeps the state
