@@ -28,6 +28,7 @@ def dbs(tmp_path_factory):
     return out
 
 
+@pytest.mark.e2e  # two small sweeps, one per engine (the module fixture)
 def test_compare_tests_each_setting_and_names_both_engines(dbs, tmp_path, capsys):
     args = ("analyze", "compare", "--db", dbs[0], "--db", dbs[1], "--min-trials", "3")
     code, stdout, err = run(capsys, *args, "--out", tmp_path)
@@ -55,6 +56,7 @@ def test_compare_tests_each_setting_and_names_both_engines(dbs, tmp_path, capsys
     assert doc["consistent"] == sum(c["fisher_p"] >= 0.05 for c in doc["cells"])
 
 
+@pytest.mark.e2e  # two small sweeps, one per engine (the module fixture)
 def test_settings_with_too_few_trials_are_counted_not_tested(dbs, tmp_path, capsys):
     """By default a setting needs 20 trials in each database: the fixture's 3 are too few, and it says so."""
     code, stdout, err = run(capsys, "analyze", "compare", "--db", dbs[0], "--db", dbs[1], "--out", tmp_path)
@@ -66,6 +68,7 @@ def test_settings_with_too_few_trials_are_counted_not_tested(dbs, tmp_path, caps
     assert code == 2 and "--min-trials" in err and err.count("\n") == 1
 
 
+@pytest.mark.e2e  # two small sweeps, one per engine (the module fixture)
 def test_compare_against_itself_is_consistent_everywhere(dbs, tmp_path, capsys):
     code, stdout, err = run(
         capsys, "analyze", "compare", "--db", dbs[1], "--db", dbs[1], "--min-trials", "3", "--out", tmp_path
@@ -74,6 +77,7 @@ def test_compare_against_itself_is_consistent_everywhere(dbs, tmp_path, capsys):
     assert "in 4 (100.0 %)" in stdout and "the same outcome in 2 " in stdout
 
 
+@pytest.mark.e2e  # two small sweeps, one per engine (the module fixture)
 def test_compare_bad_input_is_one_line(dbs, tmp_path, capsys):
     code, _, err = run(capsys, "analyze", "compare", "--db", dbs[0])
     assert code == 2 and "compare takes two databases" in err and err.count("\n") == 1

@@ -89,6 +89,7 @@ def _opening(model_set, theta_l_deg: float):
     return float(np.median(tr.pitch_deg[hold])), float(np.std(tilt[hold]))
 
 
+@pytest.mark.e2e  # whole trials of the lab robot, about 6 s (CI runs e2e as a step of its own)
 def test_the_hold_does_not_sag_and_the_leg_rocks_a_soft_body_further(tmp_path):
     rigid = load_model_set("paper")
     soft = load_model_set(

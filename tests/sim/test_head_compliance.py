@@ -144,6 +144,7 @@ def _deflection_on_back(text: str, tmp_path) -> float:
         return pb.getJointState(w.body, w.joint_index(head.joint), physicsClientId=w.cid)[0]
 
 
+@pytest.mark.e2e  # whole trials of the lab robot, about 6 s (CI runs e2e as a step of its own)
 def test_a_soft_head_holds_the_body_further_over_only_in_the_hold_and_no_further_than_its_stop(tmp_path):
     """On its back the head touches nothing, so even a soft head stays where it is; in the hold it carries part
     of the body and gives along the body: a softer head holds the body further over (here 69.8, 70.1, 71.9 and
