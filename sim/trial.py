@@ -287,9 +287,10 @@ def trial_cost(
     """Physics steps (settling included) and bytes of precomputed command profiles of one trial.
 
     The profiles hold, per control period, its time stamps and the wing and leg angles (float64), and per driven
-    joint the held and end-of-period targets and speeds while they are built (tracemalloc's peak: 304 bytes per
-    control period with four wing joints and a leg, 192 with two and one, 384 with four and three; the estimate
-    is within 5 % of each). The trial converts them to Python floats a few hundred periods at a time.
+    joint the held and end-of-period targets and speeds while they are built; the estimate is within 5 % of
+    tracemalloc's peak with four wing joints and a leg, two and one, four and three
+    (``tests/sim/test_sweep_robustness.py``). The trial converts them to Python floats a few hundred periods at
+    a time.
 
     Examples
     --------
@@ -427,8 +428,8 @@ class Numerics:
     reuse_settled : bool
         Start a trial from the settled state an earlier trial of this process left with the same robot, model
         set, engine, step and heading (settling does not depend on the trial's angles, phase or noise), where the
-        engine can restore a state exactly (MuJoCo: :meth:`sim.mujoco_world.MujocoWorld.snapshot`; pybullet
-        settles every trial). The physics is identical (tested), only faster.
+        engine's world offers a snapshot (MuJoCo: :meth:`sim.mujoco_world.MujocoWorld.snapshot`; pybullet settles
+        every trial). The physics is identical (tested), only faster.
     """
 
     hull_tol_m: float = HULL_TOL_M

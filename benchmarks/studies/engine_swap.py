@@ -138,7 +138,7 @@ def _one(job) -> tuple[bool, float]:
     from sim.model_set import load_model_set
     from sim.trial import Numerics, default_dt_s, simulate_trial
 
-    variant, k, drop_hint = job
+    variant, k = job
     _patch_place(variant.drop_m)
     ms = load_model_set()
     ms = replace(
@@ -155,37 +155,24 @@ def _one(job) -> tuple[bool, float]:
     return r.success, r.cpu_s
 
 
-class _Serial:
-    """One worker: the jobs in this process (a process pool's ``map`` and context)."""
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc) -> None:
-        return None
-
-    def map(self, fn, jobs, chunksize: int = 1):
-        return map(fn, jobs)
-
-
 def run(vs: list[Variant], workers: int, limit: int | None = None) -> dict[str, tuple[list[bool], float]]:
     """Each variant's outcomes of the 100 attempts (the first ``limit``) and its CPU seconds."""
-    from sim_convergence import BORDERLINE_LEG_PERIODS_S, BORDERLINE_PHASES
+    from sim_convergence import BORDERLINE_LEG_PERIODS_S, BORDERLINE_PHASES, Progress
 
     n = len(BORDERLINE_LEG_PERIODS_S) * len(BORDERLINE_PHASES)
     n = min(n, limit or n)
-    jobs = [(v, k, None) for v in vs for k in range(n)]
-    t0 = time.perf_counter()
-    with ProcessPoolExecutor(workers) if workers > 1 else _Serial() as pool:
+    jobs = [(v, k) for v in vs for k in range(n)]
+    progress = Progress(len(jobs))
+    pool = ProcessPoolExecutor(workers) if workers > 1 else None
+    try:
         res = []
-        for i, r in enumerate(pool.map(_one, jobs, chunksize=5), 1):
+        for r in pool.map(_one, jobs, chunksize=5) if pool else map(_one, jobs):
             res.append(r)
-            if i % 50 == 0 or i == len(jobs):
-                el = time.perf_counter() - t0
-                print(
-                    f"  {i}/{len(jobs)} attempts, {i / el:.2f}/s, ETA {(len(jobs) - i) * el / i:.0f} s",
-                    file=sys.stderr,
-                )
+            progress.step()
+    finally:
+        progress.close()
+        if pool:
+            pool.shutdown()
     out = {}
     for j, v in enumerate(vs):
         chunk = res[j * n : (j + 1) * n]
