@@ -374,7 +374,7 @@ engine_option = click.option(
     help="Physics engine: pybullet, or mujoco (the optional extra: pip install 'selfrighting-landscape[mujoco]'). "
     "The engine and its parameters are part of the model set's identity (docs/sim.md).",
 )
-"""``--engine``: the physics engine of ``simulate``, ``sweep`` and ``physical validate``."""
+"""``--engine``: the physics engine of ``simulate``, ``sweep``, ``physical validate`` and ``physical calibrate``."""
 WORKERS_BOUNDS = Bounds(1, math.inf, integer=True, meaning="a count of worker processes")
 workers_option = ranged_option(
     "--workers",

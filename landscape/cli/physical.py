@@ -434,6 +434,7 @@ def _phase_arg(phase, data):
 @validation_cv_option
 @validation_seed_option
 @validation_duration_option
+@engine_option
 @workers_option
 @click.option(
     "--out",
@@ -446,7 +447,7 @@ def _phase_arg(phase, data):
 @no_progress_option
 def calibrate_cmd(
     data, robot, base, vary, trials, validate_trials, fit_legs, openings, opening_phase, side, time_to_right, phase,
-    cv, seed, duration, workers, out, no_progress,
+    cv, seed, duration, engine, workers, out, no_progress,
 ):  # fmt: skip
     """Fit a model set to the physical outcomes: every combination of the --vary values is simulated on the fit
     cells and scored by the log-likelihood of the recorded outcomes (with --openings also of the recorded first
@@ -458,7 +459,9 @@ def calibrate_cmd(
     from landscape.analysis.physical.calibration import calibrate, format_value, parse_vary
     from landscape.cli.options import robot_urdf_arg, writable_dir
     from landscape.viz.files import json_text
+    from sim.engine import require_engine
 
+    require_engine(engine)
     if opening_phase is not None and not openings:
         raise UsageError("--opening-phase sets the phase of the scored openings; give --openings as well")
     writable_dir(out, "--out")
@@ -498,6 +501,7 @@ def calibrate_cmd(
             side=side,
             phase=phase,
             time_to_right=time_to_right,
+            engine=engine,
         )
     best = cal.candidates[0]
     click.echo(f"\nbest: {best.name} ({best.overrides}) -> {cal.best_file}; validated on every cell:\n")

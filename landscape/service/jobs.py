@@ -239,9 +239,10 @@ SWEEP_DEFAULTS = {
     "seed": 0,
     "robot": "builtin",
     "model": "paper",
+    "engine": "pybullet",
 }
 """The options of ``landscape sweep`` (same names, same defaults) that a sweep job takes; ``model`` only a
-shipped model set's name."""
+shipped model set's name, ``engine`` one of :data:`sim.engine.ENGINES` that is installed."""
 
 
 SWEEP_BOUNDS = {
@@ -259,8 +260,24 @@ SWEEP_BOUNDS = {
 }
 """The range of each numeric option of a sweep job and whether it takes a list: those of ``landscape sweep``
 (:mod:`sim.protocol`), in the same words. ``dt`` may be null (the robot's default)."""
-SWEEP_TEXT = {"robot": "a robot id", "model": "a shipped model set's name"}
+SWEEP_TEXT = {"robot": "a robot id", "model": "a shipped model set's name", "engine": "pybullet or mujoco"}
 """The options of a sweep job that are not numbers."""
+
+
+def checked_engine(engine) -> str:
+    """A sweep request's ``engine``: the name of a known engine that is installed here.
+
+    Raises
+    ------
+    sim.engine.EngineError
+        If it is not a known engine's name (a number or null included) or its package is not installed here.
+    """
+    from sim.engine import ENGINES, EngineError, require_engine
+
+    if not isinstance(engine, str):
+        raise EngineError(f"engine must be one of {', '.join(ENGINES)}; got {engine!r}")
+    require_engine(engine)
+    return engine
 
 
 @dataclass
@@ -338,6 +355,7 @@ class SweepJobs:
         r = request_numbers({**SWEEP_DEFAULTS, **request}, SWEEP_BOUNDS)
         model = r["model"]
         shipped_model_set(str(model))  # a name, never a file: null or a number is refused too
+        engine = checked_engine(r["engine"])
         lists = {k: r[k] for k in ("theta_w", "theta_l", "cv", "phase", "wing_period", "leg_period")}
         trials = r["trials"]
         n = math.prod(len(v) for v in lists.values()) * trials
@@ -362,6 +380,7 @@ class SweepJobs:
             leg_period_s=lists["leg_period"],
             attempts=r["attempts"],
             model_set=model,
+            engine=engine,
         )
 
     def create(self, request: dict) -> dict:
@@ -387,7 +406,7 @@ class SweepJobs:
             "id": job_id,
             "request": req,
             # the set as it is when the job is made (name, version, hash): a later version does not relabel it
-            "model_set_label": shipped_model_set(str(req["model"])).label,
+            "model_set_label": shipped_model_set(str(req["model"])).with_engine(req["engine"]).label,
             "status": "queued",
             "error": None,
             "done": 0,
@@ -421,6 +440,9 @@ class SweepJobs:
             eta_s=eta,
             report_url=f"/api/sweeps/{job_id}/report",
             model_set=job["request"].get("model", SWEEP_DEFAULTS["model"]),
+            engine=job["request"].get(
+                "engine", SWEEP_DEFAULTS["engine"]
+            ),  # a job stored before engines: pybullet
             model_set_label=job.get("model_set_label"),  # None for a job stored before labels were
             warnings=job.get("warnings", []),  # angles that look like radians (the command line's warnings)
         )

@@ -1,4 +1,4 @@
-"""``--engine`` on ``simulate``, ``sweep`` and ``physical validate``: MuJoCo runs the same commands, and an unknown
+"""``--engine`` on ``simulate``, ``sweep``, ``physical validate`` and ``physical calibrate``: MuJoCo runs the same commands, and an unknown
 engine, MuJoCo without its extra, a set the engine cannot express and a database of the other engine each get one
 line and exit status 2."""
 
@@ -23,8 +23,13 @@ def _one_line(code: int, err: str, text: str) -> None:
 
 @pytest.mark.parametrize(
     "argv",
-    [("simulate", *TRIAL), ("sweep", *SWEEP, "--db", "x.sqlite"), ("physical", "validate", "--data", ".")],
-    ids=["simulate", "sweep", "validate"],
+    [
+        ("simulate", *TRIAL),
+        ("sweep", *SWEEP, "--db", "x.sqlite"),
+        ("physical", "validate", "--data", "."),
+        ("physical", "calibrate", "--data", ".", "--vary", "contact.lateral_friction=1", "--out", "c"),
+    ],
+    ids=["simulate", "sweep", "validate", "calibrate"],
 )
 def test_an_unknown_engine_is_one_line(capsys, argv):
     code, _, err = run_cli(capsys, *argv, "--engine", "bullet")
@@ -33,8 +38,13 @@ def test_an_unknown_engine_is_one_line(capsys, argv):
 
 @pytest.mark.parametrize(
     "argv",
-    [("simulate", *TRIAL), ("sweep", *SWEEP, "--db", "x.sqlite"), ("physical", "validate", "--data", ".")],
-    ids=["simulate", "sweep", "validate"],
+    [
+        ("simulate", *TRIAL),
+        ("sweep", *SWEEP, "--db", "x.sqlite"),
+        ("physical", "validate", "--data", "."),
+        ("physical", "calibrate", "--data", ".", "--vary", "contact.lateral_friction=1", "--out", "c"),
+    ],
+    ids=["simulate", "sweep", "validate", "calibrate"],
 )
 def test_mujoco_without_its_extra_is_one_line(capsys, monkeypatch, tmp_path, argv):
     monkeypatch.setitem(sys.modules, "mujoco", None)
@@ -42,7 +52,7 @@ def test_mujoco_without_its_extra_is_one_line(capsys, monkeypatch, tmp_path, arg
     monkeypatch.chdir(tmp_path)
     code, _, err = run_cli(capsys, *argv, "--engine", "mujoco")
     _one_line(code, err, MUJOCO_EXTRA)
-    assert not (tmp_path / "x.sqlite").exists()
+    assert not (tmp_path / "x.sqlite").exists() and not (tmp_path / "c").exists()
 
 
 def test_a_set_the_engine_cannot_express_is_one_line(capsys, tmp_path):

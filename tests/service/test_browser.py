@@ -242,6 +242,13 @@ def test_the_model_set_selector_lists_the_sets_and_the_page_follows_it(chromium,
             )
             jobs = _wait(lambda: _call(port, "GET", "/api/sweeps"), lambda j: len(j) == 1, timeout_s=30)
             assert jobs[0]["request"]["model"] == "physical-offset"
+            assert jobs[0]["request"]["engine"] == "pybullet"  # the form's engine, its first choice
+            assert cdp.eval(
+                "[...document.getElementById('sweep-form').engine.options].map(o => o.value)"
+            ) == [
+                "pybullet",
+                "mujoco",
+            ]
             cell = cdp.wait_for(
                 "(() => { const c = document.querySelector('#sweeps tbody td:nth-child(2)');"
                 " return c ? c.textContent : ''; })()"

@@ -4,8 +4,11 @@ sweep as ``landscape compute|barrier-map|sweep --model NAME`` does; anything but
 from __future__ import annotations
 
 import json
+import sys
 
 import pytest
+
+from tests.conftest import run_cli
 
 from .conftest import box_stl
 from .test_api import _strip
@@ -234,4 +237,68 @@ def test_a_sweep_takes_only_a_shipped_set_name(client, model):
         r,
         "model must be a shipped model set (paper, physical, physical-head, physical-offset, physical-posed)",
     )
+    assert client.get("/api/sweeps").json() == []
+
+
+def test_a_mujoco_sweep_stores_trials_of_that_engine(client, capsys, tmp_path):
+    """The job runs in MuJoCo, stores its trials under the set's MuJoCo hash and gives what ``landscape sweep
+    --engine mujoco`` gives for the same options."""
+    pytest.importorskip("mujoco")
+    from sim.model_set import load_model_set
+    from sim.store import read_rows
+
+    r = client.post("/api/sweeps", json={**TINY, "trials": 1, "engine": "mujoco"})
+    assert r.status_code == 201, r.text
+    job = r.json()
+    mj = load_model_set("paper").with_engine("mujoco")
+    assert job["engine"] == "mujoco" and job["model_set_label"] == mj.label and mj.label.endswith(" [mujoco]")
+    done = _wait(
+        lambda: client.get(f"/api/sweeps/{job['id']}").json(),
+        lambda j: j["status"] not in ("queued", "running"),
+    )
+    assert done["status"] == "done", done
+    rows = read_rows(client.app.state.sweeps.root / job["id"] / "trials.sqlite")
+    assert [(row["engine"], row["model_set_hash"]) for row in rows] == [("mujoco", mj.model_set_hash)]
+    db = tmp_path / "cli.sqlite"
+    argv = ("--theta-w", 74, "--theta-l", 30, "--cv", 0, "--trials", 1, "--duration", 1.0, "--dt", 1e-3)
+    code, _, err = run_cli(
+        capsys, "sweep", *argv, "--engine", "mujoco", "--db", db, "--workers", 1, "--no-progress"
+    )
+    assert code == 0, err
+    same = ("seed", "success", "time_to_right_s", "engine", "model_set_hash")
+    assert [{k: r[k] for k in same} for r in read_rows(db)] == [{k: r[k] for k in same} for r in rows]
+
+
+def test_a_sweep_job_stored_before_engines_is_pybullet(client):
+    job = client.post("/api/sweeps", json={**TINY, "trials": 200}).json()
+    client.delete(f"/api/sweeps/{job['id']}")
+    assert job["engine"] == "pybullet" and job["request"]["engine"] == "pybullet"
+    f = client.app.state.sweeps.root / job["id"] / "job.json"
+    old = json.loads(f.read_text())
+    del old["request"]["engine"]
+    f.write_text(json.dumps(old))
+    assert client.get(f"/api/sweeps/{job['id']}").json()["engine"] == "pybullet"
+
+
+@pytest.mark.parametrize(
+    "engine, match",
+    [
+        ("bullet", "unknown engine 'bullet'; choose one of pybullet, mujoco"),
+        (None, "engine must be one of pybullet, mujoco; got None"),
+        (3, "engine must be one of pybullet, mujoco; got 3"),
+    ],
+)
+def test_a_sweep_takes_only_a_known_engine(client, engine, match):
+    r = client.post("/api/sweeps", json={**TINY, "engine": engine})
+    _refused(r, match)
+    assert client.get("/api/sweeps").json() == []
+
+
+def test_a_mujoco_sweep_without_the_extra_is_refused(client, monkeypatch):
+    from sim.engine import MUJOCO_EXTRA
+
+    monkeypatch.setitem(sys.modules, "mujoco", None)
+    monkeypatch.delitem(sys.modules, "sim.mujoco_world", raising=False)
+    r = client.post("/api/sweeps", json={**TINY, "engine": "mujoco"})
+    _refused(r, MUJOCO_EXTRA)
     assert client.get("/api/sweeps").json() == []

@@ -279,6 +279,7 @@ class Calibration:
     candidates: tuple[Candidate, ...]
     best_file: str
     validation: Validation
+    engine: str = "pybullet"
 
 
 def calibrate(
@@ -302,8 +303,10 @@ def calibrate(
     side: bool = False,
     phase: float | Mapping[tuple[float, float], float] | None = None,
     time_to_right: bool = False,
+    engine: str = "pybullet",
 ) -> Calibration:
-    """Grid-search ``vary`` on the fit cells, then validate the best candidate on every cell.
+    """Grid-search ``vary`` on the fit cells, then validate the best candidate on every cell, every trial (the
+    scored openings included) in ``engine``.
 
     ``trials`` simulated trials per fit cell and candidate; ``validate_trials`` per cell for the final
     validation. ``on_candidate(candidate, index, total)`` is called as each candidate finishes. With
@@ -347,17 +350,17 @@ def calibrate(
     for i, values in enumerate(combos):
         overrides = dict(zip(keys, values, strict=True))
         name = f"candidate{i:03d}"
-        ms = candidate_set(base, overrides, name, out_dir / "candidates" / f"{name}.toml")
+        ms = candidate_set(base, overrides, name, out_dir / "candidates" / f"{name}.toml").with_engine(engine)
         v, _ = validate(
             data_dir, db=out_dir / f"trials_{name}_{ms.model_set_hash}.sqlite", robot=robot,
             model_set=ms.source, trials=trials, cv=cv, seed=seed, cells=fit_cells, duration_s=duration_s,
-            workers=workers, progress=progress, phase=phase,
+            workers=workers, progress=progress, phase=phase, engine=engine,
         )  # fmt: skip
         k, n = v.agree_counts["all"]
         opening_ll = math.nan
         if openings:
             opening_ll = _openings_log_likelihood(
-                ms.source, fit_cells, recorded, plateau, scored_phase, seed, robot
+                ms.source, fit_cells, recorded, plateau, scored_phase, seed, robot, engine
             )
         side_ll = side_log_likelihood(v.side) if side else math.nan
         time_ll = time_log_likelihood(v.cells) if time_to_right else math.nan
@@ -371,12 +374,13 @@ def calibrate(
     best = scored[0]
     best_file = out_dir / "best.toml"
     ms = candidate_set(base, best.overrides, f"{Path(str(base)).stem}-calibrated", best_file)
+    ms = ms.with_engine(engine)
     v, _ = validate(
         data_dir, db=out_dir / f"trials_best_{ms.model_set_hash}.sqlite", robot=robot, model_set=best_file,
         trials=validate_trials, cv=cv, seed=seed + 1, duration_s=duration_s, workers=workers, progress=progress,
-        phase=phase,
+        phase=phase, engine=engine,
     )  # fmt: skip
-    return Calibration(str(base), tuple(fit_cells), tuple(scored), str(best_file), v)
+    return Calibration(str(base), tuple(fit_cells), tuple(scored), str(best_file), v, engine)
 
 
 def side_log_likelihood(side: SideComparison) -> float:
@@ -425,15 +429,17 @@ def time_log_likelihood(cells) -> float:
     return total
 
 
-def _openings_log_likelihood(model_set, cells, recorded, plateau, phase, seed, robot) -> float:
-    """Sum over ``cells`` of one simulated first opening's log-likelihood under the cell's recorded ones."""
+def _openings_log_likelihood(model_set, cells, recorded, plateau, phase, seed, robot, engine) -> float:
+    """Sum over ``cells`` of one simulated first opening's (in ``engine``) log-likelihood under the cell's recorded
+    ones."""
     from landscape.analysis.physical.response import opening_log_likelihood, simulated_opening
 
     measured = simulates_commands(model_set)
     total = 0.0
     for w, leg in cells:
+        w_sim = w if measured else plateau[w]
         sim = simulated_opening(
-            w if measured else plateau[w], leg, phase=phase, seed=seed, robot=robot, model_set=model_set
+            w_sim, leg, phase=phase, seed=seed, robot=robot, model_set=model_set, engine=engine
         )
         total += opening_log_likelihood(recorded[(w, leg)], sim)
     return total

@@ -393,22 +393,35 @@ def simulated_opening(
     robot: str | Path | None = None,
     model_set="paper",
     cv: float = 0.0,
+    engine: str = "pybullet",
 ) -> OpeningResponse:
     """:func:`opening_response` of a simulated first opening (one attempt, ``SIM_OPENING_S`` after it starts;
-    ``theta_w_deg`` is what the set simulates: the command for a measured profile, the wing angle otherwise)."""
+    ``theta_w_deg`` is what the set simulates: the command for a measured profile, the wing angle otherwise) in
+    ``engine``."""
     tr, starts = simulated_openings(
-        theta_w_deg, theta_l_deg, model_set=model_set, robot=robot, seed=seed, phase=phase, cv=cv, attempts=1
+        theta_w_deg,
+        theta_l_deg,
+        model_set=model_set,
+        robot=robot,
+        seed=seed,
+        phase=phase,
+        cv=cv,
+        attempts=1,
+        engine=engine,
     )
     return opening_response(tr.t_s, tr.pitch_deg, tr.roll_deg, starts[0])
 
 
-def simulated_openings(theta_w_deg, theta_l_deg, *, model_set, robot, seed, phase, cv=0.0, attempts=1):
-    """A traced simulated trial of ``attempts`` openings, the first at leg phase ``phase``, that ends
-    ``SIM_OPENING_S`` after the last one starts (or once the body has righted): ``(trace, attempt starts)``."""
+def simulated_openings(
+    theta_w_deg, theta_l_deg, *, model_set, robot, seed, phase, cv=0.0, attempts=1, engine="pybullet"
+):
+    """A traced simulated trial (in ``engine``) of ``attempts`` openings, the first at leg phase ``phase``, that
+    ends ``SIM_OPENING_S`` after the last one starts (or once the body has righted): ``(trace, attempt
+    starts)``."""
     from sim.model_set import load_model_set
     from sim.trial import run_trial
 
-    ms = load_model_set(model_set)
+    ms = load_model_set(model_set).with_engine(engine)
     act = ms.actuation(theta_w_deg, theta_l_deg)
     last = phase * act.leg_period_s + (attempts - 1) * act.wing_period_s  # the openings: sim.actuation
     res = run_trial(

@@ -408,7 +408,8 @@ $("sweep-form").addEventListener("submit", async (e) => {
   e.preventDefault();
   const f = new FormData(e.target);
   const req = { theta_w: f.get("theta_w"), theta_l: f.get("theta_l"), cv: f.get("cv"),
-    trials: parseInt(f.get("trials"), 10), duration: parseFloat(f.get("duration")), robot: state.robot };
+    trials: parseInt(f.get("trials"), 10), duration: parseFloat(f.get("duration")), robot: state.robot,
+    engine: f.get("engine") };
   if (f.get("dt")) req.dt = parseFloat(f.get("dt"));
   if (state.model) req.model = state.model;  // none: the sweep's default set, paper
   try {

@@ -185,3 +185,39 @@ def test_the_side_score_favours_the_robots_side():
     assert ca.side_log_likelihood(SideComparison(0, 0, 0, 0, 5, 10, 0, 0, False)) == 0.0
     c = ca.Candidate("c", {}, "h", -5.0, 3, 6, side_log_likelihood=-2.0)
     assert c.score == -7.0 and "side_log_likelihood" in c.CSV_COLUMNS
+
+
+@pytest.mark.e2e
+@needs_data
+def test_calibrate_runs_every_trial_in_the_chosen_engine(tmp_path, capsys):
+    """--engine mujoco: the candidates' trials, their scored openings and the best one's validation all run in
+    MuJoCo, stored under each set's MuJoCo hash; calibration.json names the engine."""
+    pytest.importorskip("mujoco")
+    from sim.store import read_rows
+
+    args = [
+        "physical",
+        "calibrate",
+        "--data",
+        str(DATA),
+        "--base",
+        "paper",
+        "--openings",
+        "--engine",
+        "mujoco",
+    ]
+    args += ["--vary", "contact.lateral_friction=1", "--trials", "1", "--validate-trials", "1"]
+    args += ["--duration", "2", "--out", str(tmp_path), "--no-progress", "--workers", "1"]
+    assert main(args) == 0, capsys.readouterr().err
+    doc = json.loads((tmp_path / "calibration.json").read_text())
+    cand = load_model_set(tmp_path / "candidates" / "candidate000.toml").with_engine("mujoco")
+    best = load_model_set(tmp_path / "best.toml").with_engine("mujoco")
+    assert doc["engine"] == "mujoco" and doc["candidates"][0]["model_set_hash"] == cand.model_set_hash
+    assert math.isfinite(doc["candidates"][0]["opening_log_likelihood"])
+    assert doc["validation"]["model_set_hash"] == best.model_set_hash
+    dbs = {db.name: read_rows(db) for db in tmp_path.glob("trials_*.sqlite")}
+    assert set(dbs) == {
+        f"trials_candidate000_{cand.model_set_hash}.sqlite",
+        f"trials_best_{best.model_set_hash}.sqlite",
+    }
+    assert {r["engine"] for rows in dbs.values() for r in rows} == {"mujoco"}
