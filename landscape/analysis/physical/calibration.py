@@ -306,7 +306,8 @@ def calibrate(
     engine: str = "pybullet",
 ) -> Calibration:
     """Grid-search ``vary`` on the fit cells, then validate the best candidate on every cell, every trial (the
-    scored openings included) in ``engine``.
+    scored openings included) in ``engine``. Candidates rank by score, best first; equal scores keep the order of
+    the ``vary`` combinations (the first is the best).
 
     ``trials`` simulated trials per fit cell and candidate; ``validate_trials`` per cell for the final
     validation. ``on_candidate(candidate, index, total)`` is called as each candidate finishes. With
