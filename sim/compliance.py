@@ -223,8 +223,25 @@ def check_spring(
     units: tuple[str, str, str, str] = ("I", "kg m^2", "N m/rad", "N m s/rad"),
 ) -> None:
     """Refuse ``(name, k)`` and ``(name, c)`` on a body of ``inertia_kg_m2`` (``whose``: "the wing's") that the
-    explicit update held for ``period_s`` cannot follow (:data:`MAX_OMEGA_PERIOD`); ``units``: the inertia's
-    symbol and unit and the stiffness's and damping's units (a slide's: "m", "kg", "N/m", "N s/m")."""
+    explicit update held for ``period_s`` cannot follow (:data:`MAX_OMEGA_PERIOD`), or that gains energy under it;
+    ``units``: the inertia's symbol and unit and the stiffness's and damping's units (a slide's: "m", "kg", "N/m",
+    "N s/m").
+
+    The force ``-k x - c v`` is computed at the start of a period and held through it. Over one period the
+    oscillator's state maps by a matrix of determinant ``1 - c T / I + k T^2 / (2 I)``: the held spring feeds
+    energy in at the rate its damping takes it out when ``c = k T / 2``, and more below. So ``c >= k T / 2``,
+    whatever the inertia (an undamped spring is refused too); below it the motion grows at ``(k T / 2 - c) / (2
+    I)`` per second (4 N·m/rad with 0.001 N·m·s/rad on the lab robot's wing: 11 /s, the body spun over within
+    0.4 s), unless the rest of the model happens to damp it.
+
+    Examples
+    --------
+    >>> check_spring(("k", 2.0), ("c", 0.001), "the wing's", 4.7e-5, 1e-3)
+    >>> check_spring(("k", 4.0), ("c", 0.001), "the wing's", 4.7e-5, 1e-3)
+    Traceback (most recent call last):
+    ...
+    sim.compliance.ComplianceError: k 4 with c 0.001 gains energy: a spring held through the 1 ms servo period needs c >= k*period/2 = 0.002 N m s/rad; give c >= 0.002 N m s/rad or k <= 2 N m/rad
+    """
     (k_name, k), (c_name, c) = stiffness, damping
     sym, i_unit, k_unit, c_unit = units
     wt = math.sqrt(k / inertia_kg_m2) * period_s
@@ -239,6 +256,15 @@ def check_spring(
         raise ComplianceError(
             f"{c_name} {c:g} is too high for the {period_s * 1e3:g} ms servo period with {whose} {sym} = "
             f"{inertia_kg_m2:.2g} {i_unit}; give c <= {c_max:.3g} {c_unit}"
+        )
+    c_min = k * period_s / 2
+    if c < c_min:
+        fix = f"give c >= {c_min:.3g} {c_unit}" + (
+            f" or k <= {2 * c / period_s:.3g} {k_unit}" if c > 0 else ""
+        )
+        raise ComplianceError(
+            f"{k_name} {k:g} with {c_name} {c:g} gains energy: a spring held through the {period_s * 1e3:g} ms "
+            f"servo period needs c >= k*period/2 = {c_min:.3g} {c_unit}; {fix}"
         )
 
 

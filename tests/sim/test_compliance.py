@@ -37,6 +37,50 @@ def test_stability_bound():
         check_stability(Compliance(0.2, 0.005, 0.001), 4.7e-5, 1e-3)
 
 
+def _held_spring_amplitude(k, c, inertia, period, periods):
+    """An oscillator whose force -k x - c v is computed at each period's start and held through it, integrated
+    exactly within the period: its amplitude after ``periods`` periods from x = 1."""
+    x, v = 1.0, 0.0
+    for _ in range(periods):
+        a = -(k * x + c * v) / inertia
+        x, v = x + v * period + a * period**2 / 2, v + a * period
+    return float(np.hypot(x, v / np.sqrt(k / inertia)))
+
+
+def test_a_held_spring_gains_energy_below_the_damping_the_check_asks():
+    """The criterion c >= k T / 2 of check_spring is where the held update turns from losing energy to gaining
+    it, and the growth rate below it is (k T / 2 - c) / (2 I) as its docstring says."""
+    k, inertia, period = 4.0, 4.7e-5, 1e-3
+    c_min = k * period / 2
+    assert _held_spring_amplitude(k, 1.05 * c_min, inertia, period, 2000) < 1.0
+    grown = _held_spring_amplitude(k, 0.95 * c_min, inertia, period, 2000)
+    assert grown > 1.0
+    assert _held_spring_amplitude(k, 0.5 * c_min, inertia, period, 400) == pytest.approx(
+        np.exp((c_min - 0.5 * c_min) / (2 * inertia) * 0.4), rel=0.1
+    )
+    check_stability(Compliance(k, 1.05 * c_min), inertia, period)
+    with pytest.raises(
+        ComplianceError, match=r"gains energy.*give c >= 0\.002 N m s/rad or k <= 3\.8 N m/rad"
+    ):
+        check_stability(Compliance(k, 0.95 * c_min), inertia, period)
+    with pytest.raises(ComplianceError, match=r"gains energy.*give c >= 0\.002 N m s/rad$"):
+        check_stability(Compliance(k, 0.0), inertia, period)
+
+
+def test_a_spring_that_gains_energy_is_refused_before_the_trial(tmp_path):
+    """4 N·m/rad with 0.001 N·m·s/rad on the wings spun the lab robot's body over in its first opening before the
+    check (docs/physical/time-to-right.md); now the trial is refused in one line."""
+    ms = load_model_set(
+        set_with_table(
+            tmp_path, "compliance", "wing_stiffness_n_m_rad = 4.0\nwing_damping_n_m_s_rad = 0.001\n"
+        )
+    )
+    with pytest.raises(
+        ComplianceError, match=r"wing_stiffness_n_m_rad 4 with wing_damping_n_m_s_rad 0\.001 gains"
+    ):
+        run_trial(75.0, 0.0, phase=0.5, cv=0.0, rng=1, duration_s=0.5, model_set=ms)
+
+
 def test_model_set_table(tmp_path):
     ms = load_model_set(
         set_with_table(
