@@ -440,9 +440,7 @@ class SweepJobs:
             eta_s=eta,
             report_url=f"/api/sweeps/{job_id}/report",
             model_set=job["request"].get("model", SWEEP_DEFAULTS["model"]),
-            engine=job["request"].get(
-                "engine", SWEEP_DEFAULTS["engine"]
-            ),  # a job stored before engines: pybullet
+            engine=job["request"].get("engine", SWEEP_DEFAULTS["engine"]),  # stored before engines: pybullet
             model_set_label=job.get("model_set_label"),  # None for a job stored before labels were
             warnings=job.get("warnings", []),  # angles that look like radians (the command line's warnings)
         )
