@@ -79,6 +79,7 @@ def test_report_says_which_command_produces_missing_trials(capsys, tmp_path):
     assert f"landscape sweep --db {only_map}" in html  # the paper sweep, for probability and barrier
 
 
+@pytest.mark.e2e  # reruns the study's trials and the single attempts from rest
 def test_analyze_prediction_scores_both_predictors_held_out_and_resumes(capsys, db, tmp_path):
     """--json: one object per predictor; the study's 8 trials (74/30, Tw 2 and 2.5 s, 4 phases) are rerun once
     into the states file, the single attempts from rest the second predictor needs are run once into theirs, and

@@ -240,6 +240,7 @@ def test_a_sweep_takes_only_a_shipped_set_name(client, model):
     assert client.get("/api/sweeps").json() == []
 
 
+@pytest.mark.e2e  # a sweep job and a CLI sweep
 def test_a_mujoco_sweep_stores_trials_of_that_engine(client, capsys, tmp_path):
     """The job runs in MuJoCo, stores its trials under the set's MuJoCo hash and gives what ``landscape sweep
     --engine mujoco`` gives for the same options."""

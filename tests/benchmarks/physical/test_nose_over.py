@@ -13,6 +13,7 @@ def bench():
     return load_script("benchmarks/physical/nose_over.py")
 
 
+@pytest.mark.e2e  # simulated first openings of the lab robot at its small step
 @needs_data
 @pytest.mark.skipif(not LAB_URDF.is_file(), reason="../shared/ref/lab_robot is absent")
 def test_the_robot_passes_vertical_at_90_deg_and_the_model_does_not(bench, capsys):
