@@ -179,6 +179,7 @@ def test_barrier_analysis_needs_the_trials_own_robot(capsys, tmp_path, robot):
     assert (tmp_path / "a" / "barrier_outcome.csv").is_file()
 
 
+@pytest.mark.e2e  # times every kernel against its baseline
 def test_bench_runs_and_reports_positive_ratios(capsys):
     """``landscape bench --repeat 1`` on the built-in robot: every timing and ratio a positive number, the two
     methods agreeing, and the derived rows consistent with the rows they come from."""

@@ -82,6 +82,7 @@ def test_physical_energy_refuses_a_folder_without_trials(capsys, tmp_path):
     assert code == 2 and "holds no trial file" in err and len(err.strip().splitlines()) == 1
 
 
+@pytest.mark.e2e  # every recorded attempt of the lab's trials
 @pytest.mark.shared
 @needs_lab
 @pytest.mark.skipif(not PHYSICAL.is_dir(), reason=f"{PHYSICAL} is absent")

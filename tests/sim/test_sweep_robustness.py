@@ -151,6 +151,7 @@ def test_killed_worker_costs_only_its_trial(tmp_path):
     assert multiprocessing.active_children() == []
 
 
+@pytest.mark.e2e  # worker processes killed until the sweep gives up
 def test_workers_dying_every_time_abort_cleanly_with_rows_kept(tmp_path, monkeypatch):
     monkeypatch.setattr(sweep_mod, "MAX_POOL_RESTARTS", 1)
     db = tmp_path / "abort.sqlite"

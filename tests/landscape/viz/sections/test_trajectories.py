@@ -47,6 +47,7 @@ def test_trajectories_is_a_report_section():
     assert sections.SECTIONS["trajectories"] is sections.section_trajectories
 
 
+@pytest.mark.e2e  # reruns stored trials
 def test_the_setting_with_mixed_outcomes_is_rerun_and_reproduces_the_stored_outcomes(db, section):
     sec, out = section
     rows = read_rows(db)
@@ -73,6 +74,7 @@ def test_the_setting_with_mixed_outcomes_is_rerun_and_reproduces_the_stored_outc
     assert "Every rerun reproduces its stored outcome" in " ".join(sec.paragraphs)
 
 
+@pytest.mark.e2e  # reruns stored trials
 def test_the_figures_exist_and_draw_both_outcomes(section):
     sec, out = section
     contour = sec.figures[0]
@@ -93,6 +95,7 @@ def test_the_figures_exist_and_draw_both_outcomes(section):
         assert std3 > 30 and n3 > 100
 
 
+@pytest.mark.e2e  # reruns stored trials
 def test_the_bound_keeps_both_outcomes_and_3d_off_draws_the_contour_only(db, tmp_path, monkeypatch):
     monkeypatch.setattr(rd, "off_screen_problem", lambda: "no OpenGL (test)")
     sec = sections.section_trajectories(sections.load_rows(db), tmp_path, db, max_trials=2, step_deg=6.0)
@@ -104,6 +107,7 @@ def test_the_bound_keeps_both_outcomes_and_3d_off_draws_the_contour_only(db, tmp
         sections.section_trajectories(sections.load_rows(db), tmp_path, db, max_trials=0)
 
 
+@pytest.mark.e2e  # reruns stored trials
 def test_a_rerun_that_differs_from_the_stored_row_is_reported(db, tmp_path):
     rows = sections.load_rows(db)
     for r in rows:
