@@ -227,12 +227,14 @@ def check_spring(
     ``units``: the inertia's symbol and unit and the stiffness's and damping's units (a slide's: "m", "kg", "N/m",
     "N s/m").
 
-    The force ``-k x - c v`` is computed at the start of a period and held through it. Over one period the
-    oscillator's state maps by a matrix of determinant ``1 - c T / I + k T^2 / (2 I)``: the held spring feeds
-    energy in at the rate its damping takes it out when ``c = k T / 2``, and more below. So ``c >= k T / 2``,
-    whatever the inertia (an undamped spring is refused too); below it the motion grows at ``(k T / 2 - c) / (2
-    I)`` per second (4 N·m/rad with 0.001 N·m·s/rad on the lab robot's wing: 11 /s, the body spun over within
-    0.4 s), unless the rest of the model happens to damp it.
+    The force ``-k x - c v`` is computed at the start of a period and held through it (pybullet: every spring;
+    MuJoCo: the soft wing servos, while its passive springs act every step, where this bound is on the safe
+    side). Over one period the oscillator's state maps by a matrix of determinant ``1 - c T / I + k T^2 / (2
+    I)``: the held spring feeds energy in at the rate its damping takes it out when ``c = k T / 2``, and more
+    below. So ``c >= k T / 2``, whatever the inertia (an undamped spring is refused too); below it the motion
+    grows at ``(k T / 2 - c) / (2 I)`` per second (4 N·m/rad with 0.001 N·m·s/rad and I = 4.7e-5 kg m²: 11 /s),
+    unless the rest of the model happens to damp it. On the lab robot's wings that pair spun the body over
+    within 0.4 s of its first opening (docs/physical/time-to-right.md).
 
     Examples
     --------

@@ -274,11 +274,15 @@ def test_a_sweep_job_stored_before_engines_is_pybullet(client):
     job = client.post("/api/sweeps", json={**TINY, "trials": 200}).json()
     client.delete(f"/api/sweeps/{job['id']}")
     assert job["engine"] == "pybullet" and job["request"]["engine"] == "pybullet"
-    f = client.app.state.sweeps.root / job["id"] / "job.json"
-    old = json.loads(f.read_text())
+    # a copy of the job as a server before engines stored it, under an id no runner holds (no race with the
+    # runner's own writes of the cancelled job's file)
+    root = client.app.state.sweeps.root
+    old = json.loads((root / job["id"] / "job.json").read_text())
     del old["request"]["engine"]
-    f.write_text(json.dumps(old))
-    assert client.get(f"/api/sweeps/{job['id']}").json()["engine"] == "pybullet"
+    old["id"] = "0ld0ld0ld0ld"
+    (root / old["id"]).mkdir()
+    (root / old["id"] / "job.json").write_text(json.dumps(old))
+    assert client.get(f"/api/sweeps/{old['id']}").json()["engine"] == "pybullet"
 
 
 @pytest.mark.parametrize(
