@@ -447,8 +447,9 @@ class SweepJobs:
         return job
 
     def cancel(self, job_id: str) -> dict:
-        job = self._read(job_id)
+        self._read(job_id)  # unknown: NotFoundError
         with self._lock:
+            job = self._read(job_id)  # as the runner last wrote it
             run = self._runs.get(job_id)
             if run is not None:
                 run.cancel.set()
@@ -530,7 +531,9 @@ class SweepJobs:
         with TrialStore(db) as store:
             done = len(keys & store.done_keys())
         run = _Run(done, len(specs))
-        with self._lock:
+        with self._lock:  # a cancel or a stop that came while the specs were made must not be lost
+            if self._stopping.is_set() or self._read(job_id)["status"] not in ("queued", "running"):
+                return
             self._runs[job_id] = run
         self._set(
             job_id, status="running", done=done, total=len(specs), started_utc=job["started_utc"] or _now()

@@ -55,6 +55,34 @@ def test_cancel_a_sweep(client):
     assert client.get(f"/api/sweeps/{job['id']}").json()["status"] == "cancelled"
 
 
+def test_a_cancel_while_the_runner_makes_the_specs_stops_the_job(client, monkeypatch):
+    # the runner reads a queued job, makes its trials, then registers the run: a cancel in between was lost, and
+    # the cancelled job ran all its trials
+    import sqlite3
+    import threading
+
+    jobs = client.app.state.sweeps
+    made = jobs.specs
+    first = []
+
+    def specs_then_cancel(request):
+        out = made(request)
+        if threading.current_thread().name == "sweep-jobs" and len(first) == 1:
+            first.append(jobs.cancel(first[0]))  # once, for the first job the runner takes
+        return out
+
+    monkeypatch.setattr(jobs, "specs", specs_then_cancel)
+    first.append(client.post("/api/sweeps", json={**TINY, "trials": 200}).json()["id"])
+    later = client.post("/api/sweeps", json=TINY).json()  # the runner is free for the next job
+    assert _wait(lambda: client.get(f"/api/sweeps/{later['id']}").json(), lambda j: j["status"] == "done")
+    assert len(first) == 2 and client.get(f"/api/sweeps/{first[0]}").json()["status"] == "cancelled"
+    db = jobs.root / first[0] / "trials.sqlite"
+    with sqlite3.connect(db) as con:
+        tables = {r[0] for r in con.execute("select name from sqlite_master where type = 'table'")}
+        rows = con.execute("select count(*) from trials").fetchone()[0] if "trials" in tables else 0
+    assert rows == 0
+
+
 @pytest.mark.parametrize(
     "body, status, match",
     [
