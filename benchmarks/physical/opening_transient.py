@@ -60,10 +60,16 @@ def wobble(responses) -> str:
 
 
 def closing(responses) -> str:
+    """Tilt at closing (median, median |tilt|) over the openings with a sample in the window, and how many rolled;
+    an opening whose trace ends before the window (a simulated trial stops once the body has righted) has none."""
     c = np.array([r.closing_tilt_deg for r in responses])
+    c = c[np.isfinite(c)]
     rolled = [r.rolled_s for r in responses if np.isfinite(r.rolled_s)]
     at = f" at {np.median(rolled):.2f} s" if rolled else ""
-    return f"{np.median(c):+.1f}° ({np.median(np.abs(c)):.1f}°); {len(rolled)}/{len(responses)}{at}"
+    tilt = f"{np.median(c):+.1f}° ({np.median(np.abs(c)):.1f}°)" if len(c) else "–"
+    missing = len(responses) - len(c)
+    gone = f" ({missing} without a sample)" if missing else ""
+    return f"{tilt}; {len(rolled)}/{len(responses)}{at}{gone}"
 
 
 def saddle_tilt_deg(robot: str, theta_w_deg: float) -> float:

@@ -21,3 +21,19 @@ def test_prints_the_closing_table(capsys):
     with pytest.raises(SystemExit) as exc:
         mod.main([*argv, "--cells", "61:30"])
     assert exc.value.code == 2
+
+
+def test_the_closing_column_counts_openings_without_a_sample_instead_of_printing_nan():
+    """A simulated trial stops once the body has righted; an opening that righted before the closing window has
+    no tilt there, and the column says how many, not "+nan°"."""
+    from dataclasses import replace
+
+    from landscape.analysis.physical.response import OpeningResponse
+
+    mod = load_script("benchmarks/physical/opening_transient.py")
+    r = OpeningResponse(0.0, 60.0, 0.0, 0.1, 0.0)
+    assert mod.closing([replace(r, closing_tilt_deg=-3.0, rolled_s=1.1), r]) == (
+        "-3.0° (3.0°); 1/2 at 1.10 s (1 without a sample)"
+    )
+    assert mod.closing([r]) == "–; 0/1 (1 without a sample)"
+    assert mod.closing([replace(r, closing_tilt_deg=2.0)]) == "+2.0° (2.0°); 0/1"
