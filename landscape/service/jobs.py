@@ -447,9 +447,8 @@ class SweepJobs:
         return job
 
     def cancel(self, job_id: str) -> dict:
-        self._read(job_id)  # unknown: NotFoundError
         with self._lock:
-            job = self._read(job_id)  # as the runner last wrote it
+            job = self._read(job_id)  # as the runner last wrote it (unknown: NotFoundError)
             run = self._runs.get(job_id)
             if run is not None:
                 run.cancel.set()

@@ -174,8 +174,8 @@ def test_figures_exist_with_their_size_and_show_both_outcomes(trials, tmp_path):
     assert img3[:, :, :3].std() > 30 and _colour_pixels(img3, tj.RIGHTED_COLOUR) > 100
 
 
-@pytest.mark.e2e  # simulates and renders a traced trial
 # ------------------------------------------------------------------------------------------------ command line
+@pytest.mark.e2e  # simulates and renders a traced trial
 def test_render_trace_command_and_its_bad_input(trials, tmp_path):
     ok = _write(trials[0], tmp_path / "ok.csv")
     r = invoke("render", "--trace", tmp_path / "missing.csv", "--out", tmp_path / "o")
